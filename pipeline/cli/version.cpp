@@ -1,0 +1,6 @@
+#include "pipeline/cli/version.h"
+
+namespace fogpipe {
+const char* Version() { return FOGPIPE_VERSION; }
+const char* GitCommit() { return FOGPIPE_GIT_COMMIT; }
+}  // namespace fogpipe
