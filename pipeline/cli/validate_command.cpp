@@ -1,0 +1,18 @@
+// fogpipe validate: not yet implemented (placeholder registered so the CLI links; see the open issue).
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "pipeline/cli/commands.h"
+
+namespace fogpipe::cli {
+
+void AddValidateCommand(CLI::App& app, int* exit_code) {
+  auto* cmd = app.add_subcommand("validate", "(not implemented yet)");
+  cmd->callback([exit_code]() {
+    std::cerr << "fogpipe validate: not implemented yet\n";
+    *exit_code = 2;
+  });
+}
+
+}  // namespace fogpipe::cli
