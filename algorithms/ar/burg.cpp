@@ -14,8 +14,9 @@ constexpr Eigen::Index kBlock = 1024;
 
 }  // namespace
 
-OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x_centered, int max_order) {
-  const Eigen::Index n = x_centered.size();
+OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x, int max_order,
+                            double mean) {
+  const Eigen::Index n = x.size();
   OrderSequence out;
   out.num_effective = n;
   out.innovation_variance.setZero(max_order);
@@ -24,12 +25,12 @@ OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x_centered,
   // Layout after Collomb (2009): forward error of order m at time t is f[t] (t = m..N-1); backward
   // error of order m that predicts x_t from the m samples after it is b[t] (t = 0..N-1-m). Order m
   // pairs f[t + m + 1] with b[t], t = 0..N-m-2.
-  Eigen::VectorXd f = x_centered;
-  Eigen::VectorXd b = x_centered;
+  Eigen::VectorXd f = x.array() - mean;
+  Eigen::VectorXd b = f;
   double* fp = f.data();
   double* bp = b.data();
 
-  double sigma2 = x_centered.squaredNorm() / static_cast<double>(n);
+  double sigma2 = f.squaredNorm() / static_cast<double>(n);
   double num = f.tail(n - 1).dot(b.head(n - 1));
   double den = f.tail(n - 1).squaredNorm() + b.head(n - 1).squaredNorm();
   Eigen::VectorXd phi(0);

@@ -22,9 +22,11 @@
 
 namespace fogpipe::ar {
 
-/// Burg models of orders 1..max_order of `x_centered` (mean already removed). num_effective = N.
-/// Stops early (orders_completed < max_order) if the prediction error vanishes.
-OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x_centered, int max_order);
+/// Burg models of orders 1..max_order of x - mean (pass the mean of x, or 0 for a series whose
+/// mean is already removed; subtracting it here saves the caller an N-double copy).
+/// num_effective = N. Stops early (orders_completed < max_order) if the prediction error vanishes.
+OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x, int max_order,
+                            double mean = 0.0);
 
 /// The same estimator computed from the autocorrelation, after Vos (2013, "A fast implementation
 /// of Burg's method"): one O(N P) pass for c(0..P), then each order's error energies are quadratic
