@@ -90,14 +90,13 @@ void PhiAndJacobian(const Eigen::VectorXd& theta, Eigen::VectorXd* phi, Eigen::M
 }  // namespace
 
 MaximumLikelihoodResult FitMaximumLikelihood(const Eigen::Ref<const Eigen::VectorXd>& x,
-                                             const Eigen::VectorXd& phi_start,
+                                             const Eigen::VectorXd& kappa,
                                              const MaximumLikelihoodOptions& options) {
   MaximumLikelihoodResult out;
-  const int p = static_cast<int>(phi_start.size());
+  const int p = static_cast<int>(kappa.size());
   const double n = static_cast<double>(x.size());
-  out.phi = phi_start;
-  Eigen::VectorXd kappa;
-  if (p < 1 || x.size() <= 2 * p || !StepDown(phi_start, &kappa)) return out;
+  if (p < 1 || x.size() <= 2 * p || !(kappa.array().abs() < 1.0).all()) return out;
+  out.phi = StepUp(kappa);
 
   const SumOfSquares ss(x, p);
   const Eigen::MatrixXd hess_s = ss.Hessian(p);

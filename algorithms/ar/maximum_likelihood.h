@@ -41,13 +41,16 @@ struct MaximumLikelihoodResult {
   double objective = 0;            ///< F at the returned model (F = -2 ln L - N (1 + ln 2 pi)).
   int iterations = 0;
   bool converged = false;
-  bool valid = false;  ///< False if the start was not stationary or S was not positive.
+  bool valid = false;  ///< False if some |kappa_start| >= 1 or S was not positive.
 };
 
 /// Maximises the exact likelihood of `x_centered` (mean removed) over stationary AR(p),
-/// p = phi_start.size(), starting from phi_start (which must be stationary).
+/// p = kappa_start.size(), starting from the model with reflection coefficients kappa_start (all
+/// |kappa| < 1; e.g. OrderSequence::reflection from Burg). Starting from the reflection
+/// coefficients rather than phi matters on trends and the slowest IMFs: there the step-down of a
+/// rounded phi can fail although Burg's kappa are all inside (-1, 1).
 MaximumLikelihoodResult FitMaximumLikelihood(const Eigen::Ref<const Eigen::VectorXd>& x_centered,
-                                             const Eigen::VectorXd& phi_start,
+                                             const Eigen::VectorXd& kappa_start,
                                              const MaximumLikelihoodOptions& options);
 
 }  // namespace fogpipe::ar
