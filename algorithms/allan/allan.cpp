@@ -76,7 +76,8 @@ AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double s
     const int alpha = id.method == NoiseIdMethod::kNone ? previous_alpha : id.alpha;
     previous_alpha = alpha;
     table.alpha[k] = alpha;
-    table.edf[k] = GreenhallEdf(alpha, d, m, n + 1, IsOverlapping(options.deviation));
+    table.edf[k] = GreenhallEdf(alpha, d, m, n + 1, IsOverlapping(options.deviation),
+                                options.sampled_phase_edf);
     if (table.edf[k] > 0.0)
       ConfidenceBounds(table.sigma[k], table.edf[k], options.confidence, &table.ci_low[k],
                        &table.ci_high[k]);

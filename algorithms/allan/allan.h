@@ -23,6 +23,10 @@ struct AllanOptions {
   bool confidence_intervals = true;
   /// Two-sided confidence level of [ci_low, ci_high]; 0.683 = one sigma, as Stable32.
   double confidence = 0.683;
+  /// EDF convention (edf.h): false = Greenhall & Riley as printed and as Stable32 (default, so
+  /// that bounds match Stable32's); true = exact for phase sampled as the running sum of the rate,
+  /// which for white FM at m <= 33 differs by up to 17 % in EDF (up to ~8 % in bound width).
+  bool sampled_phase_edf = false;
 
   bool IsValid(std::string* error) const;
 };

@@ -93,7 +93,8 @@ double BinomialCoefficient(int n, int k) {
 
 }  // namespace
 
-double GreenhallEdf(int alpha, int d, long long m, long long n_phase, bool overlapping) {
+double GreenhallEdf(int alpha, int d, long long m, long long n_phase, bool overlapping,
+                    bool sampled_phase) {
   if (d < 1 || d > 3 || alpha > 2 || alpha < -4 || alpha + 2 * d <= 1 || m < 1) return kNaN;
   const double f = static_cast<double>(m);  // unmodified variance: F = m
   const double s = overlapping ? static_cast<double>(m) : 1.0;
@@ -106,7 +107,8 @@ double GreenhallEdf(int alpha, int d, long long m, long long n_phase, bool overl
   double inv_edf = kNaN;
   if (alpha <= 0) {
     if (j <= kJmax) {
-      const double mp = static_cast<double>(m) * (d + 1) <= kJmax ? f : kInf;  // case 2.1a / b
+      const bool case_a = !sampled_phase && static_cast<double>(m) * (d + 1) <= kJmax;
+      const double mp = case_a ? f : kInf;  // case 2.1a / b
       inv_edf = InverseEdfFromSum(j, big_m, s, mp, alpha, d, mp);
     } else if (r > d + 1) {
       inv_edf = (t2[0] - t2[1] / r) / r;  // case 2.2
