@@ -1,0 +1,100 @@
+// When to stop sifting one IMF.
+//
+// Every rule is evaluated after each sift k >= 1 on h_k (the signal after k envelope-mean
+// subtractions) and on the statistics of that last sift (the envelopes of h_{k-1}):
+//   - kFixedSifts: exactly `fixed_sifts` sifts (default 10). Wu & Huang (2004, 2009) use a fixed
+//     count of about 10 because it makes EMD a fixed, dyadic filter bank on white noise and keeps
+//     the result independent of the record length.
+//   - kCauchy: Huang et al. (1998, eq. 5.5) stop when the "standard deviation" between two
+//     consecutive sifts falls below 0.2-0.3. We use the ratio-of-sums form of Huang et al. (2003,
+//     "A confidence limit for the EMD", Proc. R. Soc. A 459) SD_k = sum (h_{k-1} - h_k)^2 / sum
+//     h_{k-1}^2 = sum m^2 / sum h_{k-1}^2, because the 1998 per-sample ratio divides by
+//     h_{k-1}(t)^2 and diverges at every zero crossing.
+//   - kSNumber: Huang et al. (2003): stop once the numbers of extrema and zero crossings differ by
+//   at
+//     most one and have stayed the same for S consecutive sifts.
+//   - kRilling: Rilling, Flandrin & Goncalves (2003), with sigma(t) = |m(t)| / a(t) (mean over
+//     half-range of the envelopes): stop when sigma < theta1 on all but a fraction alpha of the
+//     samples, sigma < theta2 everywhere, and extrema and zero crossings differ by at most one (as
+//     in their emd.m). Difference from emd.m: emd.m tests the envelopes of h_{k-1} and then keeps
+//     h_{k-1}; our pass has already subtracted that mean when the test is made, so we keep h_k,
+//     which is one subtraction closer to a zero mean, and check the counts on h_k.
+//   - Any rule: the sift cap `max_sifts` (kSiftCap), and a signal that has lost its extrema
+//     (fewer than 2 maxima or 2 minima: kTooFewExtrema) stop the sifting.
+//
+// Why a fixed count is the default: the Cauchy SD and the Rilling fractions are averages over the
+// record and converge with N, but S-number asks that the extremum counts of the WHOLE record stay
+// unchanged for S sifts; on a long record some extremum appears or vanishes somewhere in almost
+// every sift, so the number of sifts (and the IMFs) drift with N, up to the cap. The Cauchy
+// threshold is met after a few sifts on noisy data, under-sifting. A fixed count gives the same
+// filter for any N (Wu & Huang 2004) and costs a known time.
+#pragma once
+
+#include <string>
+
+#include "algorithms/emd/envelope.h"
+#include "algorithms/emd/extrema.h"
+
+namespace fogpipe::emd {
+
+/// The sifting stop rule (see the file comment).
+enum class StopRule { kFixedSifts, kCauchy, kSNumber, kRilling };
+
+/// Why the sifting of one IMF stopped.
+enum class SiftStop {
+  kFixedCount,     ///< kFixedSifts: the fixed count was reached.
+  kThresholdMet,   ///< kCauchy: SD below cauchy_sd.
+  kSNumberMet,     ///< kSNumber: counts stable for S sifts.
+  kRillingMet,     ///< kRilling: the three thresholds met.
+  kSiftCap,        ///< max_sifts reached before the rule was met.
+  kTooFewExtrema,  ///< The sifted signal has fewer than 2 maxima or 2 minima.
+};
+
+/// "fixed_sifts", "cauchy", "s_number", "rilling".
+const char* ToString(StopRule rule);
+/// "fixed_count", "threshold_met", "s_number_met", "rilling_met", "sift_cap", "too_few_extrema".
+const char* ToString(SiftStop stop);
+
+/// Parameters of the stop rules (copied from EmdOptions, where they are documented).
+struct StopCriteria {
+  StopRule rule = StopRule::kFixedSifts;
+  int fixed_sifts = 10;
+  double cauchy_sd = 0.2;
+  int s_number = 4;
+  double rilling_theta1 = 0.05;
+  double rilling_theta2 = 0.5;
+  double rilling_alpha = 0.05;
+  int max_sifts = 100;
+};
+
+/// The statistics the fused sift pass must gather for `rule`.
+SiftStatisticsKind StatisticsFor(StopRule rule);
+
+/// Decides, sift after sift, when one IMF is done. One object per IMF.
+class SiftStopper {
+ public:
+  /// `initial` are the counts of h_0, the signal the IMF is sifted from (S-number compares
+  /// every sift's counts with the previous ones).
+  SiftStopper(const StopCriteria& criteria, const ExtremaCounts& initial)
+      : criteria_(criteria),
+        previous_extrema_(initial.num_extrema()),
+        previous_zero_crossings_(initial.num_zero_crossings) {}
+
+  /// Called after sift `sifts` (>= 1) with the counts of h_k and the statistics of that sift.
+  /// Returns true and sets *reason when the sifting must stop.
+  bool ShouldStop(int sifts, const ExtremaCounts& counts, const SiftStatistics& stats, int n,
+                  SiftStop* reason);
+
+  /// True when no sift is needed after `sifts` sifts other than to produce counts, i.e. the rule
+  /// will stop at this count whatever the counts are (fixed count or cap). Lets the caller skip
+  /// storing knots.
+  bool StopsAt(int sifts) const;
+
+ private:
+  StopCriteria criteria_;
+  int previous_extrema_;
+  int previous_zero_crossings_;
+  int stable_sifts_ = 0;
+};
+
+}  // namespace fogpipe::emd
