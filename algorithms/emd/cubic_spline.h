@@ -115,12 +115,13 @@ void SolveMoments(const Knots& knots, SplineKind kind, double* moment, double* w
     }
     if (!not_a_knot && j == n - 2) c = 0.0;  // M_{n-1} = 0.
     if (j == 1) {  // M_0 is known (natural: 0) or substituted (not-a-knot).
-      work[j] = c / b;
-      moment[j] = r / b;
+      const double inv = 1.0 / b;
+      work[j] = c * inv;
+      moment[j] = r * inv;
     } else {
-      const double denom = b - a * work[j - 1];
-      work[j] = c / denom;
-      moment[j] = (r - a * moment[j - 1]) / denom;
+      const double inv = 1.0 / (b - a * work[j - 1]);
+      work[j] = c * inv;
+      moment[j] = (r - a * moment[j - 1]) * inv;
     }
     h_prev = h_j;
     d_prev = d_j;
@@ -137,15 +138,15 @@ void SolveMoments(const Knots& knots, SplineKind kind, double* moment, double* w
 
 template <class Knots>
 CubicPiece PieceOf(const Knots& knots, const double* moment, int j) {
-  const double t0 = knots.t(j), hj = knots.t(j + 1) - t0;
+  const double t0 = knots.t(j), hj = knots.t(j + 1) - t0, inv_h = 1.0 / hj;
   const double y0 = knots.y(j), y1 = knots.y(j + 1);
   const double m0 = moment[j], m1 = moment[j + 1];
   CubicPiece piece;
   piece.origin = t0;
   piece.c0 = y0;
-  piece.c1 = (y1 - y0) / hj - hj * (2.0 * m0 + m1) / 6.0;
+  piece.c1 = (y1 - y0) * inv_h - hj * (2.0 * m0 + m1) * (1.0 / 6.0);
   piece.c2 = 0.5 * m0;
-  piece.c3 = (m1 - m0) / (6.0 * hj);
+  piece.c3 = (m1 - m0) * inv_h * (1.0 / 6.0);
   return piece;
 }
 

@@ -80,6 +80,53 @@ TEST(Extrema, CountingAloneGivesTheSameCountsAsStoring) {
   EXPECT_NEAR(counted.num_maxima, 9998.0 / 3.0, 5.0 * 47.0);
 }
 
+// Independent reference: split x into runs of equal values; a run is a maximum (minimum) when
+// both neighbouring runs are lower (higher); zero crossings between consecutive non-zero samples.
+Found Reference(const std::vector<double>& x) {
+  Found f;
+  std::vector<std::pair<int, int>> runs;  // [first, last] sample of each run of equal values.
+  for (int i = 0; i < static_cast<int>(x.size()); ++i) {
+    if (runs.empty() || x[i] != x[runs.back().first]) runs.push_back({i, i});
+    runs.back().second = i;
+  }
+  for (size_t r = 1; r + 1 < runs.size(); ++r) {
+    const double v = x[runs[r].first], before = x[runs[r - 1].first], after = x[runs[r + 1].first];
+    if (v > before && v > after) f.max_pos2.push_back(runs[r].first + runs[r].second);
+    if (v < before && v < after) f.min_pos2.push_back(runs[r].first + runs[r].second);
+  }
+  double last = 0.0;
+  for (double v : x) {
+    if (v == 0.0) continue;
+    if (last != 0.0 && (v > 0) != (last > 0)) ++f.counts.num_zero_crossings;
+    last = v;
+  }
+  f.counts.num_maxima = static_cast<int>(f.max_pos2.size());
+  f.counts.num_minima = static_cast<int>(f.min_pos2.size());
+  return f;
+}
+
+TEST(Extrema, AgreesWithARunBasedReferenceOnNoiseWithFlatRunsAndZeros) {
+  // Coarsely quantized noise has flat runs and exact zeros scattered through it; the fast path
+  // (64-sample blocks without either) and the scalar path must hand over state exactly.
+  for (double step : {0.0, 0.25, 1.0}) {
+    const Eigen::VectorXd w = testing::WhiteNoise(5000, 77);
+    std::vector<double> x(w.size());
+    for (int i = 0; i < w.size(); ++i) {
+      x[i] = step > 0.0 ? step * std::round(w[i] / step) : w[i];
+      // Long flat runs and zeros in a few places, some crossing 64-sample block edges.
+      if (i % 700 >= 60 && i % 700 < 70) x[i] = 0.0;
+      if (i % 900 >= 120 && i % 900 < 135) x[i] = 0.5;
+    }
+    EnvelopeKnots maxima, minima;
+    const Found got = Find(x, &maxima, &minima);
+    const Found want = Reference(x);
+    EXPECT_EQ(got.max_pos2, want.max_pos2) << "quantization step " << step;
+    EXPECT_EQ(got.min_pos2, want.min_pos2) << "quantization step " << step;
+    EXPECT_EQ(got.counts.num_zero_crossings, want.counts.num_zero_crossings);
+    EXPECT_EQ(got.counts.num_maxima, want.counts.num_maxima);
+  }
+}
+
 // Mirrored knots must extend both envelopes past both ends, keep positions strictly increasing,
 // and be reflections (same values) of extrema or of the end samples.
 void ExpectValidMirror(const std::vector<double>& x) {
