@@ -22,8 +22,11 @@ class EnvelopeBuffers {
     ExtremaCounts counts = FindExtrema(x, n, &upper_, &lower_);
     if (counts.num_maxima > upper_.interior_capacity() ||
         counts.num_minima > lower_.interior_capacity()) {
-      auto grown = [](int needed, int have) {
-        return needed <= have ? have : needed + needed / 32 + 16;
+      // Interior maxima (or minima) alternate with the other kind and exclude the end samples, so
+      // there are at most (n - 1) / 2 of each: the slack never takes the knots past 4 x that.
+      const int most = (n - 1) / 2;
+      auto grown = [most](int needed, int have) {
+        return needed <= have ? have : std::max(needed, std::min(most, needed + needed / 32 + 16));
       };
       upper_.Reserve(grown(counts.num_maxima, upper_.interior_capacity()));
       lower_.Reserve(grown(counts.num_minima, lower_.interior_capacity()));

@@ -15,14 +15,16 @@
 // the run:
 //   - the residue vector is the running remainder r (no separate buffer);
 //   - each IMF is sifted in place in its own result vector (no separate h);
-//   - the envelope knots: per interior extremum one int32 position and one double moment; the
-//     knot values are read from the signal (extrema.h), plus one shared double work array per
-//     knot of the larger envelope for the tridiagonal solve. With E maxima and E minima that is
-//     (12 E + 12 E + 8 E) bytes = 4 E doubles. E <= N / 2; for white noise E = N / 3, so 1.33 N
-//     doubles (measured, see the benchmark).
-// With the caller's input x that is at most (K + 2) N + 4 E doubles <= (K + 4) N.
-// Nothing of size N is allocated inside the sift loop; knot arrays grow only when a sift has more
-// extrema than any before.
+//   - the envelope knots: per interior extremum one int32 position and one double moment (the
+//     knot values are read from the signal, extrema.h), plus one double of Thomas work array per
+//     knot of the larger envelope, shared by both solves. With E maxima and E minima that is
+//     (12 E + 12 E + 8 E) bytes = 4 E doubles. White noise: E = N / 3 (0.35 N while sifting IMF 1),
+//     so 1.44 N doubles with the growth slack; at most E = (N - 1) / 2, so 2 N doubles.
+// So at most (K + 3) N doubles of heap, (K + 4) N with the caller's input x (plus 12 doubles of
+// mirrored-knot slots in the extreme case of an extremum at every sample). Tested by heap
+// accounting in tests/algorithms/emd/emd_memory_test.cpp. Nothing of size N is allocated inside
+// the sift loop; knot arrays grow (exactly, +1/32) only when a sift has more extrema than any
+// before.
 //
 // Limits: N <= 2^29 samples (knot positions are int32 in half samples).
 #pragma once
