@@ -106,19 +106,6 @@ bool EmdOptions::IsValid(std::string* error) const {
   return true;
 }
 
-StopCriteria EmdOptions::Criteria() const {
-  StopCriteria c;
-  c.rule = stop_rule;
-  c.fixed_sifts = fixed_sifts;
-  c.cauchy_sd = cauchy_sd;
-  c.s_number = s_number;
-  c.rilling_theta1 = rilling_theta1;
-  c.rilling_theta2 = rilling_theta2;
-  c.rilling_alpha = rilling_alpha;
-  c.max_sifts = max_sifts;
-  return c;
-}
-
 EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions& options) {
   EmdResult result;
   EmdSummary& summary = result.summary;
@@ -146,7 +133,7 @@ EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions
     return result;
   }
 
-  const StopCriteria criteria = options.Criteria();
+  const StopCriteria& criteria = options;
   const SiftStatisticsKind stats_kind = StatisticsFor(options.stop_rule);
   EnvelopeBuffers buffers;
   double* r = result.residue.data();

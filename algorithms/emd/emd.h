@@ -39,25 +39,11 @@
 
 namespace fogpipe::emd {
 
-/// Options of Decompose(). Defaults follow Wu & Huang (2004/2009) for the stop rule and MATLAB's
-/// `emd` / Rilling's emd.m for the envelopes.
-struct EmdOptions {
-  /// Sifting stop rule (stop_rules.h). Default: a fixed number of sifts, the choice that makes EMD
-  /// a dyadic filter bank on noise independently of the record length.
-  StopRule stop_rule = StopRule::kFixedSifts;
-  /// kFixedSifts: sifts per IMF (Wu & Huang 2004 use 10).
-  int fixed_sifts = 10;
-  /// kCauchy: stop when sum m^2 / sum h_{k-1}^2 <= cauchy_sd (Huang 1998: 0.2 to 0.3).
-  double cauchy_sd = 0.2;
-  /// kSNumber: consecutive sifts with unchanged counts (Huang et al. 2003 suggest 3 to 5).
-  int s_number = 4;
-  /// kRilling: theta1, theta2, alpha of Rilling, Flandrin & Goncalves (2003).
-  double rilling_theta1 = 0.05;
-  double rilling_theta2 = 0.5;
-  double rilling_alpha = 0.05;
-  /// Cap on sifts per IMF for every rule (an IMF that hits it is flagged kSiftCap, and the
-  /// decomposition kNoConvergence). For kFixedSifts it must be >= fixed_sifts.
-  int max_sifts = 100;
+/// Options of Decompose(). The stop-rule options (stop_rule, fixed_sifts, cauchy_sd, s_number,
+/// rilling_theta1/theta2/alpha, max_sifts) come from StopCriteria (stop_rules.h), where their
+/// defaults are documented: 10 fixed sifts (Wu & Huang 2004/2009). The envelope defaults follow
+/// MATLAB's `emd` and Rilling's emd.m.
+struct EmdOptions : StopCriteria {
   /// Maximum number of IMFs; 0 = until the remainder has too few extrema.
   int max_imfs = 0;
   /// End condition of the envelope splines.
@@ -68,8 +54,6 @@ struct EmdOptions {
   bool mirror_ends = true;
 
   bool IsValid(std::string* error) const;
-  /// The stop-rule parameters above, for SiftStopper.
-  StopCriteria Criteria() const;
 };
 
 /// What one IMF is, and how it was obtained.

@@ -50,7 +50,7 @@ SiftStatisticsKind StatisticsFor(StopRule rule) {
 }
 
 bool SiftStopper::StopsAt(int sifts) const {
-  if (criteria_.rule == StopRule::kFixedSifts && sifts >= criteria_.fixed_sifts) return true;
+  if (criteria_.stop_rule == StopRule::kFixedSifts && sifts >= criteria_.fixed_sifts) return true;
   return sifts >= criteria_.max_sifts;
 }
 
@@ -61,7 +61,7 @@ bool SiftStopper::ShouldStop(int sifts, const ExtremaCounts& counts, const SiftS
   const bool imf_counts = std::abs(extrema - zero_crossings) <= 1;
   bool met = false;
   SiftStop met_reason = SiftStop::kFixedCount;
-  switch (criteria_.rule) {
+  switch (criteria_.stop_rule) {
     case StopRule::kFixedSifts:
       met = sifts >= criteria_.fixed_sifts;
       met_reason = SiftStop::kFixedCount;

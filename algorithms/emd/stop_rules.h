@@ -55,15 +55,24 @@ const char* ToString(StopRule rule);
 /// "fixed_count", "threshold_met", "s_number_met", "rilling_met", "sift_cap", "too_few_extrema".
 const char* ToString(SiftStop stop);
 
-/// Parameters of the stop rules (copied from EmdOptions, where they are documented).
+/// Parameters of the stop rules, with their defaults. EmdOptions derives from this struct, so
+/// they are set as options.stop_rule, options.fixed_sifts, ...
 struct StopCriteria {
-  StopRule rule = StopRule::kFixedSifts;
+  /// Sifting stop rule. Default: a fixed number of sifts, the choice that makes EMD a dyadic filter
+  /// bank on noise independently of the record length (see the file comment).
+  StopRule stop_rule = StopRule::kFixedSifts;
+  /// kFixedSifts: sifts per IMF (Wu & Huang 2004 use 10).
   int fixed_sifts = 10;
+  /// kCauchy: stop when sum m^2 / sum h_{k-1}^2 <= cauchy_sd (Huang 1998: 0.2 to 0.3).
   double cauchy_sd = 0.2;
+  /// kSNumber: consecutive sifts with unchanged counts (Huang et al. 2003 suggest 3 to 5).
   int s_number = 4;
+  /// kRilling: theta1, theta2, alpha of Rilling, Flandrin & Goncalves (2003).
   double rilling_theta1 = 0.05;
   double rilling_theta2 = 0.5;
   double rilling_alpha = 0.05;
+  /// Cap on sifts per IMF for every rule (an IMF that hits it is flagged kSiftCap, and the
+  /// decomposition kNoConvergence). For kFixedSifts it must be >= fixed_sifts.
   int max_sifts = 100;
 };
 

@@ -39,20 +39,28 @@ std::vector<double> Zigzag(int n) {
   return x;
 }
 
+// Knots and not-a-knot moments of both envelopes of x, without mirrored ends: outside the knots
+// the end pieces extend the cubics themselves.
+struct Envelopes {
+  explicit Envelopes(const std::vector<double>& x) {
+    const int n = static_cast<int>(x.size());
+    upper.Reserve(n);
+    lower.Reserve(n);
+    FindExtrema(x.data(), n, &upper, &lower);
+    std::vector<double> work(n + 4);
+    SolveMoments(upper, SplineKind::kNotAKnot, upper.moments(), work.data());
+    SolveMoments(lower, SplineKind::kNotAKnot, lower.moments(), work.data());
+  }
+  EnvelopeKnots upper, lower;
+};
+
 TEST(Envelope, SubtractsTheMeanOfCubicEnvelopesExactly) {
   const int n = 200;
   std::vector<double> x = Zigzag(n);
   const std::vector<double> original = x;
-  EnvelopeKnots upper, lower;
-  upper.Reserve(n);
-  lower.Reserve(n);
-  FindExtrema(x.data(), n, &upper, &lower);
-  std::vector<double> work(n + 4);
-  SolveMoments(upper, SplineKind::kNotAKnot, upper.moments(), work.data());
-  SolveMoments(lower, SplineKind::kNotAKnot, lower.moments(), work.data());
-  // No mirrored knots: the end pieces extend the cubics themselves.
+  Envelopes env(x);
   const SiftStatistics stats =
-      SubtractEnvelopeMean(x.data(), n, upper, lower, SiftStatisticsKind::kCauchy);
+      SubtractEnvelopeMean(x.data(), n, env.upper, env.lower, SiftStatisticsKind::kCauchy);
   double sum_m2 = 0.0, sum_h2 = 0.0;
   for (int i = 0; i < n; ++i) {
     const double mean = 0.5 * (Upper(i) + Lower(i));
@@ -68,13 +76,7 @@ TEST(Envelope, SubtractsTheMeanOfCubicEnvelopesExactly) {
 TEST(Envelope, CountsRillingExceedancesOfMeanOverAmplitude) {
   const int n = 200;
   std::vector<double> x = Zigzag(n);
-  EnvelopeKnots upper, lower;
-  upper.Reserve(n);
-  lower.Reserve(n);
-  FindExtrema(x.data(), n, &upper, &lower);
-  std::vector<double> work(n + 4);
-  SolveMoments(upper, SplineKind::kNotAKnot, upper.moments(), work.data());
-  SolveMoments(lower, SplineKind::kNotAKnot, lower.moments(), work.data());
+  Envelopes env(x);
   // sigma = |m| / a at every sample; the thresholds are put midway between two consecutive sorted
   // values (at the 30 % and 80 % points) so that rounding cannot move a sample across them.
   std::vector<double> sigma(n);
@@ -88,8 +90,8 @@ TEST(Envelope, CountsRillingExceedancesOfMeanOverAmplitude) {
   ASSERT_GT(sorted[61] - sorted[60], 1e-9);
   ASSERT_GT(sorted[161] - sorted[160], 1e-9);
   const int64_t over1 = n - 61, over2 = n - 161;
-  const SiftStatistics stats =
-      SubtractEnvelopeMean(x.data(), n, upper, lower, SiftStatisticsKind::kRilling, theta1, theta2);
+  const SiftStatistics stats = SubtractEnvelopeMean(x.data(), n, env.upper, env.lower,
+                                                    SiftStatisticsKind::kRilling, theta1, theta2);
   EXPECT_EQ(stats.num_over_theta1, over1);
   EXPECT_EQ(stats.num_over_theta2, over2);
 }

@@ -28,7 +28,7 @@ TEST(StopRules, FixedCountStopsAtExactlyThatManySifts) {
 
 TEST(StopRules, CauchyStopsWhenTheMeanEnergyRatioFallsBelowTheThreshold) {
   StopCriteria criteria;
-  criteria.rule = StopRule::kCauchy;
+  criteria.stop_rule = StopRule::kCauchy;
   criteria.cauchy_sd = 0.2;
   SiftStopper stopper(criteria, Counts(10, 10, 20));
   SiftStatistics stats;
@@ -43,7 +43,7 @@ TEST(StopRules, CauchyStopsWhenTheMeanEnergyRatioFallsBelowTheThreshold) {
 
 TEST(StopRules, SNumberNeedsSConsecutiveSiftsWithUnchangedImfCounts) {
   StopCriteria criteria;
-  criteria.rule = StopRule::kSNumber;
+  criteria.stop_rule = StopRule::kSNumber;
   criteria.s_number = 2;
   SiftStopper stopper(criteria, Counts(12, 12, 20));
   SiftStop reason;
@@ -57,7 +57,7 @@ TEST(StopRules, SNumberNeedsSConsecutiveSiftsWithUnchangedImfCounts) {
 
 TEST(StopRules, SNumberIgnoresStableCountsThatAreNotAnImf) {
   StopCriteria criteria;
-  criteria.rule = StopRule::kSNumber;
+  criteria.stop_rule = StopRule::kSNumber;
   criteria.s_number = 1;
   criteria.max_sifts = 3;
   SiftStopper stopper(criteria, Counts(10, 10, 10));  // 20 extrema, 10 zero crossings.
@@ -70,7 +70,7 @@ TEST(StopRules, SNumberIgnoresStableCountsThatAreNotAnImf) {
 
 TEST(StopRules, RillingNeedsAllThreeThresholdsAndImfCounts) {
   StopCriteria criteria;
-  criteria.rule = StopRule::kRilling;  // theta1 0.05, theta2 0.5, alpha 0.05.
+  criteria.stop_rule = StopRule::kRilling;  // theta1 0.05, theta2 0.5, alpha 0.05.
   SiftStopper stopper(criteria, Counts(10, 10, 20));
   SiftStatistics stats;
   SiftStop reason;
@@ -88,7 +88,7 @@ TEST(StopRules, RillingNeedsAllThreeThresholdsAndImfCounts) {
 TEST(StopRules, TheSiftCapStopsEveryRule) {
   for (StopRule rule : {StopRule::kCauchy, StopRule::kSNumber, StopRule::kRilling}) {
     StopCriteria criteria;
-    criteria.rule = rule;
+    criteria.stop_rule = rule;
     criteria.max_sifts = 2;
     SiftStopper stopper(criteria, Counts(10, 10, 5));
     SiftStatistics never;  // Cauchy SD = 1, Rilling: every sample over both thresholds.
