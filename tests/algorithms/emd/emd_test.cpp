@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <limits>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include "tests/algorithms/emd/test_signals.h"
@@ -109,6 +112,41 @@ TEST(Emd, WhiteNoiseIsDecomposedIntoADyadicFilterBank) {
     const double slope = (m * sxy - sx * sy) / (m * sxx - sx * sx);
     EXPECT_GE(slope, -1.15) << "seed " << seed;
     EXPECT_LE(slope, -0.85) << "seed " << seed;
+  }
+}
+
+// Independent implementation of the same method: PyEMD (Python, scipy CubicSpline not-a-knot,
+// Rilling's two mirrored extrema per side) with FIXE=10, run once on 512 white-noise samples
+// (tests/algorithms/emd/data/README.md). Both solve the same tridiagonal systems in double
+// precision, so they differ by rounding only: ~1e-16 relative per operation, amplified by the
+// conditioning of the spline systems (diagonally dominant, condition number < 3) over 10 sifts and
+// 4 IMFs. Measured: at most 4e-15 of max|imf|; the bound 1e-12 leaves room for other compilers'
+// contraction (FMA) choices while still catching any difference of method: the natural end
+// condition instead of not-a-knot alone changes IMF 1 by 9 % of its range (measured).
+TEST(Emd, AgreesWithPyEmdToRoundingWithTenFixedSifts) {
+  std::ifstream file(std::string(FOGPIPE_SOURCE_DIR) +
+                     "/tests/algorithms/emd/data/pyemd_fixe10_white_noise.csv");
+  ASSERT_TRUE(file.good());
+  std::vector<std::vector<double>> columns(5);
+  std::string line;
+  while (std::getline(file, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::stringstream row(line);
+    std::string cell;
+    for (auto& column : columns) {
+      std::getline(row, cell, ',');
+      column.push_back(std::stod(cell));
+    }
+  }
+  const int n = static_cast<int>(columns[0].size());
+  ASSERT_EQ(n, 512);
+  const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(columns[0].data(), n);
+  const EmdResult r = Decompose(x, EmdOptions());
+  ASSERT_GE(r.summary.num_imfs, 4);
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Map<const Eigen::VectorXd> theirs(columns[k + 1].data(), n);
+    const double scale = theirs.cwiseAbs().maxCoeff();
+    EXPECT_LE((r.imfs[k] - theirs).cwiseAbs().maxCoeff(), 1e-12 * scale) << "IMF " << k + 1;
   }
 }
 
