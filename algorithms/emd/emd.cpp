@@ -1,6 +1,7 @@
 #include "algorithms/emd/emd.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <sstream>
 
@@ -172,11 +173,20 @@ EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions
         break;
       }
     }
-    // Report the IMF and remove it from the remainder in one pass.
-    double energy = 0.0;
+    // Report the IMF and remove it from the remainder in one pass. `probe` stays 0 unless some
+    // sample is Inf or NaN (x * 0 is NaN for those), e.g. when the input is near overflow.
+    double energy = 0.0, probe = 0.0;
     for (int i = 0; i < n; ++i) {
       energy += h[i] * h[i];
+      probe += h[i] * 0.0;
       r[i] -= h[i];
+    }
+    if (probe != 0.0 || std::isnan(probe)) {
+      const int k = static_cast<int>(result.imfs.size());
+      result = EmdResult();
+      result.summary.termination = Termination::kNumericalFailure;
+      result.summary.message = "IMF " + std::to_string(k) + " became non-finite";
+      return result;
     }
     ImfInfo info;
     info.sifts = sifts;

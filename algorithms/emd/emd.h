@@ -72,7 +72,8 @@ struct ImfInfo {
 struct EmdSummary {
   /// kSuccess; kNoConvergence if some IMF hit max_sifts; kInsufficientData if x has fewer than 3
   /// samples or too few extrema for one IMF (then residue = x, no IMFs); kInvalidOptions;
-  /// kNumericalFailure for non-finite input.
+  /// kNumericalFailure for non-finite input or an IMF that overflowed (input near the largest
+  /// double); then the result is empty.
   Termination termination = Termination::kInvalidOptions;
   std::string message;
   int num_imfs = 0;

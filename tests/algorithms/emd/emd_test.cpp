@@ -352,6 +352,15 @@ TEST(Emd, NonFiniteInputIsANumericalFailure) {
   EXPECT_EQ(Decompose(x, EmdOptions()).summary.termination, Termination::kNumericalFailure);
 }
 
+TEST(Emd, EnvelopesThatOverflowAreANumericalFailureNotGarbage) {
+  // Finite input near the largest double: the spline right-hand sides (6 x slope differences)
+  // overflow to Inf.
+  const Eigen::VectorXd x = testing::WhiteNoise(1000, 2) * 1e307;
+  const EmdResult r = Decompose(x, EmdOptions());
+  EXPECT_EQ(r.summary.termination, Termination::kNumericalFailure) << r.summary.message;
+  EXPECT_TRUE(r.imfs.empty());
+}
+
 TEST(Emd, InvalidOptionsAreRejectedWithAReason) {
   auto rejected = [](void (*edit)(EmdOptions*)) {
     EmdOptions o;
