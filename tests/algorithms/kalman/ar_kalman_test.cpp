@@ -194,6 +194,17 @@ TEST(FilterAr, InvalidOptionsAndInputsAreReportedNotThrown) {
   EXPECT_FALSE(nan.summary.message.empty());
 }
 
+TEST(FilterAr, ReusedOutputStorageGivesTheSameResult) {
+  const Eigen::VectorXd phi = Phi({1.5, -0.7});
+  const testing::ArSimulation sim = SimulateArPlusNoise(phi, 1.0, 4.0, 3000, 12);
+  const ArKalmanResult fresh = FilterAr(sim.z, phi, -1, -1, Explicit(1.0, 4.0));
+  Eigen::VectorXd storage = Eigen::VectorXd::Constant(3000, 99.0);
+  const double* memory = storage.data();
+  const ArKalmanResult reused = FilterAr(sim.z, phi, -1, -1, Explicit(1.0, 4.0), &storage);
+  EXPECT_EQ(reused.filtered.data(), memory);  // no new allocation
+  EXPECT_EQ((reused.filtered - fresh.filtered).cwiseAbs().maxCoeff(), 0.0);
+}
+
 TEST(FilterAr, FixedAndGenericKernelsAgree) {
   // Order 9 takes the generic loop, 1..8 the fixed kernels; padding an AR(4) with zero
   // coefficients must not change the filtered x(k) beyond rounding.
