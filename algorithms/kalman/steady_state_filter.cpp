@@ -1,23 +1,11 @@
 #include "algorithms/kalman/steady_state_filter.h"
 
-#include <vector>
+#include "algorithms/kalman/fixed_order.h"
 
 namespace fogpipe::kalman {
 namespace {
 
-// Fixed-size storage (P > 0) keeps the loop state in registers; P == 0 is the runtime-order case.
-template <int P>
-struct Buffer {
-  explicit Buffer(int) {}
-  double* get() { return data; }
-  double data[P];
-};
-template <>
-struct Buffer<0> {
-  explicit Buffer(int p) : data(static_cast<size_t>(p)) {}
-  double* get() { return data.data(); }
-  std::vector<double> data;
-};
+using internal::Buffer;
 
 template <int P, bool kStoreInnovations>
 void Kernel(const double* z, long long n, double mean, const double* phi_in, const double* gain,
@@ -48,29 +36,20 @@ void Kernel(const double* z, long long n, double mean, const double* phi_in, con
   }
 }
 
-template <int P>
-void Dispatch(const double* z, long long n, double mean, const double* phi, const double* g,
-              const double* state, int p, double* filtered, double* innovations) {
-  if (innovations) {
-    Kernel<P, true>(z, n, mean, phi, g, state, p, filtered, innovations);
-  } else {
-    Kernel<P, false>(z, n, mean, phi, g, state, p, filtered, nullptr);
-  }
-}
-
 }  // namespace
 
 void SteadyStateFilter(const double* z, long long n, double mean, const Eigen::VectorXd& phi,
                        const Eigen::VectorXd& gain, const Eigen::VectorXd& state, double* filtered,
                        double* innovations) {
   const int p = static_cast<int>(phi.size());
-  using Fn = void (*)(const double*, long long, double, const double*, const double*, const double*,
-                      int, double*, double*);
-  static constexpr Fn kFixed[] = {&Dispatch<0>, &Dispatch<1>, &Dispatch<2>,
-                                  &Dispatch<3>, &Dispatch<4>, &Dispatch<5>,
-                                  &Dispatch<6>, &Dispatch<7>, &Dispatch<8>};
-  const Fn fn = p <= 8 ? kFixed[p] : &Dispatch<0>;
-  fn(z, n, mean, phi.data(), gain.data(), state.data(), p, filtered, innovations);
+  internal::WithFixedOrder(p, [&](auto order) {
+    constexpr int kP = decltype(order)::value;
+    if (innovations) {
+      Kernel<kP, true>(z, n, mean, phi.data(), gain.data(), state.data(), p, filtered, innovations);
+    } else {
+      Kernel<kP, false>(z, n, mean, phi.data(), gain.data(), state.data(), p, filtered, nullptr);
+    }
+  });
 }
 
 }  // namespace fogpipe::kalman

@@ -115,8 +115,8 @@ TEST(FilterAr, IllConditionedModelsSwitchOnlyWhenTheStallIsBelowTolerance) {
       EXPECT_GT(fast.summary.switched_at_sample, 0);
       EXPECT_GT(fast.summary.gain_distance_at_switch, 1e-12);  // it was the stall rule
     }
-    const double rel = (fast.filtered - slow.filtered).cwiseAbs().maxCoeff() /
-                       slow.filtered.cwiseAbs().maxCoeff();
+    const double rel =
+        (fast.filtered - slow.filtered).cwiseAbs().maxCoeff() / slow.filtered.cwiseAbs().maxCoeff();
     EXPECT_LE(rel, 1e-9) << m.name;
   }
 }

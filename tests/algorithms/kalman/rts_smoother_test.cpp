@@ -60,9 +60,12 @@ Eigen::VectorXd TextbookRts(const Eigen::VectorXd& z, const Eigen::VectorXd& phi
 TEST(RtsSmoother, EqualsTheTextbookRtsRecursion) {
   const long long n = 3000;
   std::uint64_t seed = 21;
-  Eigen::VectorXd ar2(2);
+  Eigen::VectorXd ar1(1), ar2(2), ar9(9);
+  ar1 << 0.9;
   ar2 << 1.5, -0.7;
-  for (const Eigen::VectorXd& phi : {ar2, testing::PaperTable2Models()[1].phi}) {
+  ar9 << 0.5, -0.2, 0.1, 0.05, -0.05, 0.02, 0.01, -0.01, 0.02;  // sum |phi| < 1: stable
+  // Orders 1, 2, 4 take the fixed-order loops, 9 the runtime-order one.
+  for (const Eigen::VectorXd& phi : {ar1, ar2, testing::PaperTable2Models()[1].phi, ar9}) {
     const testing::ArSimulation sim = testing::SimulateArPlusNoise(phi, 0.3, 1.0, n, seed++);
     const double var0 = (sim.z.array() - sim.z.mean()).square().sum() / (n - 1);
     const Eigen::VectorXd reference = TextbookRts(sim.z, phi, 0.3, 1.0, var0);
