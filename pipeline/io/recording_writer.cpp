@@ -233,6 +233,7 @@ nlohmann::json SimulationTruthToJson(const std::vector<sim::SimulationTruth>& ax
     input.push_back(item);
   }
   j["input_rate"] = input;
+  j["input_rate_text"] = sim::FormatRateProfile(first.input_rate);
 
   if (first.temperature) {
     const sim::TemperatureProfile& t = *first.temperature;
@@ -330,6 +331,22 @@ nlohmann::json SimulationTruthToJson(const std::vector<sim::SimulationTruth>& ax
   }
   j["axes"] = axis_list;
   return j;
+}
+
+Eigen::VectorXd TrueRateFromTruth(const nlohmann::json& truth) {
+  try {
+    sim::RateProfile profile;
+    std::string error;
+    if (!sim::ParseRateProfile(truth.at("input_rate_text").get<std::string>(), &profile, &error)) {
+      throw std::runtime_error("truth: input_rate_text: " + error);
+    }
+    const double sample_rate_hz = truth.at("sample_rate_hz").get<double>();
+    const auto n = truth.at("num_samples").get<Eigen::Index>();
+    return sim::SampleRateProfile(profile, n, sample_rate_hz).array() +
+           truth.at("earth_rate_rad_s").get<double>();
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(std::string("truth JSON: ") + e.what());
+  }
 }
 
 }  // namespace fogpipe::io

@@ -64,6 +64,13 @@ void WriteRecording(const std::string& path, const RecordingData& data,
 nlohmann::json SimulationTruthToJson(const std::vector<simulation::SimulationTruth>& axes,
                                      const std::vector<std::string>& axis_names);
 
+/// The true rate (rad/s) of a simulated recording rebuilt from its truth JSON: the rate-table input
+/// ("input_rate_text", parsed by simulation::ParseRateProfile) plus the Earth-rate projection,
+/// sampled at t_k = k / sample_rate_hz for num_samples samples. For metrics against the truth
+/// (sweeps); the analysis proper never reads the truth. Throws std::runtime_error when a field is
+/// missing or malformed.
+Eigen::VectorXd TrueRateFromTruth(const nlohmann::json& truth);
+
 /// Writes `json` (indented) to `path` atomically; throws std::runtime_error on failure.
 void WriteJsonFile(const std::string& path, const nlohmann::json& json);
 

@@ -12,6 +12,7 @@
 #include "algorithms/common/units.h"
 #include "algorithms/simulation/gyro_simulator.h"
 #include "algorithms/simulation/navigation_grade.h"
+#include "pipeline/io/recording_writer.h"
 #include "simulate_test_support.h"
 
 namespace fogpipe {
@@ -94,6 +95,25 @@ TEST(SimulateCommand, ExplicitEffectsAndRateProfileHaveTheirExactShapeInTheFile)
   EXPECT_NEAR(truth["axes"][0]["bias_step"][0]["size_deg_h"].get<double>(), 5.0, 1e-13);
   EXPECT_NEAR(truth["axes"][0]["warmup"]["time_constant_s"].get<double>(), 50.0, 0.0);
   EXPECT_EQ(truth["input_rate"][0]["kind"], "step");
+}
+
+TEST(SimulateCommand, TheTrueRateRebuiltFromTheSidecarIsWhatAPerfectGyroReads) {
+  ScratchDir dir("simulate8");
+  ASSERT_EQ(Simulate("--duration-s 300 --latitude-deg 30 "
+                     "--rate-profile step:60:10,ramp:120:180:0.5,sine:0.02:4:30 -o " +
+                     dir / "t.h5"),
+            0);
+  const Eigen::VectorXd truth = io::TrueRateFromTruth(ReadJson(dir / "t.h5.truth.json"));
+  H5::H5File file(dir / "t.h5", H5F_ACC_RDONLY);
+  const Eigen::VectorXd x = ReadAll(file.openDataSet("rate")) / DegH(1.0);  // no error terms
+  ASSERT_EQ(truth.size(), 3000);
+  // The file went through rad/s -> deg/h -> rad/s and the text through 17 digits: a few ulp of the
+  // largest value (~50 deg/h = 2.4e-4 rad/s).
+  EXPECT_LT((truth - x).cwiseAbs().maxCoeff(), 1e-18);
+  EXPECT_NEAR(truth[0],
+              0.5 * simulation::kEarthRotationRateRadS +
+                  units::DegPerHourToRadPerSecond(4.0 * std::sin(30.0 * units::kRadPerDeg)),
+              1e-18);
 }
 
 TEST(SimulateCommand, NavProfileHasTheCyclingTemperatureChannelAndMultiAxisFloat32) {
