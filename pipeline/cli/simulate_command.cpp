@@ -326,18 +326,20 @@ void AddSimulateCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("--temperature-rate-coef", args->temperature_rate_coef,
                   "temperature_rate (Shupe): deg/h per degC/s of dT/dt");
   cmd->add_option("--temperature-pp-degc", args->temperature_pp_degC,
-                  "Aux temperature peak-to-peak, degC (default 8)");
+                  "Aux temperature peak-to-peak, degC (default 8; nav: drawn 6-12)");
   cmd->add_option("--temperature-period-s", args->temperature_period_s,
-                  "Aux temperature cycle period, s (default 5400)");
+                  "Aux temperature cycle period, s (default 5400; nav: drawn 3600-7200)");
   cmd->add_option("--temperature-mean-degc", args->temperature_mean_degC,
                   "Aux temperature mean, degC (default 25)");
   cmd->add_option("--temperature-noise-degc", args->temperature_noise_degC,
                   "Aux temperature sensor noise std, degC (default 0.005)");
   cmd->add_flag("--no-temperature", args->no_temperature, "Write no aux temperature channel");
+  std::string catalog;
+  for (sim::Term term : sim::AllTerms()) catalog += std::string(" ") + sim::ToString(term);
   cmd->add_option("--add", args->add,
                   "Add a catalog term at a random navigation-grade size drawn from the seed "
-                  "(repeatable): white quantization bias_instability rate_random_walk rate_ramp "
-                  "gauss_markov sinusoid temperature temperature_rate bias_step warmup");
+                  "(repeatable):" +
+                      catalog);
   cmd->add_option("--rate-profile", args->rate_profile,
                   "Rate-table input, deg/h, summed components: constant:W, step:T_S:S, "
                   "ramp:T0_S:T1_S:SLOPE_PER_S, sine:F_HZ:A[:PHASE_DEG]; e.g. "
