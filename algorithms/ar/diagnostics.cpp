@@ -5,8 +5,8 @@
 #include <limits>
 #include <vector>
 
+#include "algorithms/allan/chi_square.h"
 #include "algorithms/ar/autocorrelation.h"
-#include "algorithms/ar/chi_square.h"
 
 namespace fogpipe::ar {
 namespace {
@@ -88,11 +88,15 @@ LjungBoxTest LjungBoxFromLaggedProducts(const Eigen::VectorXd& c, Eigen::Index n
     q += rk * rk / (nd - k);
   }
   out.statistic = nd * (nd + 2.0) * q;
-  out.p_value = ChiSquareSurvival(out.statistic, out.dof);
+  out.p_value = LjungBoxPValue(out.statistic, out.dof);
   return out;
 }
 
 }  // namespace
+
+double LjungBoxPValue(double statistic, double dof) {
+  return 1.0 - allan::ChiSquareCdf(statistic, dof);
+}
 
 LjungBoxTest LjungBox(const Eigen::Ref<const Eigen::VectorXd>& residuals, int lag, int num_params) {
   const Eigen::VectorXd centered = residuals.array() - residuals.mean();
