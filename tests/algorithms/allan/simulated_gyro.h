@@ -22,23 +22,19 @@ struct GyroTruth {
 inline Eigen::VectorXd SimulateGyro(const GyroTruth& truth, long long n, double sample_rate_hz,
                                     std::uint64_t seed) {
   namespace sim = fogpipe::simulation;
+  using Generator = Eigen::VectorXd (*)(Eigen::Index, double, double, sim::RandomSource*);
+  const struct {
+    double amplitude;
+    Generator generate;
+  } terms[] = {{truth.q_rad, sim::QuantizationRateNoise},
+               {truth.n_rad_sqrt_s, sim::WhiteRateNoise},
+               {truth.b_rad_s, sim::FlickerRateNoise},
+               {truth.k_rad_s_sqrt_s, sim::RateRandomWalk}};
   Eigen::VectorXd rate = sim::RateRamp(n, sample_rate_hz, truth.r_rad_s2);
-  auto stream = [&](std::uint64_t term) { return sim::RandomSource(sim::DeriveSeed(seed, term)); };
-  if (truth.q_rad > 0.0) {
-    sim::RandomSource rng = stream(1);
-    rate += sim::QuantizationRateNoise(n, sample_rate_hz, truth.q_rad, &rng);
-  }
-  if (truth.n_rad_sqrt_s > 0.0) {
-    sim::RandomSource rng = stream(2);
-    rate += sim::WhiteRateNoise(n, sample_rate_hz, truth.n_rad_sqrt_s, &rng);
-  }
-  if (truth.b_rad_s > 0.0) {
-    sim::RandomSource rng = stream(3);
-    rate += sim::FlickerRateNoise(n, sample_rate_hz, truth.b_rad_s, &rng);
-  }
-  if (truth.k_rad_s_sqrt_s > 0.0) {
-    sim::RandomSource rng = stream(4);
-    rate += sim::RateRandomWalk(n, sample_rate_hz, truth.k_rad_s_sqrt_s, &rng);
+  for (std::uint64_t k = 0; k < 4; ++k) {
+    if (!(terms[k].amplitude > 0.0)) continue;
+    sim::RandomSource rng(sim::DeriveSeed(seed, k + 1));  // one stream per term
+    rate += terms[k].generate(n, sample_rate_hz, terms[k].amplitude, &rng);
   }
   return rate;
 }
