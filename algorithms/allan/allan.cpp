@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "algorithms/allan/chi_square.h"
+#include "algorithms/common/chi_square.h"
 #include "algorithms/allan/edf.h"
 #include "algorithms/allan/noise_id.h"
 #include "algorithms/allan/phase.h"
@@ -21,8 +21,8 @@ bool AllanOptions::IsValid(std::string* error) const {
 
 void ConfidenceBounds(double sigma, double edf, double confidence, double* low, double* high) {
   const double tail = 0.5 * (1.0 - confidence);
-  *low = sigma * std::sqrt(edf / ChiSquareQuantile(1.0 - tail, edf));
-  *high = sigma * std::sqrt(edf / ChiSquareQuantile(tail, edf));
+  *low = sigma * std::sqrt(edf / stats::ChiSquareQuantile(1.0 - tail, edf));
+  *high = sigma * std::sqrt(edf / stats::ChiSquareQuantile(tail, edf));
 }
 
 AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double sample_rate_hz,

@@ -3,7 +3,7 @@
 //
 //   rate y (any unit) -> mean-removed cumulative sum (phase.h) -> finite differences at each
 //   averaging factor (deviation.h) -> noise type by lag-1 ACF / B1 (noise_id.h) -> Greenhall EDF
-//   (edf.h) -> chi-square bounds sigma sqrt(edf / chi2) (chi_square.h).
+//   (edf.h) -> chi-square bounds sigma sqrt(edf / chi2) (common/chi_square.h).
 #pragma once
 
 #include <Eigen/Core>

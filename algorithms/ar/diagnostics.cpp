@@ -5,7 +5,7 @@
 #include <limits>
 #include <vector>
 
-#include "algorithms/allan/chi_square.h"
+#include "algorithms/common/chi_square.h"
 #include "algorithms/ar/autocorrelation.h"
 
 namespace fogpipe::ar {
@@ -95,7 +95,7 @@ LjungBoxTest LjungBoxFromLaggedProducts(const Eigen::VectorXd& c, Eigen::Index n
 }  // namespace
 
 double LjungBoxPValue(double statistic, double dof) {
-  return 1.0 - allan::ChiSquareCdf(statistic, dof);
+  return stats::ChiSquareSurvival(statistic, dof);
 }
 
 LjungBoxTest LjungBox(const Eigen::Ref<const Eigen::VectorXd>& residuals, int lag, int num_params) {

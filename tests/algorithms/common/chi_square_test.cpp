@@ -1,11 +1,11 @@
-// Tests of algorithms/allan/chi_square.{h,cpp} against closed forms and printed tables.
-#include "algorithms/allan/chi_square.h"
+// Tests of algorithms/common/chi_square.{h,cpp} against closed forms and printed tables.
+#include "algorithms/common/chi_square.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-namespace fogpipe::allan {
+namespace fogpipe::stats {
 namespace {
 
 // With 2 degrees of freedom the chi-square CDF is 1 - exp(-x/2), so the quantile is -2 ln(1-p).
@@ -46,5 +46,15 @@ TEST(ChiSquareQuantile, InvertsTheCdf) {
   }
 }
 
+
+// The upper tail is computed directly, so p-values far below 1e-16 keep their digits; for two
+// degrees of freedom Q(1, x/2) = exp(-x/2) exactly.
+TEST(ChiSquareSurvival, KeepsTinyTailsForTwoDegreesOfFreedom) {
+  for (double x : {1.0, 10.0, 100.0, 600.0}) {
+    EXPECT_NEAR(ChiSquareSurvival(x, 2.0) / std::exp(-0.5 * x), 1.0, 1e-12) << x;
+  }
+  EXPECT_NEAR(ChiSquareSurvival(3.0, 4.0) + ChiSquareCdf(3.0, 4.0), 1.0, 1e-15);
+}
+
 }  // namespace
-}  // namespace fogpipe::allan
+}  // namespace fogpipe::stats

@@ -1,9 +1,9 @@
-#include "algorithms/allan/chi_square.h"
+#include "algorithms/common/chi_square.h"
 
 #include <cmath>
 #include <limits>
 
-namespace fogpipe::allan {
+namespace fogpipe::stats {
 namespace {
 
 constexpr double kEps = 1e-16;
@@ -47,7 +47,16 @@ double RegularizedGammaP(double a, double x) {
   return 1.0 - GammaQContinuedFraction(a, x);
 }
 
+double RegularizedGammaQ(double a, double x) {
+  if (!(a > 0.0) || !(x >= 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  if (x == 0.0) return 1.0;
+  if (x < a + 1.0) return 1.0 - GammaPSeries(a, x);
+  return GammaQContinuedFraction(a, x);
+}
+
 double ChiSquareCdf(double x, double dof) { return RegularizedGammaP(0.5 * dof, 0.5 * x); }
+
+double ChiSquareSurvival(double x, double dof) { return RegularizedGammaQ(0.5 * dof, 0.5 * x); }
 
 double ChiSquareQuantile(double p, double dof) {
   if (!(p > 0.0 && p < 1.0) || !(dof > 0.0)) return std::numeric_limits<double>::quiet_NaN();
@@ -80,4 +89,4 @@ double ChiSquareQuantile(double p, double dof) {
   return x;
 }
 
-}  // namespace fogpipe::allan
+}  // namespace fogpipe::stats
