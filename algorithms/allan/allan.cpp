@@ -1,0 +1,92 @@
+#include "algorithms/allan/allan.h"
+
+#include <cmath>
+#include <limits>
+
+#include "algorithms/allan/chi_square.h"
+#include "algorithms/allan/edf.h"
+#include "algorithms/allan/noise_id.h"
+#include "algorithms/allan/phase.h"
+
+namespace fogpipe::allan {
+
+bool AllanOptions::IsValid(std::string* error) const {
+  if (!grid.IsValid(error)) return false;
+  if (!(confidence > 0.0 && confidence < 1.0)) {
+    if (error) *error = "confidence must be in (0, 1)";
+    return false;
+  }
+  return true;
+}
+
+void ConfidenceBounds(double sigma, double edf, double confidence, double* low, double* high) {
+  const double tail = 0.5 * (1.0 - confidence);
+  *low = sigma * std::sqrt(edf / ChiSquareQuantile(1.0 - tail, edf));
+  *high = sigma * std::sqrt(edf / ChiSquareQuantile(tail, edf));
+}
+
+AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double sample_rate_hz,
+                         const AllanOptions& options) {
+  AllanResult result;
+  AllanSummary& summary = result.summary;
+  AllanTable& table = result.table;
+  table.deviation = options.deviation;
+  std::string error;
+  if (!options.IsValid(&error) || !(sample_rate_hz > 0.0) || !std::isfinite(sample_rate_hz)) {
+    summary.termination = Termination::kInvalidOptions;
+    summary.message = error.empty() ? "sample_rate_hz must be finite and positive" : error;
+    return result;
+  }
+  const long long n = rate.size();
+  summary.samples = n;
+  const long long max_m = MaxAveragingFactor(options.deviation, n);
+  if (max_m < 1) {
+    summary.termination = Termination::kInsufficientData;
+    summary.message = "too few samples for one difference term";
+    return result;
+  }
+  if (!rate.allFinite()) {
+    summary.termination = Termination::kNumericalFailure;
+    summary.message = "rate contains non-finite values";
+    return result;
+  }
+  table.m = AveragingFactors(options.grid, max_m);
+  const Eigen::VectorXd phase = MeanRemovedPhase(rate);
+  const std::vector<double> variance = DeviationVariances(phase, options.deviation, table.m);
+
+  const size_t rows = table.m.size();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  table.tau_s.resize(rows);
+  table.sigma.resize(rows);
+  table.count.resize(rows);
+  table.ci_low.assign(rows, nan);
+  table.ci_high.assign(rows, nan);
+  table.edf.assign(rows, nan);
+  table.alpha.assign(rows, 0);
+  const int d = DifferenceOrder(options.deviation);
+  int previous_alpha = 0;
+  for (size_t k = 0; k < rows; ++k) {
+    const long long m = table.m[k];
+    table.tau_s[k] = static_cast<double>(m) / sample_rate_hz;
+    table.sigma[k] = std::sqrt(variance[k]);
+    table.count[k] = DifferenceCount(options.deviation, n, m);
+    if (!options.confidence_intervals) continue;
+    const NoiseId id = IdentifyNoise(phase, m, d);
+    // With too few averages to identify anything, keep the noise type of the shorter tau.
+    const int alpha = id.method == NoiseIdMethod::kNone ? previous_alpha : id.alpha;
+    previous_alpha = alpha;
+    table.alpha[k] = alpha;
+    table.edf[k] = GreenhallEdf(alpha, d, m, n + 1, IsOverlapping(options.deviation),
+                                options.sampled_phase_edf);
+    if (table.edf[k] > 0.0)
+      ConfidenceBounds(table.sigma[k], table.edf[k], options.confidence, &table.ci_low[k],
+                       &table.ci_high[k]);
+  }
+  summary.taus = static_cast<long long>(rows);
+  summary.termination = Termination::kSuccess;
+  summary.message = std::string(ToString(options.deviation)) + " at " + std::to_string(rows) +
+                    " averaging factors of " + std::to_string(n) + " samples";
+  return result;
+}
+
+}  // namespace fogpipe::allan

@@ -1,0 +1,79 @@
+#include "algorithms/ar/burg.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "algorithms/ar/reflection.h"
+
+namespace fogpipe::ar {
+namespace {
+
+// Block length of the fused update + sums: two blocks of 1024 doubles (16 KiB) stay in L1.
+constexpr Eigen::Index kBlock = 1024;
+
+}  // namespace
+
+OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x_centered, int max_order) {
+  const Eigen::Index n = x_centered.size();
+  OrderSequence out;
+  out.num_effective = n;
+  out.innovation_variance.setZero(max_order);
+  if (n < 2 || max_order < 1) return out;
+
+  // Layout after Collomb (2009): forward error of order m at time t is f[t] (t = m..N-1); backward
+  // error of order m that predicts x_t from the m samples after it is b[t] (t = 0..N-1-m). Order m
+  // pairs f[t + m + 1] with b[t], t = 0..N-m-2.
+  Eigen::VectorXd f = x_centered;
+  Eigen::VectorXd b = x_centered;
+  double* fp = f.data();
+  double* bp = b.data();
+
+  double sigma2 = x_centered.squaredNorm() / static_cast<double>(n);
+  double num = f.tail(n - 1).dot(b.head(n - 1));
+  double den = f.tail(n - 1).squaredNorm() + b.head(n - 1).squaredNorm();
+  Eigen::VectorXd phi(0);
+
+  for (int m = 0; m < max_order; ++m) {
+    if (!(den > 0.0) || !std::isfinite(num) || !std::isfinite(den)) break;
+    const double kappa = 2.0 * num / den;
+    const double shrink = (1.0 - kappa) * (1.0 + kappa);  // 1 - kappa^2 without cancellation
+    if (!(shrink > 0.0)) break;
+    sigma2 *= shrink;
+    if (!(sigma2 > 0.0)) break;
+    StepUpOnce(kappa, &phi);
+    out.phi.push_back(phi);
+    out.innovation_variance(m) = sigma2;
+    out.orders_completed = m + 1;
+    if (m + 1 == max_order) break;
+
+    // Update order m -> m+1 and accumulate the sums of order m+1 (pairs fo[t + 1] * b[t]) block by
+    // block, while the block is still in cache.
+    const Eigen::Index len = n - m - 1;  // pairs of order m
+    double* fo = fp + m + 1;
+    double next_num = 0.0;
+    double next_den = 0.0;
+    for (Eigen::Index c0 = 0; c0 < len; c0 += kBlock) {
+      const Eigen::Index c1 = std::min(len, c0 + kBlock);
+      for (Eigen::Index t = c0; t < c1; ++t) {
+        const double ft = fo[t];
+        const double bt = bp[t];
+        fo[t] = ft - kappa * bt;
+        bp[t] = bt - kappa * ft;
+      }
+      const Eigen::Index s0 = std::max<Eigen::Index>(c0 - 1, 0);
+      const Eigen::Index count = (c1 - 1) - s0;  // t = s0 .. c1-2
+      if (count > 0) {
+        Eigen::Map<const Eigen::VectorXd> fs(fo + s0 + 1, count);
+        Eigen::Map<const Eigen::VectorXd> bs(bp + s0, count);
+        next_num += fs.dot(bs);
+        next_den += fs.squaredNorm() + bs.squaredNorm();
+      }
+    }
+    num = next_num;
+    den = next_den;
+  }
+  out.innovation_variance.conservativeResize(out.orders_completed);
+  return out;
+}
+
+}  // namespace fogpipe::ar

@@ -1,0 +1,29 @@
+// Burg's method (Burg 1975; Kay & Marple 1981, sec. V.B): every order 1..P in one recursion.
+//
+// At each order m the reflection coefficient minimises the summed forward and backward prediction
+// error energy,
+//   kappa_m = 2 sum f_{m-1}(n) b_{m-1}(n-1) / sum (f_{m-1}(n)^2 + b_{m-1}(n-1)^2),
+// so |kappa_m| <= 1 by Cauchy-Schwarz and every Burg model is stationary (up to rounding when a
+// root sits on the unit circle). The errors are then updated in place. Unlike the normal equations,
+// no autocovariance matrix is formed or solved, which is why Burg stays accurate on the slow IMFs
+// whose p x p autocovariance matrix has condition ~1e12 (see the tests).
+//
+// Innovation variance: sigma_0^2 = mean(x^2), sigma_m^2 = sigma_{m-1}^2 (1 - kappa_m^2) (Kay &
+// Marple 1981, eq. 97), the estimate MATLAB's arburg reports.
+//
+// Cost: one fused pass per order: the error update of order m and the sums that give kappa_{m+1}
+// run over the same cache-sized block, so each order streams the two N-double error arrays once.
+// Memory: 2 N doubles.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "algorithms/ar/order_selection.h"
+
+namespace fogpipe::ar {
+
+/// Burg models of orders 1..max_order of `x_centered` (mean already removed). num_effective = N.
+/// Stops early (orders_completed < max_order) if the prediction error vanishes.
+OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x_centered, int max_order);
+
+}  // namespace fogpipe::ar

@@ -1,0 +1,98 @@
+#include "algorithms/ar/diagnostics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "algorithms/ar/autocorrelation.h"
+#include "algorithms/ar/chi_square.h"
+
+namespace fogpipe::ar {
+namespace {
+
+constexpr Eigen::Index kBlock = 4096;
+
+// ||y - mean(y)||^2 for y = x_t, t = p..N-1.
+double CenteredEnergy(const Eigen::Ref<const Eigen::VectorXd>& y) {
+  const double m = y.mean();
+  return (y.array() - m).square().sum();
+}
+
+double FitPercent(double error_energy, double centered_energy) {
+  if (!std::isfinite(error_energy)) return -std::numeric_limits<double>::infinity();
+  return 100.0 * (1.0 - std::sqrt(error_energy / centered_energy));
+}
+
+}  // namespace
+
+Eigen::VectorXd OneStepResiduals(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model) {
+  const Eigen::Index n = x.size();
+  const int p = model.order;
+  Eigen::VectorXd e(std::max<Eigen::Index>(n - p, 0));
+  // Block-wise axpys so each block of x is reused p times from cache.
+  for (Eigen::Index t0 = p; t0 < n; t0 += kBlock) {
+    const Eigen::Index len = std::min(kBlock, n - t0);
+    auto out = e.segment(t0 - p, len);
+    out = x.segment(t0, len).array() - model.mean;
+    for (int i = 1; i <= p; ++i)
+      out.array() -= model.phi(i - 1) * (x.segment(t0 - i, len).array() - model.mean);
+  }
+  return e;
+}
+
+double SimulationFitPercent(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model) {
+  const Eigen::Index n = x.size();
+  const int p = model.order;
+  Eigen::VectorXd state(p);  // s_{t-1}, ..., s_{t-p}
+  for (int i = 0; i < p; ++i) state(i) = x(p - 1 - i) - model.mean;
+  double error_energy = 0.0;
+  for (Eigen::Index t = p; t < n; ++t) {
+    const double s = model.phi.dot(state);
+    const double d = x(t) - model.mean - s;
+    error_energy += d * d;
+    for (int i = p - 1; i > 0; --i) state(i) = state(i - 1);
+    if (p > 0) state(0) = s;
+  }
+  return FitPercent(error_energy, CenteredEnergy(x.tail(n - p)));
+}
+
+LjungBoxTest LjungBox(const Eigen::Ref<const Eigen::VectorXd>& residuals, int lag, int num_params) {
+  LjungBoxTest out;
+  const Eigen::Index n = residuals.size();
+  out.dof = std::max(lag - num_params, 1);
+  if (n <= lag + 1) {
+    out.statistic = out.p_value = std::numeric_limits<double>::quiet_NaN();
+    return out;
+  }
+  const Eigen::VectorXd centered = residuals.array() - residuals.mean();
+  const Eigen::VectorXd c = LaggedProducts(centered, lag);
+  const double nd = static_cast<double>(n);
+  double q = 0.0;
+  for (int k = 1; k <= lag; ++k) {
+    const double rk = c(k) / c(0);
+    q += rk * rk / (nd - k);
+  }
+  out.statistic = nd * (nd + 2.0) * q;
+  out.p_value = ChiSquareSurvival(out.statistic, out.dof);
+  return out;
+}
+
+ArDiagnostics ComputeDiagnostics(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model) {
+  ArDiagnostics d;
+  const Eigen::Index n = x.size();
+  const int p = model.order;
+  const Eigen::VectorXd e = OneStepResiduals(x, model);
+  const double centered = CenteredEnergy(x.tail(n - p));
+  d.fit_one_step_percent = FitPercent(e.squaredNorm(), centered);
+  d.fit_simulation_percent = SimulationFitPercent(x, model);
+  d.residual_variance = e.squaredNorm() / static_cast<double>(e.size());
+  const LjungBoxTest lb10 = LjungBox(e, 10, p);
+  const LjungBoxTest lb20 = LjungBox(e, 20, p);
+  d.ljung_box_q10 = lb10.statistic;
+  d.ljung_box_p10 = lb10.p_value;
+  d.ljung_box_q20 = lb20.statistic;
+  d.ljung_box_p20 = lb20.p_value;
+  return d;
+}
+
+}  // namespace fogpipe::ar

@@ -1,0 +1,129 @@
+#include "algorithms/ar/fit_ar.h"
+
+#include <limits>
+#include <sstream>
+
+#include "algorithms/ar/burg.h"
+#include "algorithms/ar/least_squares.h"
+#include "algorithms/ar/maximum_likelihood.h"
+#include "algorithms/ar/order_selection.h"
+#include "algorithms/ar/yule_walker.h"
+
+namespace fogpipe::ar {
+
+const char* ToString(Estimator estimator) {
+  switch (estimator) {
+    case Estimator::kBurg:
+      return "burg";
+    case Estimator::kLeastSquaresQr:
+      return "least_squares_qr";
+    case Estimator::kYuleWalker:
+      return "yule_walker";
+    case Estimator::kMaximumLikelihood:
+      return "maximum_likelihood";
+  }
+  return "unknown";
+}
+
+bool ArOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& why) {
+    if (error) *error = why;
+    return false;
+  };
+  if (max_order < 1 || max_order > kMaxOrderLimit)
+    return fail("max_order must be in [1, " + std::to_string(kMaxOrderLimit) + "]");
+  if (fixed_order < 0 || fixed_order > max_order)
+    return fail("fixed_order must be 0 (BIC) or in [1, max_order]");
+  if (ml_max_iterations < 1) return fail("ml_max_iterations must be >= 1");
+  return true;
+}
+
+ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options) {
+  ArFit fit;
+  std::string error;
+  if (!options.IsValid(&error)) {
+    fit.summary.termination = Termination::kInvalidOptions;
+    fit.summary.message = error;
+    return fit;
+  }
+  const int top = options.fixed_order > 0 ? options.fixed_order : options.max_order;
+  const Eigen::Index n = x.size();
+  // 20 more samples than twice the top order: the least-squares rows and the Ljung-Box lag 20.
+  if (n <= 2 * static_cast<Eigen::Index>(top) + 20) {
+    fit.summary.termination = Termination::kInsufficientData;
+    fit.summary.message = "AR fit needs more than 2 * order + 20 samples, got " + std::to_string(n);
+    return fit;
+  }
+  if (!x.allFinite()) {
+    fit.summary.termination = Termination::kNumericalFailure;
+    fit.summary.message = "input contains non-finite values";
+    return fit;
+  }
+  const double mean = x.mean();
+  const Eigen::VectorXd xc = x.array() - mean;
+
+  OrderSequence seq;
+  switch (options.estimator) {
+    case Estimator::kBurg:
+    case Estimator::kMaximumLikelihood:
+      seq = BurgAllOrders(xc, top);
+      break;
+    case Estimator::kLeastSquaresQr:
+      seq = LeastSquaresAllOrders(xc, top);
+      break;
+    case Estimator::kYuleWalker:
+      seq = YuleWalkerAllOrders(xc, top);
+      break;
+  }
+  fit.summary.orders_tried = seq.orders_completed;
+  fit.bic.setConstant(top, std::numeric_limits<double>::infinity());
+  fit.bic.head(seq.orders_completed) = Bic(seq.innovation_variance, seq.num_effective);
+  if (seq.orders_completed == 0) {
+    fit.summary.termination = Termination::kNumericalFailure;
+    fit.summary.message = "no AR model could be formed (constant input?)";
+    return fit;
+  }
+
+  std::ostringstream msg;
+  int order = 0;
+  if (options.fixed_order > 0) {
+    order = std::min(options.fixed_order, seq.orders_completed);
+    if (order < options.fixed_order)
+      msg << "prediction error vanished at order " << order << "; fixed order "
+          << options.fixed_order << " not reachable. ";
+  } else {
+    order = SelectOrderByBic(fit.bic.head(seq.orders_completed));
+  }
+  Eigen::VectorXd phi = seq.phi[order - 1];
+  double sigma2 = seq.innovation_variance(order - 1);
+  fit.summary.termination = Termination::kSuccess;
+
+  if (options.estimator == Estimator::kMaximumLikelihood) {
+    MaximumLikelihoodOptions ml_options;
+    ml_options.max_iterations = options.ml_max_iterations;
+    const MaximumLikelihoodResult ml = FitMaximumLikelihood(xc, phi, ml_options);
+    fit.summary.ml_iterations = ml.iterations;
+    if (!ml.valid) {
+      fit.summary.termination = Termination::kNumericalFailure;
+      fit.summary.message = "maximum likelihood could not start from the Burg model";
+      return fit;
+    }
+    phi = ml.phi;
+    sigma2 = ml.innovation_variance;
+    if (!ml.converged) {
+      fit.summary.termination = Termination::kNoConvergence;
+      msg << "maximum likelihood stopped after " << ml.iterations << " iterations. ";
+    }
+  }
+
+  fit.model = MakeArModel(phi, sigma2, mean, n);
+  msg << ToString(options.estimator) << " AR(" << order << ")"
+      << (options.fixed_order > 0 ? " (fixed order)" : " selected by BIC") << ", max root modulus "
+      << fit.model.max_root_modulus;
+  if (!fit.model.stationary) msg << "; NOT stationary";
+  fit.summary.message = msg.str();
+  if (options.compute_diagnostics) fit.diagnostics = ComputeDiagnostics(x, fit.model);
+  return fit;
+}
+
+}  // namespace fogpipe::ar

@@ -1,0 +1,175 @@
+#include "algorithms/kalman/ar_kalman.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "algorithms/kalman/companion.h"
+#include "algorithms/kalman/noise_defaults.h"
+#include "algorithms/kalman/rts_smoother.h"
+#include "algorithms/kalman/steady_state_filter.h"
+
+namespace fogpipe::kalman {
+namespace {
+
+bool FiniteNonNegativeOrDefault(double v) { return std::isfinite(v); }
+
+ArKalmanResult Fail(ArKalmanResult result, Termination termination, std::string message) {
+  result.filtered.resize(0);
+  result.smoothed.resize(0);
+  result.summary.termination = termination;
+  result.summary.message = std::move(message);
+  return result;
+}
+
+double SampleVariance(const Eigen::Ref<const Eigen::VectorXd>& z) {
+  if (z.size() < 2) return 0.0;
+  const double m = z.mean();
+  return (z.array() - m).square().sum() / static_cast<double>(z.size() - 1);
+}
+
+// max_i |G_i - G_inf,i| / max_i |G_inf,i| (absolute if G_inf = 0).
+double GainDistance(const Eigen::VectorXd& g, const Eigen::VectorXd& g_inf) {
+  const double scale = g_inf.cwiseAbs().maxCoeff();
+  const double diff = (g - g_inf).cwiseAbs().maxCoeff();
+  return scale > 0.0 ? diff / scale : diff;
+}
+
+}  // namespace
+
+bool ArKalmanOptions::IsValid(std::string* error) const {
+  auto fail = [&](const char* m) {
+    if (error) *error = m;
+    return false;
+  };
+  if (!FiniteNonNegativeOrDefault(q) || !FiniteNonNegativeOrDefault(r))
+    return fail("ArKalmanOptions: q and r must be finite (negative selects the default)");
+  if (!(q_scale >= 0.0) || !std::isfinite(q_scale))
+    return fail("ArKalmanOptions::q_scale must be finite and >= 0");
+  if (!(r_scale > 0.0) || !std::isfinite(r_scale))
+    return fail("ArKalmanOptions::r_scale must be finite and > 0");
+  if (!std::isfinite(mean)) return fail("ArKalmanOptions::mean must be finite");
+  if (!std::isfinite(initial_variance))
+    return fail("ArKalmanOptions::initial_variance must be finite (negative selects the default)");
+  if (!(gain_tolerance >= 0.0) || !std::isfinite(gain_tolerance))
+    return fail("ArKalmanOptions::gain_tolerance must be finite and >= 0");
+  if (!(stall_tolerance >= 0.0) || !std::isfinite(stall_tolerance))
+    return fail("ArKalmanOptions::stall_tolerance must be finite and >= 0");
+  return dare.IsValid(error);
+}
+
+ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
+                        double innovation_variance, double white_noise_variance,
+                        const ArKalmanOptions& options) {
+  ArKalmanResult result;
+  ArKalmanSummary& s = result.summary;
+  const long long n = z.size();
+  s.samples = n;
+  std::string error;
+  if (!options.IsValid(&error)) return Fail(std::move(result), Termination::kInvalidOptions, error);
+  if (phi.size() == 0 || !phi.allFinite())
+    return Fail(std::move(result), Termination::kInvalidOptions, "phi must be non-empty, finite");
+  if (n == 0) return Fail(std::move(result), Termination::kInsufficientData, "empty series");
+  if (!z.allFinite())
+    return Fail(std::move(result), Termination::kNumericalFailure, "z has non-finite samples");
+
+  // Noise levels: explicit or default, then the sweep scale factors (see ArKalmanOptions).
+  const double r0 = options.r >= 0.0 ? options.r : white_noise_variance;
+  if (!(r0 > 0.0) || !std::isfinite(r0))
+    return Fail(std::move(result), Termination::kInvalidOptions,
+                "R must be > 0: set options.r or pass a positive white_noise_variance");
+  double q0 = options.q;
+  if (q0 < 0.0) {
+    DefaultNoiseOptions dn_options;
+    dn_options.dare = options.dare;
+    const DefaultNoiseResult dn = DefaultNoise(phi, innovation_variance, r0, dn_options);
+    if (!HasResult(dn.summary.termination))
+      return Fail(std::move(result), dn.summary.termination, "default q: " + dn.summary.message);
+    q0 = dn.q;
+  }
+  result.q = q0 * options.q_scale;
+  result.r = r0 * options.r_scale;
+
+  const DareSolution dare = SolveDare(phi, result.q, result.r, options.dare);
+  s.riccati_iterations = dare.summary.iterations;
+  s.riccati_relative_residual = dare.summary.relative_residual;
+  if (!HasResult(dare.summary.termination))
+    return Fail(std::move(result), dare.summary.termination, "DARE: " + dare.summary.message);
+  const bool dare_ok = dare.summary.termination == Termination::kSuccess;
+  result.steady_state_gain = dare.gain;
+  result.steady_state_error_variance = dare.filtered_covariance(0, 0);
+  result.steady_state_innovation_variance = dare.innovation_variance;
+
+  const Eigen::Index p = phi.size();
+  const double p0 = options.initial_variance >= 0.0 ? options.initial_variance : SampleVariance(z);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(p);               // X(0|0) = 0 (eq. 7)
+  Eigen::MatrixXd pf = p0 * Eigen::MatrixXd::Identity(p, p);  // P(0|0) = var(x0) I
+  Eigen::MatrixXd pp(p, p);
+  Eigen::VectorXd g(p);
+
+  result.filtered.resize(n);
+  Eigen::VectorXd innovations;
+  FilterGainHistory history;
+  if (options.smooth) innovations.resize(n);
+
+  // Time-varying filter (eqs. 8-11), Joseph form, until the gain has converged.
+  const bool may_switch = options.steady_state_switch && dare_ok;
+  long long k = 0;
+  double best_distance = std::numeric_limits<double>::infinity();
+  long long best_at = 0;
+  for (; k < n; ++k) {
+    PredictCovariance(pf, phi, result.q, &pp);
+    const double innovation_var = JosephUpdate(pp, result.r, &g, &pf);
+    if (may_switch) {
+      const double distance = GainDistance(g, dare.gain);
+      if (distance < best_distance) {
+        best_distance = distance;
+        best_at = k;
+      }
+      // Converged, or stalled at the rounding floor of the recursion: no new minimum for as many
+      // steps as it took to reach the current one (a converging recursion keeps shrinking the
+      // distance geometrically), while already within stall_tolerance.
+      const bool stalled =
+          best_distance <= options.stall_tolerance && k - best_at > best_at && k - best_at >= 64;
+      if (distance <= options.gain_tolerance || stalled) {
+        s.switched_at_sample = k;
+        s.gain_distance_at_switch = distance;
+        break;
+      }
+    }
+    const double pred = phi.dot(x);
+    const double e = (z[k] - options.mean) - pred;
+    for (Eigen::Index i = p - 1; i >= 1; --i) x[i] = x[i - 1] + g[i] * e;
+    x[0] = pred + g[0] * e;
+    result.filtered[k] = x[0] + options.mean;
+    if (options.smooth) {
+      innovations[k] = e;
+      history.time_varying_gains.insert(history.time_varying_gains.end(), g.data(), g.data() + p);
+      history.time_varying_innovation_variances.push_back(innovation_var);
+    }
+  }
+  history.time_varying_steps = k;
+  if (k < n) {
+    SteadyStateFilter(z.data() + k, n - k, options.mean, phi, dare.gain, &x,
+                      result.filtered.data() + k,
+                      options.smooth ? innovations.data() + k : nullptr);
+  }
+
+  if (options.smooth) {
+    history.steady_state_gain = dare.gain;
+    history.steady_state_innovation_variance = dare.innovation_variance;
+    RtsSmoothInPlace(z, options.mean, phi, history, &innovations);
+    result.smoothed = std::move(innovations);
+    result.steady_state_smoothed_error_variance = SteadyStateSmoothedVariance(phi, dare);
+  }
+
+  if (!result.filtered.allFinite())
+    return Fail(std::move(result), Termination::kNumericalFailure, "non-finite filter output");
+  s.termination = dare_ok ? Termination::kSuccess : Termination::kNoConvergence;
+  s.message = dare_ok ? (s.switched_at_sample >= 0 ? "switched to the steady-state gain"
+                                                   : "time-varying filter to the end")
+                      : "DARE did not converge; time-varying filter to the end";
+  return result;
+}
+
+}  // namespace fogpipe::kalman

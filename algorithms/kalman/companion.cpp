@@ -1,0 +1,54 @@
+#include "algorithms/kalman/companion.h"
+
+namespace fogpipe::kalman {
+
+Eigen::MatrixXd CompanionMatrix(const Eigen::VectorXd& phi) {
+  const Eigen::Index p = phi.size();
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(p, p);
+  if (p == 0) return a;
+  a.row(0) = phi.transpose();
+  for (Eigen::Index i = 1; i < p; ++i) a(i, i - 1) = 1.0;
+  return a;
+}
+
+void PredictCovariance(const Eigen::MatrixXd& filtered, const Eigen::VectorXd& phi, double q,
+                       Eigen::MatrixXd* predicted) {
+  const Eigen::Index p = phi.size();
+  Eigen::MatrixXd& out = *predicted;
+  out.resize(p, p);
+  // (A P A')(i, j) = P(i-1, j-1) for i, j >= 1: the old state shifted down by one lag.
+  out.bottomRightCorner(p - 1, p - 1) = filtered.topLeftCorner(p - 1, p - 1);
+  // Row 0: (A P A')(0, j) = (phi' P)(j-1) for j >= 1, and (0, 0) = phi' P phi.
+  double top = 0.0;
+  for (Eigen::Index j = 0; j < p; ++j) {
+    double v = 0.0;
+    for (Eigen::Index i = 0; i < p; ++i) v += phi[i] * filtered(i, j);
+    top += v * phi[j];
+    if (j + 1 < p) {
+      out(0, j + 1) = v;
+      out(j + 1, 0) = v;
+    }
+  }
+  out(0, 0) = top + q;
+}
+
+double JosephUpdate(const Eigen::MatrixXd& predicted, double r, Eigen::VectorXd* gain,
+                    Eigen::MatrixXd* filtered) {
+  const Eigen::Index p = predicted.rows();
+  const double s = predicted(0, 0) + r;
+  Eigen::VectorXd& g = *gain;
+  g = predicted.col(0) / s;
+  Eigen::MatrixXd& out = *filtered;
+  out.resize(p, p);
+  for (Eigen::Index j = 0; j < p; ++j) {
+    const double cj = predicted(j, 0);
+    for (Eigen::Index i = j; i < p; ++i) {
+      const double v = predicted(i, j) - g[i] * cj - predicted(i, 0) * g[j] + s * g[i] * g[j];
+      out(i, j) = v;
+      out(j, i) = v;
+    }
+  }
+  return s;
+}
+
+}  // namespace fogpipe::kalman

@@ -1,0 +1,75 @@
+#include "pipeline/hdf5/atomic_output_file.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cctype>
+#include <system_error>
+
+namespace fogpipe::hdf5 {
+namespace {
+
+/// fsync(2) on a file or folder; durability of the rename after a power cut (POSIX leaves it to
+/// the file system otherwise). Failures to sync are not fatal: the data is still correct.
+void SyncPath(const std::filesystem::path& path, bool directory) {
+  const int fd = ::open(path.c_str(), directory ? (O_RDONLY | O_DIRECTORY) : O_RDONLY);
+  if (fd < 0) return;
+  ::fsync(fd);
+  ::close(fd);
+}
+
+bool AllDigits(const std::string& text) {
+  if (text.empty()) return false;
+  for (char c : text) {
+    if (!std::isdigit(static_cast<unsigned char>(c))) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::filesystem::path MakeAtomicTempPath(const std::filesystem::path& final_path) {
+  static std::atomic<unsigned long long> counter{0};
+  std::filesystem::path temp = final_path;
+  temp += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
+  return temp;
+}
+
+bool IsAtomicTempName(const std::filesystem::path& path) {
+  const std::string name = path.filename().string();
+  const size_t tag = name.rfind(".tmp-");
+  if (tag == std::string::npos || tag == 0) return false;
+  const std::string rest = name.substr(tag + 5);
+  const size_t dash = rest.find('-');
+  if (dash == std::string::npos) return false;
+  return AllDigits(rest.substr(0, dash)) && AllDigits(rest.substr(dash + 1));
+}
+
+AtomicOutputFile::AtomicOutputFile(std::filesystem::path final_path)
+    : final_path_(std::move(final_path)),
+      temp_path_(MakeAtomicTempPath(final_path_)),
+      file_(File::Create(temp_path_.string(), /*overwrite=*/false)) {}
+
+AtomicOutputFile::~AtomicOutputFile() {
+  if (committed_) return;
+  try {
+    file_.Close();
+  } catch (...) {
+    // Nothing useful to report from a destructor; the file is removed below either way.
+  }
+  std::error_code ignored;
+  std::filesystem::remove(temp_path_, ignored);
+}
+
+void AtomicOutputFile::Commit() {
+  if (committed_) return;
+  file_.Flush();
+  file_.Close();
+  SyncPath(temp_path_, false);
+  std::filesystem::rename(temp_path_, final_path_);  // throws filesystem_error; dtor cleans up
+  committed_ = true;
+  SyncPath(final_path_.parent_path().empty() ? "." : final_path_.parent_path(), true);
+}
+
+}  // namespace fogpipe::hdf5

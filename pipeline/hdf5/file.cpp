@@ -1,0 +1,46 @@
+#include "pipeline/hdf5/file.h"
+
+#include <utility>
+
+#include "pipeline/hdf5/detail.h"
+
+namespace fogpipe::hdf5 {
+
+File::File(std::string path, std::unique_ptr<H5::H5File> file)
+    : path_(std::move(path)), file_(std::move(file)) {}
+
+File File::OpenReadOnly(const std::string& path) {
+  return detail::Checked(path, "", "open read-only", [&] {
+    return File(path, std::make_unique<H5::H5File>(path, H5F_ACC_RDONLY));
+  });
+}
+
+File File::Create(const std::string& path, bool overwrite) {
+  return detail::Checked(path, "", "create file", [&] {
+    H5::FileAccPropList access;
+    access.setFcloseDegree(H5F_CLOSE_STRONG);
+    return File(path, std::make_unique<H5::H5File>(path, overwrite ? H5F_ACC_TRUNC : H5F_ACC_EXCL,
+                                                   H5::FileCreatPropList::DEFAULT, access));
+  });
+}
+
+Group File::Root() const {
+  if (!file_) throw Error(path_, "/", "open root group", "file is closed", "");
+  return detail::Checked(path_, "/", "open root group",
+                         [&] { return Group(path_, "/", file_->openGroup("/")); });
+}
+
+void File::Flush() {
+  if (!file_) throw Error(path_, "", "flush", "file is closed", "");
+  detail::Checked(path_, "", "flush", [&] { file_->flush(H5F_SCOPE_GLOBAL); });
+}
+
+void File::Close() {
+  if (!file_) return;
+  detail::Checked(path_, "", "close", [&] { file_->close(); });
+  file_.reset();
+}
+
+hid_t File::id() const { return file_ ? file_->getId() : -1; }
+
+}  // namespace fogpipe::hdf5

@@ -1,0 +1,239 @@
+#include "pipeline/hdf5/group.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <utility>
+
+#include "pipeline/hdf5/detail.h"
+#include "pipeline/hdf5/string_io.h"
+
+namespace fogpipe::hdf5 {
+namespace {
+
+using detail::CheckC;
+using detail::JoinPath;
+using detail::ScopedId;
+
+herr_t CollectLink(hid_t, const char* name, const H5L_info_t*, void* data) {
+  static_cast<std::vector<std::string>*>(data)->emplace_back(name);
+  return 0;
+}
+
+std::vector<std::string> SplitPath(const std::string& path) {
+  std::vector<std::string> parts;
+  std::string current;
+  for (char c : path) {
+    if (c == '/') {
+      if (!current.empty()) parts.push_back(current);
+      current.clear();
+    } else {
+      current += c;
+    }
+  }
+  if (!current.empty()) parts.push_back(current);
+  return parts;
+}
+
+hid_t FileTypeOf(StorageType storage) {
+  switch (storage) {
+    case StorageType::kFloat32:
+      return H5T_IEEE_F32LE;
+    case StorageType::kInt64:
+      return H5T_STD_I64LE;
+    case StorageType::kFloat64:
+      break;
+  }
+  return H5T_IEEE_F64LE;
+}
+
+size_t StorageBytes(StorageType storage) { return storage == StorageType::kFloat32 ? 4 : 8; }
+
+void RequireUnits(const std::string& units, const std::string& path) {
+  if (units.empty()) {
+    throw std::invalid_argument("fogpipe::hdf5: numeric dataset '" + path +
+                                "' written without units (use \"1\" for dimensionless)");
+  }
+}
+
+}  // namespace
+
+Group::Group(std::string file_path, std::string path, H5::Group group)
+    : Object(std::move(file_path), std::move(path)), group_(std::move(group)) {}
+
+ObjectKind Group::KindOf(const std::string& relative_path) const {
+  const std::string operation = "look up '" + relative_path + "'";
+  const std::vector<std::string> parts = SplitPath(relative_path);
+  const bool absolute = !relative_path.empty() && relative_path.front() == '/';
+  std::string walked = absolute ? "/" : "";
+  for (const std::string& part : parts) {
+    walked += (walked.empty() || walked == "/") ? part : "/" + part;
+    // H5Lexists on "a/b" fails when "a" is missing, so every component is tested in turn.
+    if (CheckC(H5Lexists(id(), walked.c_str(), H5P_DEFAULT), file_path(), path(), operation) <= 0) {
+      return ObjectKind::kMissing;
+    }
+  }
+  if (parts.empty()) return ObjectKind::kGroup;
+  if (H5Oexists_by_name(id(), walked.c_str(), H5P_DEFAULT) <= 0) return ObjectKind::kOther;
+  ScopedId object(H5Oopen(id(), walked.c_str(), H5P_DEFAULT), H5Oclose);
+  if (object.get() < 0) return ObjectKind::kOther;
+  switch (H5Iget_type(object.get())) {
+    case H5I_GROUP:
+      return ObjectKind::kGroup;
+    case H5I_DATASET:
+      return ObjectKind::kDataset;
+    default:
+      return ObjectKind::kOther;
+  }
+}
+
+std::vector<std::string> Group::ChildNames() const {
+  std::vector<std::string> names;
+  hsize_t index = 0;
+  CheckC(H5Literate(id(), H5_INDEX_NAME, H5_ITER_INC, &index, CollectLink, &names), file_path(),
+         path(), "list children");
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+Group Group::OpenGroup(const std::string& relative_path) const {
+  const std::string full = JoinPath(path(), relative_path);
+  return detail::Checked(file_path(), full, "open group",
+                         [&] { return Group(file_path(), full, group_.openGroup(relative_path)); });
+}
+
+Dataset Group::OpenDataset(const std::string& relative_path) const {
+  const std::string full = JoinPath(path(), relative_path);
+  return detail::Checked(file_path(), full, "open dataset", [&] {
+    return Dataset(file_path(), full, group_.openDataSet(relative_path));
+  });
+}
+
+Group Group::CreateGroup(const std::string& name) {
+  const std::string full = JoinPath(path(), name);
+  ScopedId lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+  H5Pset_create_intermediate_group(lcpl.get(), 1);
+  hid_t created = CheckC(H5Gcreate2(id(), name.c_str(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
+                         file_path(), full, "create group");
+  return Group(file_path(), full, detail::Adopt<H5::Group>(created));
+}
+
+Group Group::RequireGroup(const std::string& name) {
+  return KindOf(name) == ObjectKind::kGroup ? OpenGroup(name) : CreateGroup(name);
+}
+
+Dataset Group::CreateNumeric(const std::string& name, const std::vector<hsize_t>& dims,
+                             const std::string& units, const DatasetOptions& options) {
+  const std::string full = JoinPath(path(), name);
+  RequireUnits(units, full);
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument("fogpipe::hdf5: " + error);
+  const std::string operation = "create dataset";
+  ScopedId space(dims.empty()
+                     ? H5Screate(H5S_SCALAR)
+                     : H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
+                 H5Sclose);
+  CheckC(space.get(), file_path(), full, operation);
+  ScopedId dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  hsize_t elements = 1;
+  for (hsize_t d : dims) elements *= d;
+  if (!dims.empty() && dims[0] > 0 && elements >= options.min_chunked_elements) {
+    hsize_t row_elements = elements / dims[0];
+    hsize_t rows = options.chunk_rows;
+    if (rows == 0) {
+      const hsize_t target_bytes = 512 * 1024;
+      rows = std::max<hsize_t>(1, target_bytes / (row_elements * StorageBytes(options.storage)));
+    }
+    std::vector<hsize_t> chunk = dims;
+    chunk[0] = std::min(rows, dims[0]);
+    CheckC(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()), file_path(),
+           full, operation);
+    if (options.deflate_level > 0) {
+      if (options.shuffle) CheckC(H5Pset_shuffle(dcpl.get()), file_path(), full, operation);
+      CheckC(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(options.deflate_level)), file_path(),
+             full, operation);
+    }
+  }
+  ScopedId lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+  H5Pset_create_intermediate_group(lcpl.get(), 1);
+  hid_t created = CheckC(H5Dcreate2(id(), name.c_str(), FileTypeOf(options.storage), space.get(),
+                                    lcpl.get(), dcpl.get(), H5P_DEFAULT),
+                         file_path(), full, operation);
+  Dataset dataset(file_path(), full, detail::Adopt<H5::DataSet>(created));
+  dataset.WriteStringAttribute(kUnitsAttribute, units);
+  return dataset;
+}
+
+Dataset Group::CreateDataset(const std::string& name, const std::vector<hsize_t>& dims,
+                             const std::string& units, const DatasetOptions& options) {
+  return CreateNumeric(name, dims, units, options);
+}
+
+Dataset Group::WriteDataset(const std::string& name, const double* data,
+                            const std::vector<hsize_t>& dims, const std::string& units,
+                            const DatasetOptions& options) {
+  Dataset dataset = CreateNumeric(name, dims, units, options);
+  hsize_t elements = 1;
+  for (hsize_t d : dims) elements *= d;
+  if (elements > 0) {
+    CheckC(H5Dwrite(dataset.id(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
+           file_path(), dataset.path(), "write dataset");
+  }
+  return dataset;
+}
+
+Dataset Group::WriteDataset(const std::string& name, const Eigen::Ref<const Eigen::VectorXd>& data,
+                            const std::string& units, const DatasetOptions& options) {
+  // A VectorXd (or a contiguous segment of one) has unit inner stride: its data() is row-major.
+  return WriteDataset(name, data.data(), {static_cast<hsize_t>(data.size())}, units, options);
+}
+
+Dataset Group::WriteDataset(const std::string& name, const std::vector<double>& data,
+                            const std::string& units, const DatasetOptions& options) {
+  return WriteDataset(name, data.data(), {data.size()}, units, options);
+}
+
+Dataset Group::WriteDataset(const std::string& name, const std::vector<long long>& data,
+                            const std::string& units, const DatasetOptions& options) {
+  DatasetOptions integer_options = options;
+  integer_options.storage = StorageType::kInt64;
+  Dataset dataset = CreateNumeric(name, {data.size()}, units, integer_options);
+  if (!data.empty()) {
+    CheckC(H5Dwrite(dataset.id(), H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()),
+           file_path(), dataset.path(), "write dataset");
+  }
+  return dataset;
+}
+
+Dataset Group::WriteStringDataset(const std::string& name, const std::vector<std::string>& values) {
+  const std::string full = JoinPath(path(), name);
+  ScopedId type(detail::MakeVariableStringType(), H5Tclose);
+  const hsize_t n = values.size();
+  ScopedId space(H5Screate_simple(1, &n, nullptr), H5Sclose);
+  hid_t created = CheckC(H5Dcreate2(id(), name.c_str(), type.get(), space.get(), H5P_DEFAULT,
+                                    H5P_DEFAULT, H5P_DEFAULT),
+                         file_path(), full, "create string dataset");
+  Dataset dataset(file_path(), full, detail::Adopt<H5::DataSet>(created));
+  std::vector<const char*> pointers;
+  for (const std::string& v : values) pointers.push_back(v.c_str());
+  if (n > 0) {
+    CheckC(H5Dwrite(created, type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, pointers.data()),
+           file_path(), full, "write string dataset");
+  }
+  return dataset;
+}
+
+Dataset Group::WriteTextDataset(const std::string& name, const std::string& text) {
+  const std::string full = JoinPath(path(), name);
+  ScopedId type(detail::MakeVariableStringType(), H5Tclose);
+  ScopedId space(H5Screate(H5S_SCALAR), H5Sclose);
+  hid_t created = CheckC(H5Dcreate2(id(), name.c_str(), type.get(), space.get(), H5P_DEFAULT,
+                                    H5P_DEFAULT, H5P_DEFAULT),
+                         file_path(), full, "create text dataset");
+  Dataset dataset(file_path(), full, detail::Adopt<H5::DataSet>(created));
+  const char* pointer = text.c_str();
+  CheckC(H5Dwrite(created, type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &pointer), file_path(), full,
+         "write text dataset");
+  return dataset;
+}
+
+}  // namespace fogpipe::hdf5

@@ -1,0 +1,75 @@
+// fogpipe::hdf5::Group: navigation (children, kinds), sub-groups and datasets.
+//
+// Numeric datasets written through fogpipe always carry a `units` attribute: the writers below
+// REQUIRE one (an empty string is a programming error, std::invalid_argument). Use "1" for a
+// dimensionless quantity (UDUNITS convention), "samples" for indices and counts of samples.
+//
+// Every method requires the caller to hold LockHdf5() and throws hdf5::Error.
+#pragma once
+
+#include <H5Cpp.h>
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "pipeline/hdf5/dataset.h"
+#include "pipeline/hdf5/object.h"
+
+namespace fogpipe::hdf5 {
+
+enum class ObjectKind { kMissing, kGroup, kDataset, kOther };
+
+/// The name of the attribute every numeric dataset carries.
+inline constexpr const char* kUnitsAttribute = "units";
+
+class Group : public Object {
+ public:
+  Group(std::string file_path, std::string path, H5::Group group);
+
+  /// What `relative_path` (may contain '/', or be absolute) names: a group, a dataset, something
+  /// else (named datatype, dangling link) or nothing. Missing intermediate groups give kMissing.
+  ObjectKind KindOf(const std::string& relative_path) const;
+  bool Exists(const std::string& relative_path) const {
+    return KindOf(relative_path) != ObjectKind::kMissing;
+  }
+  /// Names of the direct children (links), sorted by name.
+  std::vector<std::string> ChildNames() const;
+
+  Group OpenGroup(const std::string& relative_path) const;
+  Dataset OpenDataset(const std::string& relative_path) const;
+  /// Creates `name` (and any missing intermediate groups).
+  Group CreateGroup(const std::string& name);
+  /// Opens `name` if it is a group, else creates it.
+  Group RequireGroup(const std::string& name);
+
+  /// Creates an empty dataset of shape `dims` for later Dataset::WriteRows, with its `units`.
+  Dataset CreateDataset(const std::string& name, const std::vector<hsize_t>& dims,
+                        const std::string& units, const DatasetOptions& options = {});
+  /// Writes `data` (row-major, product(dims) values) as a new dataset with its `units`.
+  Dataset WriteDataset(const std::string& name, const double* data,
+                       const std::vector<hsize_t>& dims, const std::string& units,
+                       const DatasetOptions& options = {});
+  Dataset WriteDataset(const std::string& name, const Eigen::Ref<const Eigen::VectorXd>& data,
+                       const std::string& units, const DatasetOptions& options = {});
+  Dataset WriteDataset(const std::string& name, const std::vector<double>& data,
+                       const std::string& units, const DatasetOptions& options = {});
+  /// Integer data (indices, counts): stored as int64 whatever options.storage says.
+  Dataset WriteDataset(const std::string& name, const std::vector<long long>& data,
+                       const std::string& units, const DatasetOptions& options = {});
+  /// A 1-D dataset of variable-length UTF-8 strings (no units: not numeric).
+  Dataset WriteStringDataset(const std::string& name, const std::vector<std::string>& values);
+  /// A scalar variable-length UTF-8 string dataset, e.g. a configuration text too long for an
+  /// attribute (attributes in the object header are limited to 64 KiB).
+  Dataset WriteTextDataset(const std::string& name, const std::string& text);
+
+  hid_t id() const override { return group_.getId(); }
+
+ private:
+  Dataset CreateNumeric(const std::string& name, const std::vector<hsize_t>& dims,
+                        const std::string& units, const DatasetOptions& options);
+
+  H5::Group group_;
+};
+
+}  // namespace fogpipe::hdf5

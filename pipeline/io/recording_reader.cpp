@@ -1,0 +1,484 @@
+#include "pipeline/io/recording_reader.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+#include "pipeline/hdf5/hdf5_lock.h"
+
+namespace fogpipe::io {
+namespace {
+
+namespace fs = std::filesystem;
+using hdf5::ObjectKind;
+using hdf5::TypeClass;
+
+/// The description of the innermost (last) entry of an HDF5 error stack text, which is where
+/// the library says what it found wrong ("truncated file: eof = ...", "inflate() failed").
+std::string InnermostHdf5Message(const hdf5::Error& error) {
+  const std::string& stack = error.hdf5_stack();
+  if (stack.empty()) return error.what();
+  const size_t line_start = stack.rfind('\n');
+  std::string line = stack.substr(line_start == std::string::npos ? 0 : line_start + 1);
+  const size_t colon = line.find("): ");
+  if (colon != std::string::npos) line = line.substr(colon + 3);
+  return line;
+}
+
+std::string FloatName(const hdf5::TypeInfo& type) {
+  return "float" + std::to_string(type.size_bytes * 8);
+}
+
+std::string DescribeTypeClass(const hdf5::TypeInfo& type) {
+  if (type.type_class == TypeClass::kFloat) return FloatName(type);
+  if (type.type_class == TypeClass::kInteger) return "int" + std::to_string(type.size_bytes * 8);
+  return hdf5::ToString(type.type_class);
+}
+
+std::string ShapeText(const std::vector<hsize_t>& dims) {
+  if (dims.empty()) return "scalar";
+  std::ostringstream out;
+  out << "[";
+  for (size_t i = 0; i < dims.size(); ++i) out << (i ? ", " : "") << dims[i];
+  out << "]";
+  return out.str();
+}
+
+/// Checks the filters of a dataset's pipeline are available (szip, LZF, blosc, ... may not be).
+void CheckFiltersAvailable(const hdf5::Dataset& dataset) {
+  const hid_t plist = H5Dget_create_plist(dataset.id());
+  if (plist < 0) return;
+  const int count = H5Pget_nfilters(plist);
+  for (int i = 0; i < count; ++i) {
+    unsigned flags = 0;
+    size_t values = 0;
+    char name[64] = {0};
+    unsigned config = 0;
+    const H5Z_filter_t filter = H5Pget_filter2(plist, static_cast<unsigned>(i), &flags, &values,
+                                               nullptr, sizeof(name), name, &config);
+    if (filter >= 0 && H5Zfilter_avail(filter) <= 0) {
+      H5Pclose(plist);
+      throw RecordingError(error_kind::kUnsupportedCompression, dataset.file_path(),
+                           dataset.path() + " is compressed with HDF5 filter " +
+                               std::to_string(filter) +
+                               (name[0] ? std::string(" (") + name + ")" : "") +
+                               ", which this HDF5 library cannot decode");
+    }
+  }
+  H5Pclose(plist);
+}
+
+/// An optional root attribute of the given class; a wrong class is a contract violation.
+template <typename T>
+std::optional<T> OptionalRootAttribute(const hdf5::Group& root, const std::string& name,
+                                       TypeClass expected);
+
+template <>
+std::optional<std::string> OptionalRootAttribute(const hdf5::Group& root, const std::string& name,
+                                                 TypeClass) {
+  if (!root.HasAttribute(name)) return std::nullopt;
+  const hdf5::AttributeInfo a = root.DescribeAttribute(name);
+  if (a.type.type_class != TypeClass::kString || a.size() != 1) {
+    throw RecordingError(error_kind::kWrongType, root.file_path(),
+                         "root attribute '" + name + "' must be one string, found " +
+                             DescribeTypeClass(a.type) + " " + ShapeText(a.dims));
+  }
+  return root.ReadStringAttribute(name);
+}
+
+template <>
+std::optional<double> OptionalRootAttribute(const hdf5::Group& root, const std::string& name,
+                                            TypeClass) {
+  if (!root.HasAttribute(name)) return std::nullopt;
+  const hdf5::AttributeInfo a = root.DescribeAttribute(name);
+  if ((a.type.type_class != TypeClass::kFloat && a.type.type_class != TypeClass::kInteger) ||
+      a.size() != 1) {
+    throw RecordingError(error_kind::kWrongType, root.file_path(),
+                         "root attribute '" + name + "' must be one float64, found " +
+                             DescribeTypeClass(a.type) + " " + ShapeText(a.dims));
+  }
+  return root.ReadDoubleAttribute(name);
+}
+
+/// Reads the required string `units` of a dataset (missing -> missing_attribute).
+std::string RequiredUnits(const hdf5::Dataset& dataset) {
+  if (!dataset.HasAttribute("units")) {
+    throw RecordingError(error_kind::kMissingAttribute, dataset.file_path(),
+                         dataset.path() + " has no 'units' attribute (required, a string)");
+  }
+  const hdf5::AttributeInfo a = dataset.DescribeAttribute("units");
+  if (a.type.type_class != TypeClass::kString || a.size() != 1) {
+    throw RecordingError(error_kind::kWrongType, dataset.file_path(),
+                         dataset.path() + " attribute 'units' must be one string, found " +
+                             DescribeTypeClass(a.type) + " " + ShapeText(a.dims));
+  }
+  return dataset.ReadStringAttribute("units");
+}
+
+bool IsConstant(const Eigen::VectorXd& x) {
+  for (Eigen::Index i = 1; i < x.size(); ++i) {
+    if (x[i] != x[0]) return false;
+  }
+  return true;
+}
+
+/// A valid axis name is usable as an HDF5 group name and in a CLI argument.
+bool IsValidAxisName(const std::string& name) {
+  return !name.empty() && name != "." && name != ".." && name.find('/') == std::string::npos &&
+         name.find('\0') == std::string::npos;
+}
+
+void CheckReadable(const std::string& path, RecordingInfo* info) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (ec || !fs::exists(status)) {
+    throw RecordingError(error_kind::kMissingFile, path, "no such file");
+  }
+  if (fs::is_directory(status)) {
+    throw RecordingError(error_kind::kNotHdf5, path, "is a folder, not an HDF5 file");
+  }
+  if (::access(path.c_str(), R_OK) != 0) {
+    throw RecordingError(error_kind::kUnreadableFile, path, "cannot be read (permission denied)");
+  }
+  info->file_size_bytes = static_cast<long long>(fs::file_size(path, ec));
+  if (!ec && info->file_size_bytes == 0) {
+    throw RecordingError(error_kind::kEmptyFile, path, "is empty (0 bytes), not an HDF5 file");
+  }
+  const htri_t is_hdf5 = H5Fis_hdf5(path.c_str());
+  if (is_hdf5 == 0) {
+    throw RecordingError(error_kind::kNotHdf5, path,
+                         "is not an HDF5 file (no HDF5 signature in its first bytes)");
+  }
+  if (is_hdf5 < 0) {
+    throw RecordingError(error_kind::kCorruptFile, path,
+                         "HDF5 cannot examine it:\n" + hdf5::CurrentErrorStack());
+  }
+}
+
+hdf5::File OpenChecked(const std::string& path) {
+  try {
+    return hdf5::File::OpenReadOnly(path);
+  } catch (const hdf5::Error& e) {
+    if (e.hdf5_stack().find("truncated file") != std::string::npos) {
+      throw RecordingError(error_kind::kTruncatedFile, path,
+                           "is truncated (shorter than its HDF5 superblock says; an interrupted "
+                           "copy or write?): " +
+                               InnermostHdf5Message(e));
+    }
+    throw RecordingError(
+        error_kind::kCorruptFile, path,
+        "is a damaged HDF5 file that cannot be opened: " + InnermostHdf5Message(e));
+  }
+}
+
+void InspectRate(const hdf5::Group& root, RecordingInfo* info) {
+  const std::string& path = info->path;
+  const ObjectKind kind = root.KindOf("rate");
+  if (kind == ObjectKind::kMissing) {
+    throw RecordingError(error_kind::kMissingDataset, path,
+                         "has no dataset /rate (contract v1: /rate [N] or [N, A], float32/64)");
+  }
+  if (kind != ObjectKind::kDataset) {
+    throw RecordingError(error_kind::kWrongType, path, "/rate is not a dataset");
+  }
+  const hdf5::Dataset rate = root.OpenDataset("rate");
+  const hdf5::TypeInfo type = rate.type();
+  if (type.type_class != TypeClass::kFloat) {
+    throw RecordingError(
+        error_kind::kWrongType, path,
+        "/rate has type " + DescribeTypeClass(type) + "; contract v1 requires float32 or float64");
+  }
+  info->rate_dtype = FloatName(type);
+  const std::vector<hsize_t> dims = rate.dims();
+  if (dims.size() != 1 && dims.size() != 2) {
+    throw RecordingError(error_kind::kWrongRank, path,
+                         "/rate has rank " + std::to_string(dims.size()) + " (" + ShapeText(dims) +
+                             "); contract v1 requires [N] or [N, A]");
+  }
+  info->two_dimensional = dims.size() == 2;
+  info->samples = static_cast<long long>(dims[0]);
+  info->axis_count = info->two_dimensional ? static_cast<int>(dims[1]) : 1;
+  if (info->axis_count == 0) {
+    throw RecordingError(error_kind::kWrongShape, path,
+                         "/rate has shape " + ShapeText(dims) + ": no axis at all");
+  }
+  for (hsize_t c : rate.chunk_dims()) info->rate_chunk.push_back(c);
+  CheckFiltersAvailable(rate);
+
+  info->rate_units = RequiredUnits(rate);
+  const std::optional<units::RateUnit> unit = units::ParseRateUnit(info->rate_units);
+  if (!unit) {
+    throw RecordingError(error_kind::kUnknownUnits, path,
+                         "/rate has units '" + info->rate_units +
+                             "'; contract v1 allows 'deg/h', 'deg/s' or 'rad/s'");
+  }
+  info->rate_unit = *unit;
+
+  if (rate.HasAttribute("axes")) {
+    const hdf5::AttributeInfo a = rate.DescribeAttribute("axes");
+    if (a.type.type_class != TypeClass::kString || a.dims.size() > 1) {
+      throw RecordingError(error_kind::kWrongType, path,
+                           "/rate attribute 'axes' must be a 1-D array of strings, found " +
+                               DescribeTypeClass(a.type) + " " + ShapeText(a.dims));
+    }
+    info->axis_names = rate.ReadStringArrayAttribute("axes");
+    if (static_cast<int>(info->axis_names.size()) != info->axis_count) {
+      throw RecordingError(error_kind::kBadAxes, path,
+                           "/rate attribute 'axes' names " +
+                               std::to_string(info->axis_names.size()) + " axes but /rate has " +
+                               std::to_string(info->axis_count));
+    }
+    std::set<std::string> seen;
+    for (const std::string& name : info->axis_names) {
+      if (!IsValidAxisName(name) || !seen.insert(name).second) {
+        throw RecordingError(error_kind::kBadAxes, path,
+                             "/rate attribute 'axes' has an empty, repeated or invalid name '" +
+                                 name + "' (names must be unique, non-empty, without '/')");
+      }
+    }
+    info->axis_names_from_file = true;
+  } else {
+    for (int a = 0; a < info->axis_count; ++a)
+      info->axis_names.push_back("axis" + std::to_string(a));
+  }
+}
+
+void InspectRootAttributes(const hdf5::Group& root, RecordingInfo* info) {
+  const std::string& path = info->path;
+  if (!root.HasAttribute("sample_rate_hz")) {
+    throw RecordingError(error_kind::kMissingAttribute, path,
+                         "has no root attribute 'sample_rate_hz' (required, float64 > 0)");
+  }
+  const hdf5::AttributeInfo a = root.DescribeAttribute("sample_rate_hz");
+  if ((a.type.type_class != TypeClass::kFloat && a.type.type_class != TypeClass::kInteger) ||
+      a.size() != 1) {
+    throw RecordingError(error_kind::kWrongType, path,
+                         "root attribute 'sample_rate_hz' must be one float64, found " +
+                             DescribeTypeClass(a.type) + " " + ShapeText(a.dims));
+  }
+  info->sample_rate_hz = root.ReadDoubleAttribute("sample_rate_hz");
+  if (!std::isfinite(info->sample_rate_hz) || info->sample_rate_hz <= 0.0) {
+    std::ostringstream value;
+    value << info->sample_rate_hz;
+    throw RecordingError(
+        error_kind::kBadSampleRate, path,
+        "root attribute 'sample_rate_hz' is " + value.str() + "; it must be a finite rate > 0 Hz");
+  }
+  info->start_time_utc =
+      OptionalRootAttribute<std::string>(root, "start_time_utc", TypeClass::kString);
+  info->instrument = OptionalRootAttribute<std::string>(root, "instrument", TypeClass::kString);
+  info->serial = OptionalRootAttribute<std::string>(root, "serial", TypeClass::kString);
+  info->latitude_deg = OptionalRootAttribute<double>(root, "latitude_deg", TypeClass::kFloat);
+}
+
+void InspectAux(const hdf5::Group& root, RecordingInfo* info) {
+  const std::string& path = info->path;
+  const ObjectKind kind = root.KindOf("aux");
+  if (kind == ObjectKind::kMissing) return;
+  if (kind != ObjectKind::kGroup) {
+    throw RecordingError(error_kind::kWrongType, path, "/aux exists but is not a group");
+  }
+  const hdf5::Group aux = root.OpenGroup("aux");
+  for (const std::string& name : aux.ChildNames()) {
+    if (aux.KindOf(name) != ObjectKind::kDataset) continue;  // unknown things are ignored
+    const hdf5::Dataset channel = aux.OpenDataset(name);
+    const hdf5::TypeInfo type = channel.type();
+    if (type.type_class != TypeClass::kFloat) {
+      throw RecordingError(error_kind::kWrongType, path,
+                           channel.path() + " has type " + DescribeTypeClass(type) +
+                               "; contract v1 requires float32 or float64");
+    }
+    const std::vector<hsize_t> dims = channel.dims();
+    if (dims.size() != 1) {
+      throw RecordingError(
+          error_kind::kWrongRank, path,
+          channel.path() + " has shape " + ShapeText(dims) + "; contract v1 requires [N]");
+    }
+    if (static_cast<long long>(dims[0]) != info->samples) {
+      throw RecordingError(error_kind::kAuxLengthMismatch, path,
+                           channel.path() + " has " + std::to_string(dims[0]) +
+                               " samples but /rate has " + std::to_string(info->samples) +
+                               " (aux channels share the sampling of /rate)");
+    }
+    CheckFiltersAvailable(channel);
+    info->aux.push_back({name, RequiredUnits(channel), FloatName(type)});
+  }
+}
+
+}  // namespace
+
+bool ReadOptions::IsValid(std::string* error) const {
+  auto fail = [error](const std::string& text) {
+    if (error) *error = text;
+    return false;
+  };
+  if (max_nan_gap_samples < 0) return fail("max_nan_gap_samples must be >= 0");
+  if (min_samples < 1) return fail("min_samples must be >= 1");
+  if (block_rows < 1) return fail("block_rows must be >= 1");
+  return true;
+}
+
+RecordingReader::RecordingReader(const std::string& path)
+    : file_((CheckReadable(path, &info_), OpenChecked(path))) {
+  info_.path = path;
+  try {
+    const hdf5::Group root = file_.Root();
+    InspectRate(root, &info_);
+    InspectRootAttributes(root, &info_);
+    InspectAux(root, &info_);
+  } catch (const hdf5::Error& e) {
+    throw RecordingError(error_kind::kCorruptFile, path,
+                         "HDF5 failed while reading its metadata (" + e.operation() + " of '" +
+                             e.object() + "'): " + InnermostHdf5Message(e));
+  }
+}
+
+int RecordingReader::AxisIndex(const std::string& axis) const {
+  const auto found = std::find(info_.axis_names.begin(), info_.axis_names.end(), axis);
+  if (found != info_.axis_names.end()) return static_cast<int>(found - info_.axis_names.begin());
+  if (!axis.empty() && std::all_of(axis.begin(), axis.end(), ::isdigit) && axis.size() < 9) {
+    const int index = std::stoi(axis);
+    if (index < info_.axis_count) return index;
+  }
+  std::string names;
+  for (const std::string& n : info_.axis_names) names += (names.empty() ? "" : ", ") + n;
+  throw RecordingError(error_kind::kUnknownAxis, info_.path,
+                       "has no axis '" + axis + "' (axes: " + names + ", or an index 0.." +
+                           std::to_string(info_.axis_count - 1) + ")");
+}
+
+Eigen::VectorXd RecordingReader::ReadColumn(const hdf5::Dataset& dataset, int column,
+                                            const std::string& what, const ReadOptions& options,
+                                            bool reject_constant, ReadReport* report) const {
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument("fogpipe::io::ReadOptions: " + error);
+  const long long n = info_.samples;
+  if (n < options.min_samples) {
+    throw RecordingError(error_kind::kTooFewSamples, info_.path,
+                         what + " has " + std::to_string(n) + " samples, fewer than the " +
+                             std::to_string(options.min_samples) +
+                             " the analysis needs (min_samples)");
+  }
+  // Blocks aligned to whole chunks: each chunk is read and inflated once per column.
+  const std::vector<hsize_t> chunk = dataset.chunk_dims();
+  long long block = options.block_rows;
+  if (!chunk.empty() && chunk[0] > 0) {
+    const long long chunk_rows = static_cast<long long>(chunk[0]);
+    block = std::max<long long>(1, block / chunk_rows) * chunk_rows;
+  }
+  Eigen::VectorXd x(n);
+  ReadReport local;
+  for (long long row0 = 0; row0 < n; row0 += block) {
+    const long long rows = std::min(block, n - row0);
+    try {
+      dataset.ReadColumn(static_cast<hsize_t>(column), static_cast<hsize_t>(row0),
+                         static_cast<hsize_t>(rows), x.data() + row0);
+    } catch (const hdf5::Error& e) {
+      throw RecordingError(error_kind::kCorruptFile, info_.path,
+                           "cannot read samples " + std::to_string(row0) + ".." +
+                               std::to_string(row0 + rows - 1) + " of " + what +
+                               " (damaged data): " + InnermostHdf5Message(e));
+    }
+    ++local.blocks_read;
+  }
+  if (!BridgeNanRuns(x, options.max_nan_gap_samples, &local.nan)) {
+    const BridgeReport& r = local.nan;
+    if (r.infinite_samples > 0) {
+      throw RecordingError(error_kind::kNonFiniteValue, info_.path,
+                           what + " holds " + std::to_string(r.infinite_samples) +
+                               " infinite value(s), the first at sample " +
+                               std::to_string(r.first_infinite_index) +
+                               " (only NaN may mark a missing sample)");
+    }
+    std::ostringstream start_s;
+    start_s << static_cast<double>(r.longest_run_start) / info_.sample_rate_hz;
+    throw RecordingError(error_kind::kNanGapTooLong, info_.path,
+                         what + " has a run of " + std::to_string(r.longest_run) +
+                             " missing (NaN) samples starting at sample " +
+                             std::to_string(r.longest_run_start) + " (t = " + start_s.str() +
+                             " s), longer than max_nan_gap_samples = " +
+                             std::to_string(options.max_nan_gap_samples) +
+                             (r.longest_run == n ? " (every sample is NaN)" : ""));
+  }
+  if (reject_constant && IsConstant(x)) {
+    std::ostringstream value;
+    value << x[0];
+    throw RecordingError(
+        error_kind::kConstantSignal, info_.path,
+        what + " is constant (every sample is " + value.str() + "): there is no noise to analyse");
+  }
+  if (report) *report = local;
+  return x;
+}
+
+Eigen::VectorXd RecordingReader::ReadAxisNative(int axis, const ReadOptions& options,
+                                                ReadReport* report) const {
+  if (axis < 0 || axis >= info_.axis_count) {
+    throw RecordingError(error_kind::kUnknownAxis, info_.path,
+                         "has no axis index " + std::to_string(axis));
+  }
+  const std::string what = "/rate axis '" + info_.axis_names[axis] + "'";
+  try {
+    const hdf5::Dataset rate = file_.Root().OpenDataset("rate");
+    return ReadColumn(rate, axis, what, options, options.reject_constant, report);
+  } catch (const hdf5::Error& e) {
+    throw RecordingError(error_kind::kCorruptFile, info_.path,
+                         "HDF5 failed on " + what + ": " + InnermostHdf5Message(e));
+  }
+}
+
+Eigen::VectorXd RecordingReader::ReadAxisRadPerSecond(int axis, const ReadOptions& options,
+                                                      ReadReport* report) const {
+  Eigen::VectorXd x = ReadAxisNative(axis, options, report);
+  x *= units::ToRadPerSecond(info_.rate_unit);
+  return x;
+}
+
+Eigen::VectorXd RecordingReader::ReadAxisRadPerSecond(const std::string& axis,
+                                                      const ReadOptions& options,
+                                                      ReadReport* report) const {
+  return ReadAxisRadPerSecond(AxisIndex(axis), options, report);
+}
+
+Eigen::VectorXd RecordingReader::ReadAux(const std::string& name, const ReadOptions& options,
+                                         ReadReport* report) const {
+  const bool known = std::any_of(info_.aux.begin(), info_.aux.end(),
+                                 [&](const AuxChannelInfo& a) { return a.name == name; });
+  if (!known) {
+    throw RecordingError(error_kind::kUnknownAux, info_.path, "has no aux channel /aux/" + name);
+  }
+  const std::string what = "/aux/" + name;
+  try {
+    const hdf5::Dataset channel = file_.Root().OpenDataset(what);
+    return ReadColumn(channel, 0, what, options, /*reject_constant=*/false, report);
+  } catch (const hdf5::Error& e) {
+    throw RecordingError(error_kind::kCorruptFile, info_.path,
+                         "HDF5 failed on " + what + ": " + InnermostHdf5Message(e));
+  }
+}
+
+RecordingInfo InspectRecording(const std::string& path) {
+  auto lock = hdf5::LockHdf5();
+  RecordingReader reader(path);
+  return reader.info();
+}
+
+Eigen::VectorXd ReadAxisRadPerSecond(const std::string& path, const std::string& axis,
+                                     const ReadOptions& options, ReadReport* report) {
+  auto lock = hdf5::LockHdf5();
+  RecordingReader reader(path);
+  return reader.ReadAxisRadPerSecond(axis, options, report);
+}
+
+Eigen::VectorXd ReadAux(const std::string& path, const std::string& name,
+                        const ReadOptions& options, ReadReport* report) {
+  auto lock = hdf5::LockHdf5();
+  RecordingReader reader(path);
+  return reader.ReadAux(name, options, report);
+}
+
+}  // namespace fogpipe::io

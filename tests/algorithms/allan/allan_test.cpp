@@ -1,0 +1,131 @@
+// Tests of algorithms/allan/allan.{h,cpp}: the assembled table (sigma, noise type, EDF,
+// confidence bounds) against Stable32 octave reports with confidence intervals.
+#include "algorithms/allan/allan.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "algorithms/allan/edf.h"
+#include "tests/algorithms/allan/reference_data.h"
+
+namespace fogpipe::allan {
+namespace {
+
+struct OctaveCase {
+  const char* file;
+  Deviation deviation;
+  bool ocxo;
+};
+
+const std::vector<OctaveCase>& OctaveCases() {
+  static const std::vector<OctaveCase> cases = {
+      {"phasedat/phase_dat_oadev_octave.txt", Deviation::kOverlappingAllan, false},
+      {"phasedat/phase_dat_adev_octave.txt", Deviation::kAllan, false},
+      {"phasedat/phase_dat_hdev_octave.txt", Deviation::kHadamard, false},
+      {"phasedat/phase_dat_ohdev_octave.txt", Deviation::kOverlappingHadamard, false},
+      {"ocxo/oadev_octave.txt", Deviation::kOverlappingAllan, true},
+      {"ocxo/adev_octave.txt", Deviation::kAllan, true},
+      {"ocxo/hdev_octave.txt", Deviation::kHadamard, true},
+      {"ocxo/ohdev_octave.txt", Deviation::kOverlappingHadamard, true},
+  };
+  return cases;
+}
+
+AllanTable Compute(const OctaveCase& c) {
+  static const Eigen::VectorXd phasedat = testing::PhaseDatFrequency();
+  static const Eigen::VectorXd ocxo = testing::OcxoFractionalFrequency();
+  AllanOptions options;
+  options.deviation = c.deviation;
+  const AllanResult result = ComputeAllan(c.ocxo ? ocxo : phasedat, 1.0, options);
+  EXPECT_EQ(result.summary.termination, Termination::kSuccess) << result.summary.message;
+  return result.table;
+}
+
+// Stable32 (1.53/1.60) computes its Min/Max Sigma from Greenhall's EDF for the noise type in its
+// Alpha column and an approximate inverse chi-square (allantools issue #101: differences at the
+// 1e-3 level); we use the exact quantile. Requirement: bounds within 2 % of Stable32's.
+// The OCXO octave reports were run on f / f_mean rather than f / 1e7 - 1, which moves Sigma by up
+// to 5e-4 relative against the all-tau reports (checked to 1e-4 in deviation_test): inside 2 %.
+//
+// With the noise type taken from Stable32's Alpha column, the EDF + chi-square part is checked on
+// every row, including those with only 4 averages.
+TEST(ComputeAllan, BoundsMatchStable32GivenStable32sNoiseType) {
+  for (const OctaveCase& c : OctaveCases()) {
+    const auto rows = testing::ReadStable32Report(c.file);
+    ASSERT_GE(rows.size(), 8u) << c.file;
+    const AllanTable t = Compute(c);
+    ASSERT_GE(t.size(), rows.size()) << c.file;
+    for (size_t k = 0; k < rows.size(); ++k) {
+      ASSERT_EQ(t.m[k], rows[k].m) << c.file;
+      const double edf = GreenhallEdf(rows[k].alpha, DifferenceOrder(c.deviation), t.m[k],
+                                      testing::kOcxoSamples * c.ocxo + 1000 * !c.ocxo + 1,
+                                      IsOverlapping(c.deviation));
+      double low = 0.0, high = 0.0;
+      ConfidenceBounds(t.sigma[k], edf, 0.683, &low, &high);
+      EXPECT_NEAR(low, rows[k].min_sigma, 0.02 * rows[k].min_sigma) << c.file << " m=" << t.m[k];
+      EXPECT_NEAR(high, rows[k].max_sigma, 0.02 * rows[k].max_sigma) << c.file << " m=" << t.m[k];
+    }
+  }
+}
+
+// End to end, with our own noise identification. Where at least 30 averages exist (the lag-1
+// autocorrelation regime) our noise type must equal Stable32's and the bounds must be within 2 %.
+// With fewer averages Stable32 uses an undocumented B1 / R(n) variant; our B1 type agrees in about
+// half of those rows (10 of the 18 rows with < 30 averages differ by one or two classes, moving the
+// upper bound by up to 23 % at 4 averages). There we require agreement within 2 % only where the
+// types agree, and that every identified type is within two classes of Stable32's.
+TEST(ComputeAllan, BoundsAreWithinTwoPercentOfStable32WithOurNoiseIdentification) {
+  int rows_checked = 0, type_disagreements = 0;
+  for (const OctaveCase& c : OctaveCases()) {
+    const auto rows = testing::ReadStable32Report(c.file);
+    const AllanTable t = Compute(c);
+    const long long n = c.ocxo ? testing::kOcxoSamples : 1000;
+    for (size_t k = 0; k < rows.size(); ++k) {
+      const bool lag1_regime = n / t.m[k] >= 30;
+      if (lag1_regime) EXPECT_EQ(t.alpha[k], rows[k].alpha) << c.file << " m=" << t.m[k];
+      EXPECT_LE(std::abs(t.alpha[k] - rows[k].alpha), 2) << c.file << " m=" << t.m[k];
+      if (t.alpha[k] != rows[k].alpha) {
+        ++type_disagreements;
+        continue;
+      }
+      ++rows_checked;
+      EXPECT_NEAR(t.ci_low[k], rows[k].min_sigma, 0.02 * rows[k].min_sigma)
+          << c.file << " m=" << t.m[k] << " edf=" << t.edf[k];
+      EXPECT_NEAR(t.ci_high[k], rows[k].max_sigma, 0.02 * rows[k].max_sigma)
+          << c.file << " m=" << t.m[k] << " edf=" << t.edf[k];
+    }
+  }
+  EXPECT_EQ(rows_checked + type_disagreements, 82);
+  EXPECT_GE(rows_checked, 72);
+  EXPECT_LE(type_disagreements, 10);
+}
+
+TEST(ComputeAllan, ReportsInvalidOptionsAndShortInput) {
+  AllanOptions options;
+  options.confidence = 1.5;
+  EXPECT_EQ(ComputeAllan(Eigen::VectorXd::Ones(100), 1.0, options).summary.termination,
+            Termination::kInvalidOptions);
+  EXPECT_EQ(ComputeAllan(Eigen::VectorXd::Ones(100), 0.0, AllanOptions()).summary.termination,
+            Termination::kInvalidOptions);
+  EXPECT_EQ(ComputeAllan(Eigen::VectorXd::Ones(1), 1.0, AllanOptions()).summary.termination,
+            Termination::kInsufficientData);
+  Eigen::VectorXd bad = Eigen::VectorXd::Ones(100);
+  bad[3] = std::nan("");
+  EXPECT_EQ(ComputeAllan(bad, 1.0, AllanOptions()).summary.termination,
+            Termination::kNumericalFailure);
+}
+
+TEST(ComputeAllan, TauIsTheAveragingFactorOverTheSampleRate) {
+  AllanOptions options;
+  options.confidence_intervals = false;
+  const AllanResult r = ComputeAllan(testing::Nbs1000Point(), 100.0, options);
+  ASSERT_EQ(r.table.size(), 9u);  // m = 1 .. 256 <= 1000 / 2
+  for (size_t k = 0; k < r.table.size(); ++k)
+    EXPECT_DOUBLE_EQ(r.table.tau_s[k], static_cast<double>(r.table.m[k]) / 100.0);
+  EXPECT_TRUE(std::isnan(r.table.ci_low[0]));
+}
+
+}  // namespace
+}  // namespace fogpipe::allan

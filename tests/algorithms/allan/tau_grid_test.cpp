@@ -1,0 +1,45 @@
+// Tests of algorithms/allan/tau_grid.{h,cpp}.
+#include "algorithms/allan/tau_grid.h"
+
+#include <gtest/gtest.h>
+
+namespace fogpipe::allan {
+namespace {
+
+using V = std::vector<long long>;
+
+TEST(AveragingFactors, OctaveIsPowersOfTwoUpToTheMaximum) {
+  TauGridOptions o;
+  EXPECT_EQ(AveragingFactors(o, 100), (V{1, 2, 4, 8, 16, 32, 64}));
+  EXPECT_EQ(AveragingFactors(o, 64), (V{1, 2, 4, 8, 16, 32, 64}));
+  EXPECT_TRUE(AveragingFactors(o, 0).empty());
+}
+
+TEST(AveragingFactors, DecadeIsRoundedLogSpacingWithoutDuplicates) {
+  TauGridOptions o;
+  o.kind = TauGridKind::kDecade;
+  o.per_decade = 10;
+  // round(10^(j/10)): 1 1.26 1.58 2.0 2.5 3.2 4.0 5.0 6.3 7.9 10 12.6 15.8 20 25 31.6 ...
+  EXPECT_EQ(AveragingFactors(o, 40), (V{1, 2, 3, 4, 5, 6, 8, 10, 13, 16, 20, 25, 32, 40}));
+  o.per_decade = 3;
+  EXPECT_EQ(AveragingFactors(o, 1000), (V{1, 2, 5, 10, 22, 46, 100, 215, 464, 1000}));
+}
+
+TEST(AveragingFactors, AllIsEveryFactor) {
+  TauGridOptions o;
+  o.kind = TauGridKind::kAll;
+  EXPECT_EQ(AveragingFactors(o, 5), (V{1, 2, 3, 4, 5}));
+}
+
+TEST(AveragingFactors, ExplicitIsSortedDeduplicatedAndClipped) {
+  TauGridOptions o;
+  o.kind = TauGridKind::kExplicit;
+  o.explicit_m = {7, 3, 3, 0, 100, 1};
+  EXPECT_EQ(AveragingFactors(o, 50), (V{1, 3, 7}));
+  std::string error;
+  o.explicit_m.clear();
+  EXPECT_FALSE(o.IsValid(&error));
+}
+
+}  // namespace
+}  // namespace fogpipe::allan

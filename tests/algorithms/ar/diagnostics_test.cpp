@@ -1,0 +1,128 @@
+#include "algorithms/ar/diagnostics.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "algorithms/ar/fit_ar.h"
+#include "tests/algorithms/ar/ar_test_support.h"
+
+namespace fogpipe::ar {
+namespace {
+
+ArModel Model(std::initializer_list<double> coefficients, double mean = 0.0) {
+  Eigen::VectorXd phi(coefficients.size());
+  int i = 0;
+  for (double c : coefficients) phi(i++) = c;
+  return MakeArModel(phi, 1.0, mean, 1000);
+}
+
+// AR(1): ||y - yhat||^2 -> N sigma^2 and ||y - mean||^2 -> N sigma^2 / (1 - phi^2), so the one-step
+// fit tends to 100 (1 - sqrt(1 - phi^2)) = 56.411 for phi = 0.9. Sampling error: the energy ratio
+// has relative sd ~ sqrt(2 (1 + phi^2) / ((1 - phi^2) N)) = 4.4e-3 at N = 1e6, i.e. ~0.1 in fit %;
+// 0.5 is five of those.
+TEST(Diagnostics, OneStepFitOfAnAr1MatchesItsClosedForm) {
+  const double phi = 0.9;
+  const Eigen::VectorXd x =
+      testing::SimulateAr(Eigen::VectorXd::Constant(1, phi), 1.0, 1000000, 81);
+  const ArDiagnostics d = ComputeDiagnostics(x, Model({phi}));
+  EXPECT_NEAR(d.fit_one_step_percent, 100.0 * (1.0 - std::sqrt(1.0 - phi * phi)), 0.5);
+  EXPECT_NEAR(d.residual_variance, 1.0, 5.0 * std::sqrt(2.0 / 1e6));  // chi2: sd = sqrt(2/N)
+}
+
+// A noise-free signal that obeys the model exactly is reproduced by both predictors. The cosine
+// obeys x_t = 2 cos(w) x_{t-1} - x_{t-2}; the free run accumulates rounding linearly in t
+// (~1e-16 * 4000 per sample), hence 1e-9 on a percentage.
+TEST(Diagnostics, ANoiseFreeSignalThatObeysTheModelFitsOneHundredPercentBothWays) {
+  const double w = 0.05;
+  Eigen::VectorXd x(4000);
+  for (Eigen::Index t = 0; t < x.size(); ++t) x(t) = 3.0 + std::cos(w * t + 0.2);
+  const ArDiagnostics d = ComputeDiagnostics(x, Model({2.0 * std::cos(w), -1.0}, 3.0));
+  EXPECT_NEAR(d.fit_one_step_percent, 100.0, 1e-9);
+  EXPECT_NEAR(d.fit_simulation_percent, 100.0, 1e-9);
+}
+
+// Free run of a noise-driven stationary AR(1): the response to the initial state decays within a
+// few samples, so ||y - yhat|| = ||y - mean|| up to O(1/N) and the fit is ~0 (here N = 1e5).
+TEST(Diagnostics, SimulationFitOfANoiseDrivenProcessIsAboutZero) {
+  const Eigen::VectorXd x = testing::SimulateAr(Eigen::VectorXd::Constant(1, 0.5), 1.0, 100000, 82);
+  const ArDiagnostics d = ComputeDiagnostics(x, Model({0.5}, x.mean()));
+  EXPECT_NEAR(d.fit_simulation_percent, 0.0, 0.01);
+}
+
+TEST(Diagnostics, AnExplodingSimulationGivesMinusInfinity) {
+  const Eigen::VectorXd x = testing::WhiteNoise(200000, 1.0, 83);
+  const ArDiagnostics d = ComputeDiagnostics(x, Model({1.5}));
+  EXPECT_TRUE(std::isinf(d.fit_simulation_percent));
+  EXPECT_LT(d.fit_simulation_percent, 0.0);
+}
+
+// Hand computation: e = (1, -1, ..., 1, -1), n = 10: r_1 = -9/10, Q = 10 * 12 * 0.81 / 9 = 10.8,
+// one degree of freedom: p = erfc(sqrt(10.8 / 2)).
+TEST(Diagnostics, LjungBoxMatchesAHandComputedStatistic) {
+  Eigen::VectorXd e(10);
+  for (int i = 0; i < 10; ++i) e(i) = (i % 2 == 0) ? 1.0 : -1.0;
+  const LjungBoxTest lb = LjungBox(e, 1, 0);
+  EXPECT_NEAR(lb.statistic, 10.8, 1e-12);
+  EXPECT_EQ(lb.dof, 1);
+  EXPECT_NEAR(lb.p_value, std::erfc(std::sqrt(5.4)), 1e-14);
+  EXPECT_EQ(LjungBox(e, 10, 12).dof, 1);  // lag - p clamped to >= 1
+}
+
+// Under the null the p-value is uniform. Over 200 independent records, the count of p < 0.05 is
+// Binomial(200, 0.05): mean 10, P(count <= 2) = 0.0023 and P(count >= 20) = 0.0027, so [3, 19] is a
+// ~99.5 % acceptance band; the count of p < 0.5 is Binomial(200, 0.5), [78, 122] is ~99.86 %.
+void ExpectUniformPValues(const std::vector<double>& p_values) {
+  int below_005 = 0, below_05 = 0;
+  for (double p : p_values) {
+    below_005 += p < 0.05;
+    below_05 += p < 0.5;
+  }
+  EXPECT_GE(below_005, 3);
+  EXPECT_LE(below_005, 19);
+  EXPECT_GE(below_05, 78);
+  EXPECT_LE(below_05, 122);
+}
+
+TEST(Diagnostics, LjungBoxPValuesOfWhiteNoiseAreUniform) {
+  std::vector<double> p10, p20;
+  for (int seed = 0; seed < 200; ++seed) {
+    const Eigen::VectorXd e = testing::WhiteNoise(2000, 1.0, 1000 + seed);
+    p10.push_back(LjungBox(e, 10, 0).p_value);
+    p20.push_back(LjungBox(e, 20, 0).p_value);
+  }
+  ExpectUniformPValues(p10);
+  ExpectUniformPValues(p20);
+}
+
+// The residuals of a correctly specified fitted AR(2): chi-square with lag - 2 dof (Ljung & Box
+// 1978) is the null distribution, so the p-values are again ~uniform.
+TEST(Diagnostics, LjungBoxPValuesOfACorrectlySpecifiedFitAreUniform) {
+  Eigen::VectorXd phi(2);
+  phi << 0.7, -0.2;
+  ArOptions options;
+  options.fixed_order = 2;
+  options.max_order = 2;
+  std::vector<double> p10, p20;
+  for (int seed = 0; seed < 200; ++seed) {
+    const ArFit fit = FitAr(testing::SimulateAr(phi, 1.0, 2000, 2000 + seed, 500), options);
+    p10.push_back(fit.diagnostics.ljung_box_p10);
+    p20.push_back(fit.diagnostics.ljung_box_p20);
+  }
+  ExpectUniformPValues(p10);
+  ExpectUniformPValues(p20);
+}
+
+TEST(Diagnostics, LjungBoxRejectsAnAr1FittedToAr2Data) {
+  Eigen::VectorXd phi(2);
+  phi << 1.2, -0.6;
+  ArOptions options;
+  options.fixed_order = 1;
+  const ArFit fit = FitAr(testing::SimulateAr(phi, 1.0, 10000, 84), options);
+  EXPECT_LT(fit.diagnostics.ljung_box_p10, 1e-10);
+  EXPECT_LT(fit.diagnostics.ljung_box_p20, 1e-10);
+  EXPECT_GT(fit.diagnostics.ljung_box_q10, 100.0);
+}
+
+}  // namespace
+}  // namespace fogpipe::ar

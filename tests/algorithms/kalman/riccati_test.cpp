@@ -1,0 +1,117 @@
+#include "algorithms/kalman/riccati.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+#include <cmath>
+
+#include "algorithms/kalman/companion.h"
+#include "tests/algorithms/kalman/paper_models.h"
+
+namespace fogpipe::kalman {
+namespace {
+
+// Scalar AR(1): P = phi^2 P R / (P + R) + q, i.e. P^2 + (R (1 - phi^2) - q) P - q R = 0, whose
+// positive root is the stabilizing solution (for any phi, also |phi| >= 1, when q > 0). Written
+// without cancellation: 2 q R / (b + sqrt(b^2 + 4 q R)) when b > 0.
+double ClosedFormAr1(double phi, double q, double r) {
+  const double b = r * (1.0 - phi * phi) - q;
+  const double root = std::sqrt(b * b + 4.0 * q * r);
+  return b > 0.0 ? 2.0 * q * r / (b + root) : 0.5 * (root - b);
+}
+
+TEST(SolveDare, MatchesTheClosedFormOfTheScalarAr1Equation) {
+  for (double phi : {0.0, 0.5, -0.9, 0.999, 1.0, 1.05}) {
+    for (double q_over_r : {1e-8, 1e-3, 1.0, 1e3}) {
+      const double r = 2.5e-7;  // rad/s-sized numbers: the solver must not care about scale
+      const double q = q_over_r * r;
+      Eigen::VectorXd phi_v(1);
+      phi_v << phi;
+      const DareSolution d = SolveDare(phi_v, q, r);
+      ASSERT_EQ(d.summary.termination, Termination::kSuccess) << phi << " " << q_over_r;
+      const double expected = ClosedFormAr1(phi, q, r);
+      // Both sides are a few roundings from the exact root: 1e-12 is ~1e4 ulps of margin.
+      EXPECT_NEAR(d.predicted_covariance(0, 0), expected, 1e-12 * expected)
+          << "phi " << phi << " q/R " << q_over_r;
+      EXPECT_NEAR(d.gain[0], expected / (expected + r), 1e-12);
+      EXPECT_NEAR(d.innovation_variance, expected + r, 1e-12 * (expected + r));
+      EXPECT_NEAR(d.filtered_covariance(0, 0), expected * r / (expected + r), 1e-12 * expected);
+    }
+  }
+}
+
+// Independent reference: the dense Riccati recursion in its textbook (non-Joseph) form, iterated
+// far beyond convergence.
+Eigen::MatrixXd DenseRecursion(const Eigen::VectorXd& phi, double q, double r, int steps) {
+  const Eigen::Index p = phi.size();
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(p, p);
+  a.row(0) = phi.transpose();
+  for (Eigen::Index i = 1; i < p; ++i) a(i, i - 1) = 1.0;
+  Eigen::MatrixXd qm = Eigen::MatrixXd::Zero(p, p);
+  qm(0, 0) = q;
+  Eigen::MatrixXd pp = qm;
+  for (int k = 0; k < steps; ++k) {
+    const Eigen::VectorXd g = pp.col(0) / (pp(0, 0) + r);
+    const Eigen::MatrixXd pf = pp - g * pp.row(0);
+    pp = a * pf * a.transpose() + qm;
+  }
+  return pp;
+}
+
+TEST(SolveDare, AgreesWithTheDenseRecursionIteratedToConvergence) {
+  // imf2 (well damped) and the AR(2) 1.5/-0.7: the recursion converges within 2000 steps.
+  Eigen::VectorXd ar2(2);
+  ar2 << 1.5, -0.7;
+  for (const Eigen::VectorXd& phi : {testing::PaperTable2Models()[1].phi, ar2}) {
+    const DareSolution d = SolveDare(phi, 1.0, 4.0);
+    ASSERT_EQ(d.summary.termination, Termination::kSuccess);
+    const Eigen::MatrixXd reference = DenseRecursion(phi, 1.0, 4.0, 20000);
+    EXPECT_LE((d.predicted_covariance - reference).norm(), 1e-11 * reference.norm());
+  }
+}
+
+TEST(SolveDare, ResidualIsAtRoundingLevelForThePaperModels) {
+  for (const testing::PaperModel& m : testing::PaperTable2Models()) {
+    for (double q_over_r : {1e-10, 1e-4, 1.0, 1e2}) {
+      const DareSolution d = SolveDare(m.phi, q_over_r * 3e-6, 3e-6);
+      ASSERT_EQ(d.summary.termination, Termination::kSuccess) << m.name << " " << q_over_r;
+      // After the defect correction, one Riccati step applied to P reproduces P up to the
+      // rounding of that step. phi' P phi with the companion rows of the slow IMFs
+      // (sum |phi_i| up to 14.4, P strongly correlated across lags) is formed from terms up to
+      // (sum|phi|)^2 ~ 2e2 times larger than the result: 2e2 * 1.1e-16 ~ 2.5e-14, so 1e-13.
+      EXPECT_LE(d.summary.relative_residual, 1e-13) << m.name << " q/R " << q_over_r;
+      EXPECT_LE(d.summary.iterations, 40) << m.name;
+      // P is symmetric positive definite.
+      EXPECT_LE((d.predicted_covariance - d.predicted_covariance.transpose()).norm(),
+                1e-14 * d.predicted_covariance.norm());
+      EXPECT_GT(d.predicted_covariance.ldlt().vectorD().minCoeff(), 0.0) << m.name;
+    }
+  }
+}
+
+TEST(SolveDare, ReportsInvalidInputAsData) {
+  Eigen::VectorXd phi(1);
+  phi << 0.5;
+  EXPECT_EQ(SolveDare(phi, 1.0, 0.0).summary.termination, Termination::kInvalidOptions);
+  EXPECT_EQ(SolveDare(phi, -1.0, 1.0).summary.termination, Termination::kInvalidOptions);
+  EXPECT_EQ(SolveDare(Eigen::VectorXd(), 1.0, 1.0).summary.termination,
+            Termination::kInvalidOptions);
+  phi << std::nan("");
+  EXPECT_EQ(SolveDare(phi, 1.0, 1.0).summary.termination, Termination::kInvalidOptions);
+  DareOptions bad;
+  bad.max_iterations = 0;
+  phi << 0.5;
+  EXPECT_EQ(SolveDare(phi, 1.0, 1.0, bad).summary.termination, Termination::kInvalidOptions);
+}
+
+TEST(SolveDare, ZeroProcessNoiseOnAStableModelGivesZeroCovariance) {
+  Eigen::VectorXd phi(2);
+  phi << 1.5, -0.7;
+  const DareSolution d = SolveDare(phi, 0.0, 1.0);
+  EXPECT_EQ(d.summary.termination, Termination::kSuccess);
+  EXPECT_EQ(d.predicted_covariance.norm(), 0.0);
+  EXPECT_EQ(d.gain.norm(), 0.0);
+}
+
+}  // namespace
+}  // namespace fogpipe::kalman

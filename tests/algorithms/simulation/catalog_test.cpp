@@ -1,0 +1,40 @@
+#include "algorithms/simulation/catalog.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
+
+namespace fogpipe::simulation {
+namespace {
+
+TEST(Catalog, ListsTheElevenTermsOfTheIssueWithTheirFixedNames) {
+  const std::vector<std::string> expected = {
+      "white",        "quantization", "bias_instability", "rate_random_walk", "rate_ramp",
+      "gauss_markov", "sinusoid",     "temperature",      "temperature_rate", "bias_step",
+      "warmup"};
+  ASSERT_EQ(AllTerms().size(), expected.size());
+  for (size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(ToString(AllTerms()[i]), expected[i]);
+}
+
+TEST(Catalog, EveryNameParsesBackToItsTerm) {
+  for (Term term : AllTerms()) EXPECT_EQ(ParseTerm(ToString(term)), term);
+  EXPECT_EQ(ParseTerm("Bias_Instability"), std::nullopt);
+  EXPECT_EQ(ParseTerm("flicker"), std::nullopt);
+  EXPECT_EQ(ParseTerm(""), std::nullopt);
+}
+
+TEST(Catalog, OnlyTheFourEffectsAreDeterministicAndOnlyTheThermalOnesNeedTemperature) {
+  std::set<std::string> deterministic;
+  std::set<std::string> thermal;
+  for (Term term : AllTerms()) {
+    if (KindOf(term) == TermKind::kDeterministic) deterministic.insert(ToString(term));
+    if (NeedsTemperature(term)) thermal.insert(ToString(term));
+  }
+  EXPECT_EQ(deterministic,
+            (std::set<std::string>{"temperature", "temperature_rate", "bias_step", "warmup"}));
+  EXPECT_EQ(thermal, (std::set<std::string>{"temperature", "temperature_rate"}));
+}
+
+}  // namespace
+}  // namespace fogpipe::simulation
