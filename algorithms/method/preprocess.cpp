@@ -20,41 +20,6 @@ double MedianInPlace(std::vector<double>* values) {
   return 0.5 * (lower + upper);
 }
 
-// Fills runs of NaN of at most max_gap samples by linear interpolation between the neighbours
-// (a run touching an end takes the nearest finite value). Returns false with *error for a longer
-// run or an all-NaN signal.
-bool BridgeGaps(Eigen::VectorXd* x, long long offset, int max_gap, std::vector<long long>* bridged,
-                std::string* error) {
-  const Eigen::Index n = x->size();
-  Eigen::Index k = 0;
-  while (k < n) {
-    if (!std::isnan((*x)[k])) {
-      ++k;
-      continue;
-    }
-    Eigen::Index end = k;
-    while (end < n && std::isnan((*x)[end])) ++end;
-    const Eigen::Index run = end - k;
-    if (run > max_gap || run == n) {
-      std::ostringstream out;
-      out << "run of " << run << " missing (NaN) samples starting at sample " << (k + offset)
-          << " is longer than the " << max_gap << " that can be bridged";
-      *error = out.str();
-      return false;
-    }
-    const bool has_left = k > 0, has_right = end < n;
-    const double left = has_left ? (*x)[k - 1] : (*x)[end];
-    const double right = has_right ? (*x)[end] : (*x)[k - 1];
-    for (Eigen::Index i = k; i < end; ++i) {
-      const double t = static_cast<double>(i - k + 1) / static_cast<double>(run + 1);
-      (*x)[i] = left + t * (right - left);
-      bridged->push_back(i + offset);
-    }
-    k = end;
-  }
-  return true;
-}
-
 void ReplaceOutliers(const PreprocessOptions& options, long long offset, Eigen::VectorXd* x,
                      std::vector<long long>* indices) {
   const Eigen::Index n = x->size();
@@ -96,7 +61,6 @@ bool PreprocessOptions::IsValid(std::string* error) const {
     return false;
   };
   if (!(drop_start_s >= 0.0)) return fail("drop_start_s must be >= 0");
-  if (max_gap_samples < 0) return fail("max_gap_samples must be >= 0");
   if (hampel_half_window < 1) return fail("hampel_half_window must be >= 1");
   if (hampel_scale_block < 10) return fail("hampel_scale_block must be >= 10");
   if (!(hampel_threshold > 0.0)) return fail("hampel_threshold must be > 0");
@@ -129,17 +93,13 @@ Preprocessed Preprocess(const Eigen::VectorXd& x, double sample_rate_hz,
   }
   out.summary.dropped_samples = drop;
   Eigen::VectorXd y = x.tail(kept);
-  if (!BridgeGaps(&y, drop, options.max_gap_samples, &out.bridged_indices, &error)) {
-    out.summary.termination = Termination::kInsufficientData;
-    out.summary.message = error;
-    return out;
-  }
   if (!y.allFinite()) {
     out.summary.termination = Termination::kNumericalFailure;
-    out.summary.message = "signal holds infinite values";
+    Eigen::Index k = 0;
+    while (std::isfinite(y[k])) ++k;
+    out.summary.message = "non-finite sample (NaN or Inf) at index " + std::to_string(k + drop);
     return out;
   }
-  out.summary.bridged_samples = static_cast<long long>(out.bridged_indices.size());
   {
     std::ostringstream rule;
     rule << "hampel: |x - median of " << (2 * options.hampel_half_window + 1)

@@ -1,7 +1,8 @@
 // Preprocessing before EMD, as the paper did it (Liu, Liu & Shen 2018, section 2; method.md "The
-// data the paper used"): the start-up transient is dropped, short gaps are bridged, gross errors
-// (outliers) are replaced, the mean is removed, and windowed mean and variance are computed for
-// the stationarity check (their Fig. 2).
+// data the paper used"): the start-up transient is dropped, gross errors (outliers) are replaced,
+// the mean is removed, and windowed mean and variance are computed for the stationarity check
+// (their Fig. 2). Missing samples (NaN) are bridged by the recording reader
+// (pipeline/io/missing_samples.h) before this step; here a non-finite sample is an error.
 #pragma once
 
 #include <Eigen/Core>
@@ -15,9 +16,6 @@ namespace fogpipe::method {
 struct PreprocessOptions {
   /// Seconds dropped at the start (the output is biased right after switch-on). Default 0.
   double drop_start_s = 0.0;
-  /// Longest run of missing samples (NaN) bridged by linear interpolation, in samples. A longer
-  /// run makes the recording unusable for EMD (kInsufficientData naming the run). Default 10.
-  int max_gap_samples = 10;
   /// Outliers: a Hampel identifier (Hampel 1974; Pearson 2002) with a pooled scale. With m_k the
   /// median of the 2 h + 1 samples centred on k (h = hampel_half_window; windows shrink at the
   /// ends) and e_k = x_k - m_k, sample k is an outlier when
@@ -45,19 +43,16 @@ struct PreprocessSummary {
   Termination termination = Termination::kInvalidOptions;
   std::string message;
   long long dropped_samples = 0;  ///< At the start (drop_start_s).
-  long long bridged_samples = 0;  ///< NaN samples filled by interpolation.
   long long outliers = 0;         ///< Samples replaced by the local median.
 };
 
 struct Preprocessed {
-  /// The kept signal, gaps bridged, outliers replaced, mean removed; units of the input.
+  /// The kept signal, outliers replaced, mean removed; units of the input.
   Eigen::VectorXd signal;
   /// The mean removed from `signal`, units of the input.
   double mean_removed = 0.0;
   /// Indices (into the input, before the drop) of the samples replaced as outliers.
   std::vector<long long> outlier_indices;
-  /// Indices (into the input) of the bridged NaN samples.
-  std::vector<long long> bridged_indices;
   /// Stationarity check: length of one window in samples, and per window the mean and the
   /// (population) variance of the kept signal before the mean was removed.
   long long window_samples = 0;

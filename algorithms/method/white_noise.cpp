@@ -18,7 +18,12 @@ double WhiteNoiseVariance(const Eigen::VectorXd& x) {
   const double center = median_of(&diff);
   for (double& d : diff) d = std::abs(d - center);
   const double sigma_diff = 1.482602218505602 * median_of(&diff);
-  return 0.5 * sigma_diff * sigma_diff;
+  if (sigma_diff > 0.0) return 0.5 * sigma_diff * sigma_diff;
+  // Coarsely quantized data can repeat values so often that the MAD of the differences is 0;
+  // fall back to the plain variance of the differences.
+  double sum = 0.0;
+  for (Eigen::Index i = 0; i + 1 < n; ++i) sum += (x[i + 1] - x[i]) * (x[i + 1] - x[i]);
+  return 0.5 * sum / static_cast<double>(n - 1);
 }
 
 std::vector<double> ShareWhiteNoise(double white_noise_variance,

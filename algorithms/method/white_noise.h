@@ -9,7 +9,8 @@
 //     a dyadic filter bank whose IMF energies obey E_k T_k ~ constant, T_k the mean period
 //     (Wu & Huang 2004, Proc. R. Soc. A 460:1597; Flandrin, Rilling & Goncalves 2004). So IMF k
 //     receives the share (1/T_k) / sum_j (1/T_j) of sigma_w^2, capped at the IMF's own variance.
-//     The residue (a trend) receives none: R = 0 lets its filter follow it exactly.
+//     The residue (a trend) counts as one cycle over the record (T = N): a tiny share, so that
+//     its filter follows it.
 //
 // Why not R = the AR innovation variance or Q = innovation variance and R = sigma_w^2 for the
 // whole signal: the AR innovation variance of a noisy component already contains its share of the
@@ -25,7 +26,8 @@
 
 namespace fogpipe::method {
 
-/// sigma_w^2 of step 1, units of x^2. 0 for fewer than 3 samples.
+/// sigma_w^2 of step 1, units of x^2. 0 for fewer than 3 samples. When more than half of the
+/// differences are equal (coarse quantization: MAD 0), var(diff x) / 2 instead.
 double WhiteNoiseVariance(const Eigen::VectorXd& x);
 
 /// Step 2: R_k for each IMF from sigma_w^2, the IMFs' mean periods (samples) and the IMFs'

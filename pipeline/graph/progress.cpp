@@ -20,8 +20,13 @@ std::string FormatDuration(double seconds) {
 Progress::Progress(int total, std::FILE* stream, bool redraw)
     : total_(total), stream_(stream), redraw_(redraw) {}
 
-void Progress::FileDone(const std::string& file, const std::string& status) {
+void Progress::FileDone(const std::string& file, const std::string& status,
+                        const std::string& message) {
   std::lock_guard<std::mutex> lock(mutex_);
+  if (!message.empty()) {
+    std::fprintf(stream_, "%sfogpipe: %s: %s\n", redraw_ ? "\r\033[K" : "", status.c_str(),
+                 message.c_str());
+  }
   ++done_;
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();

@@ -14,8 +14,10 @@ class Progress {
   /// `total` files to process (skipped files count as done at once). `redraw` defaults to
   /// isatty(stderr).
   Progress(int total, std::FILE* stream, bool redraw);
-  /// Reports one finished file. Thread-safe.
-  void FileDone(const std::string& file, const std::string& status);
+  /// Reports one finished file. A non-empty `message` (why it failed) is printed on a line of its
+  /// own that is never overwritten. Thread-safe.
+  void FileDone(const std::string& file, const std::string& status,
+                const std::string& message = "");
   /// Ends the in-place line (prints the newline a redrawn line lacks).
   void Finish();
 

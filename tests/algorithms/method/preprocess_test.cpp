@@ -54,22 +54,14 @@ TEST(Preprocess, ReplacesPlantedOutliersAndOnlyThem) {
   EXPECT_LT(p.signal.cwiseAbs().maxCoeff(), 8.0);
 }
 
-TEST(Preprocess, BridgesShortGapsLinearlyAndRejectsLongOnes) {
-  Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(200, 0.0, 199.0);
-  x.segment(50, 3).setConstant(std::nan(""));
+TEST(Preprocess, RejectsANonFiniteSampleNamingItsIndex) {
+  Eigen::VectorXd x = Gaussian(200, 1.0, 5);
+  x[150] = std::nan("");
   PreprocessOptions options;
-  options.remove_outliers = false;
-  Preprocessed p = Preprocess(x, 1.0, options);
-  ASSERT_EQ(p.summary.termination, Termination::kSuccess);
-  EXPECT_EQ(p.summary.bridged_samples, 3);
-  // A straight line is bridged exactly by linear interpolation.
-  EXPECT_NEAR(p.signal[51] + p.mean_removed, 51.0, 1e-12);
-
-  x.segment(100, 11).setConstant(std::nan(""));
-  p = Preprocess(x, 1.0, options);
-  EXPECT_EQ(p.summary.termination, Termination::kInsufficientData);
-  EXPECT_NE(p.summary.message.find("11 missing"), std::string::npos) << p.summary.message;
-  EXPECT_NE(p.summary.message.find("sample 100"), std::string::npos) << p.summary.message;
+  options.drop_start_s = 10.0;
+  const Preprocessed p = Preprocess(x, 1.0, options);
+  EXPECT_EQ(p.summary.termination, Termination::kNumericalFailure);
+  EXPECT_NE(p.summary.message.find("index 150"), std::string::npos) << p.summary.message;
 }
 
 TEST(Preprocess, RejectsAConstantSignalAndTooFewSamples) {
