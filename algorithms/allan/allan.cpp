@@ -64,6 +64,24 @@ AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double s
   table.edf.assign(rows, nan);
   table.alpha.assign(rows, 0);
   const int d = DifferenceOrder(options.deviation);
+  // B1's denominator (noise_id.h) is the overlapping Allan variance at m; it is only needed where
+  // fewer than 30 averages exist. For OADEV it is the result itself; otherwise it is computed for
+  // those few long factors in one extra blocked sweep.
+  std::vector<double> b1_avar(rows, std::numeric_limits<double>::quiet_NaN());
+  if (options.confidence_intervals) {
+    if (options.deviation == Deviation::kOverlappingAllan) {
+      b1_avar = variance;
+    } else {
+      std::vector<long long> few;
+      std::vector<size_t> where;
+      for (size_t k = 0; k < rows; ++k)
+        if (n / table.m[k] < 30 &&
+            table.m[k] <= MaxAveragingFactor(Deviation::kOverlappingAllan, n))
+          few.push_back(table.m[k]), where.push_back(k);
+      const std::vector<double> v = DeviationVariances(phase, Deviation::kOverlappingAllan, few);
+      for (size_t i = 0; i < few.size(); ++i) b1_avar[where[i]] = v[i];
+    }
+  }
   int previous_alpha = 0;
   for (size_t k = 0; k < rows; ++k) {
     const long long m = table.m[k];
@@ -71,7 +89,7 @@ AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double s
     table.sigma[k] = std::sqrt(variance[k]);
     table.count[k] = DifferenceCount(options.deviation, n, m);
     if (!options.confidence_intervals) continue;
-    const NoiseId id = IdentifyNoise(phase, m, d);
+    const NoiseId id = IdentifyNoise(phase, m, d, b1_avar[k]);
     // With too few averages to identify anything, keep the noise type of the shorter tau.
     const int alpha = id.method == NoiseIdMethod::kNone ? previous_alpha : id.alpha;
     previous_alpha = alpha;

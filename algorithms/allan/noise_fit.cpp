@@ -88,22 +88,22 @@ NoiseTerms SlopeReadoffs(const AllanTable& table, double slope_tolerance) {
   out.b_rad_s = min_sigma / std::sqrt(2.0 * std::log(2.0) / units::kPi);
   // (slope, tau at which the line is read, factor turning the read value into the amplitude)
   struct Readoff {
-    int term;
-    double slope, tau_read;
+    int term;         // index into kTermOrder
+    double tau_read;  // where the line is read [s]
   };
-  const Readoff readoffs[] = {
-      {0, -1.0, std::sqrt(3.0)}, {1, -0.5, 1.0}, {3, 0.5, 3.0}, {4, 1.0, std::sqrt(2.0)}};
+  const Readoff readoffs[] = {{0, std::sqrt(3.0)}, {1, 1.0}, {3, 3.0}, {4, std::sqrt(2.0)}};
   for (const Readoff& r : readoffs) {
+    const double target = TermSlope(kTermOrder[r.term]);
     double best = slope_tolerance;
     double value = kNaN;
     for (size_t k = 0; k + 1 < rows.size(); ++k) {
       const double lt0 = std::log(table.tau_s[rows[k]]), lt1 = std::log(table.tau_s[rows[k + 1]]);
       const double ls0 = std::log(table.sigma[rows[k]]), ls1 = std::log(table.sigma[rows[k + 1]]);
       const double slope = (ls1 - ls0) / (lt1 - lt0);
-      if (std::abs(slope - r.slope) <= best) {
-        best = std::abs(slope - r.slope);
+      if (std::abs(slope - target) <= best) {
+        best = std::abs(slope - target);
         const double lt = 0.5 * (lt0 + lt1), ls = 0.5 * (ls0 + ls1);
-        value = std::exp(ls + r.slope * (std::log(r.tau_read) - lt));
+        value = std::exp(ls + target * (std::log(r.tau_read) - lt));
       }
     }
     *Amplitude(&out, r.term) = value;
@@ -120,27 +120,38 @@ NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& opt
     summary.message = error;
     return result;
   }
+  if (table.deviation == Deviation::kOverlappingHadamard ||
+      table.deviation == Deviation::kHadamard) {
+    summary.termination = Termination::kInvalidOptions;
+    summary.message =
+        "the IEEE 952 model is that of the Allan variance; fit an OADEV or ADEV table";
+    return result;
+  }
   const bool enabled[kTerms] = {options.fit_q, options.fit_n, options.fit_b, options.fit_k,
                                 options.fit_r};
   std::vector<int> cols;
   for (int j = 0; j < kTerms; ++j)
     if (enabled[j]) cols.push_back(j);
+  // Rows with an EDF are weighted by it; if no row has one, all get edf = 1 (relative least
+  // squares) and no standard errors are given. Rows without EDF in a table that has some are
+  // skipped (they are the ones whose noise type admits no EDF).
+  bool have_edf = false;
+  for (size_t i = 0; i < table.size() && i < table.edf.size(); ++i)
+    if (table.edf[i] > 0.0 && std::isfinite(table.edf[i])) have_edf = true;
   std::vector<double> tau, v, edf;
-  bool have_edf = true;
   for (size_t i = 0; i < table.size(); ++i) {
     const double t = table.tau_s[i], s = table.sigma[i];
     if (!(t >= options.min_tau_s && t <= options.max_tau_s) || !(s > 0.0) || !std::isfinite(s))
       continue;
+    const double e = i < table.edf.size() ? table.edf[i] : kNaN;
+    if (have_edf && !(e > 0.0 && std::isfinite(e))) continue;
     tau.push_back(t);
     v.push_back(s * s);
-    const double e = i < table.edf.size() ? table.edf[i] : kNaN;
-    if (!(e > 0.0) || !std::isfinite(e)) have_edf = false;
-    edf.push_back(e);
+    edf.push_back(have_edf ? e : 1.0);
   }
   const int npts = static_cast<int>(tau.size());
   const int ncol = static_cast<int>(cols.size());
   summary.points = npts;
-  if (!have_edf) edf.assign(tau.size(), 1.0);
   if (npts < ncol) {
     summary.termination = Termination::kInsufficientData;
     summary.message = "fewer usable table rows than terms to fit";

@@ -79,10 +79,11 @@ struct NoiseFitResult {
   NoiseFitSummary summary;
 };
 
-/// Fits the table (any deviation type whose variance follows the Allan model, i.e. OADEV/ADEV;
-/// tau_s, sigma and edf are used; rows with non-finite or non-positive values are skipped). If the
-/// table has no EDF (confidence intervals off), every point gets edf = 1 (relative least squares)
-/// and the standard errors are NaN.
+/// Fits an OADEV or ADEV table (a Hadamard table gives kInvalidOptions: its term coefficients
+/// differ). tau_s, sigma and edf are used; rows with non-finite or non-positive values are
+/// skipped. If the table has no EDF at all (confidence intervals off), every point gets edf = 1
+/// (relative least squares) and the standard errors are NaN; otherwise rows without EDF are
+/// skipped.
 NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& options);
 
 /// The model sigma^2(tau) [(rad/s)^2] of the five terms.

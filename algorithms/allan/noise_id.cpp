@@ -13,32 +13,70 @@ namespace {
 constexpr long long kMinAcfPoints = 30;  // Riley & Greenhall 2004: the lag-1 method needs ~30.
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Lag-1 autocorrelation r1 = sum (w_k - mu)(w_{k+1} - mu) / sum (w_k - mu)^2 (Riley 2004 eq. 2).
-double Lag1Autocorrelation(const std::vector<double>& w) {
-  const size_t n = w.size();
-  double mu = 0.0;
-  for (double v : w) mu += v;
-  mu /= static_cast<double>(n);
-  double num = 0.0, den = 0.0;
-  for (size_t k = 0; k + 1 < n; ++k) num += (w[k] - mu) * (w[k + 1] - mu);
-  for (double v : w) den += (v - mu) * (v - mu);
-  return den > 0.0 ? num / den : 0.0;
-}
+// Sums of one series w_0..w_{L-1} for its mean-removed lag-1 autocorrelation
+// r1 = sum (w_k - mu)(w_{k+1} - mu) / sum (w_k - mu)^2 (Riley & Greenhall 2004, eq. 2), expanded
+// as S_lag - mu (2 S - w_0 - w_{L-1}) + (L - 1) mu^2 over S_2 - L mu^2. The series are
+// differences of the mean-removed phase, so mu is at most of the order of their spread and the
+// expansion loses no significant digits.
+struct Lag1Sums {
+  long long count = 0;
+  double first = 0.0, last = 0.0, sum = 0.0, sum_sq = 0.0, sum_lag = 0.0;
+  double R1() const {
+    const double l = static_cast<double>(count);
+    const double mu = sum / l;
+    const double num = sum_lag - mu * (2.0 * sum - first - last) + (l - 1.0) * mu * mu;
+    const double den = sum_sq - l * mu * mu;
+    return den > 0.0 ? num / den : 0.0;
+  }
+};
 
-NoiseId Lag1Method(std::vector<double> w, int dmax) {
+constexpr int kMaxDifferences = 3;
+constexpr long long kChunk = 4096;
+
+// One pass over z_k = x[(k+1)m] - x[km] (m times the k-th average), k < averages, in chunks that
+// carry dmax + 1 values of history; in each chunk the difference series 0..dmax are formed in
+// place and their new elements (and new lag-1 pairs) are added by vectorized reductions.
+NoiseId Lag1Method(const Eigen::VectorXd& x, long long m, long long averages, int dmax) {
+  Lag1Sums sums[kMaxDifferences + 1];
+  std::vector<double> buffer(static_cast<size_t>(kChunk + kMaxDifferences + 1));
+  const double* p = x.data();
+  for (long long c0 = 0; c0 < averages; c0 += kChunk) {
+    const long long c1 = std::min(c0 + kChunk, averages);
+    const long long h = std::min<long long>(dmax + 1, c0);  // history before c0
+    const long long len = c1 - c0 + h;
+    // buffer[t] = z_{c0 - h + t}; after j differencing steps it holds w^(j)_{c0 - h + t}.
+    for (long long t = 0; t < len; ++t) buffer[t] = p[(c0 - h + t + 1) * m] - p[(c0 - h + t) * m];
+    for (int j = 0; j <= dmax; ++j) {
+      const long long t_end = h - j + (c1 - c0);  // = buffer length at level j
+      const long long t_begin = std::max<long long>(h - j, 0);
+      if (t_end <= t_begin) break;
+      const Eigen::Map<const Eigen::VectorXd> w(buffer.data(), t_end);
+      Lag1Sums& s = sums[j];
+      if (s.count == 0) s.first = w[t_begin];
+      s.sum += w.segment(t_begin, t_end - t_begin).sum();
+      s.sum_sq += w.segment(t_begin, t_end - t_begin).squaredNorm();
+      // Pairs (i, i + 1) whose second element is new.
+      const long long pair_begin = std::max<long long>(t_begin, 1);
+      if (t_end > pair_begin)
+        s.sum_lag += w.segment(pair_begin - 1, t_end - pair_begin)
+                         .dot(w.segment(pair_begin, t_end - pair_begin));
+      s.last = w[t_end - 1];
+      s.count += t_end - t_begin;
+      for (long long t = 0; t + 1 < t_end; ++t) buffer[t] = buffer[t + 1] - buffer[t];
+    }
+  }
   NoiseId id;
   id.method = NoiseIdMethod::kLag1Autocorrelation;
-  for (int d = 0;; ++d) {
-    const double r1 = Lag1Autocorrelation(w);
+  for (int d = 0; d <= dmax; ++d) {
+    const double r1 = sums[d].R1();
     const double rho = r1 / (1.0 + r1);
     if (rho < 0.25 || d >= dmax) {
       id.alpha_estimate = -2.0 * (rho + d);
       id.alpha = static_cast<int>(-std::lround(2.0 * rho)) - 2 * d;
       return id;
     }
-    for (size_t k = 0; k + 1 < w.size(); ++k) w[k] = w[k + 1] - w[k];
-    w.pop_back();
   }
+  return id;
 }
 
 // Expected B1 = (N-sample variance) / (two-sample variance) of N averages for phase-noise exponent
@@ -88,7 +126,10 @@ AllanAndModified OverlappingAllanAndModified(const Eigen::VectorXd& x, long long
   return out;
 }
 
-NoiseId B1Method(const Eigen::VectorXd& phase, const std::vector<double>& z, long long m, int d) {
+NoiseId B1Method(const Eigen::VectorXd& phase, long long m, long long averages, int d,
+                 double allan_variance_m) {
+  std::vector<double> z(static_cast<size_t>(averages));
+  for (long long k = 0; k < averages; ++k) z[k] = phase[(k + 1) * m] - phase[k * m];
   NoiseId id;
   id.method = NoiseIdMethod::kB1Ratio;
   id.alpha_estimate = kNaN;
@@ -99,11 +140,13 @@ NoiseId B1Method(const Eigen::VectorXd& phase, const std::vector<double>& z, lon
   double var = 0.0;
   for (double v : z) var += (v - mu_z) * (v - mu_z);
   var /= (n - 1.0) * static_cast<double>(m) * static_cast<double>(m);  // z is m x the average
-  // The Allan variance in the ratio is the overlapping estimate at m, the better estimate of the
-  // same quantity; with it, our types agree with Stable32's in more of the few-average rows of the
-  // reference reports than with the two-sample variance of the same N averages.
-  const AllanAndModified allan = OverlappingAllanAndModified(phase, m);
-  const double b1 = allan.avar > 0.0 ? var / allan.avar : 1.0;
+  double avar = allan_variance_m;
+  if (!(avar >= 0.0)) {
+    avar = 0.0;
+    for (size_t k = 0; k + 1 < z.size(); ++k) avar += (z[k + 1] - z[k]) * (z[k + 1] - z[k]);
+    avar /= 2.0 * (n - 1.0) * static_cast<double>(m) * static_cast<double>(m);
+  }
+  const double b1 = avar > 0.0 ? var / avar : 1.0;
   // Highest mu whose boundary (geometric mean of neighbouring expectations) b1 exceeds; the
   // Allan variance does not converge for mu = 2 (alpha = -3), so that class is Hadamard only.
   const int mu_max = d >= 3 ? 2 : 1;
@@ -121,6 +164,7 @@ NoiseId B1Method(const Eigen::VectorXd& phase, const std::vector<double>& z, lon
   // Phase noise: white PM has R(n) = 1/m, flicker PM ~ 3.37 / (1.04 + 3 ln(pi m)) (TN 1337).
   id.method = NoiseIdMethod::kB1AndRn;
   const double md = static_cast<double>(m);
+  const AllanAndModified allan = OverlappingAllanAndModified(phase, m);
   const double rn = allan.mvar / allan.avar;
   const double boundary = std::sqrt((1.0 / md) * 3.37 / (1.04 + 3.0 * std::log(units::kPi * md)));
   id.alpha = (rn > boundary || !(rn == rn)) ? 1 : 2;
@@ -129,18 +173,16 @@ NoiseId B1Method(const Eigen::VectorXd& phase, const std::vector<double>& z, lon
 
 }  // namespace
 
-NoiseId IdentifyNoise(const Eigen::VectorXd& phase, long long m, int d) {
+NoiseId IdentifyNoise(const Eigen::VectorXd& phase, long long m, int d, double allan_variance_m) {
   NoiseId id;
   const long long n = phase.size() - 1;
   const long long averages = m >= 1 ? n / m : 0;
-  if (averages < 4) {
+  if (averages < 4 || d < 1 || d > kMaxDifferences) {
     id.alpha_estimate = kNaN;
     return id;
   }
-  // m-averaged frequency (times m; the scale does not matter for either method).
-  std::vector<double> z(static_cast<size_t>(averages));
-  for (long long k = 0; k < averages; ++k) z[k] = phase[(k + 1) * m] - phase[k * m];
-  id = averages >= kMinAcfPoints ? Lag1Method(std::move(z), d) : B1Method(phase, z, m, d);
+  id = averages >= kMinAcfPoints ? Lag1Method(phase, m, averages, d)
+                                 : B1Method(phase, m, averages, d, allan_variance_m);
   id.alpha = std::clamp(id.alpha, 2 - 2 * d, 2);
   return id;
 }

@@ -12,9 +12,13 @@
 //    (alpha = 2) and flicker (alpha = 1) by R(n) = Mod AVAR / AVAR (NIST TN 1337, A-6).
 //    Stable32 does not document its B1 variant; in the reference reports our types agree with
 //    Stable32's in every row with >= 30 averages and in about half of the rows with fewer.
+//
+// The lag-1 method is one streaming pass over the m-averages computing the sums of all difference
+// orders at once (no copies), so identification at m = 1 of 1e7 samples costs one read of them.
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 
 namespace fogpipe::allan {
 
@@ -33,6 +37,13 @@ struct NoiseId {
 /// Identifies the dominant noise at averaging factor m from `phase` (MeanRemovedPhase of the rate
 /// samples, n + 1 points). d = 2 for Allan variances, 3 for Hadamard. Returns method kNone (and
 /// alpha 0) when fewer than 4 averages exist.
-NoiseId IdentifyNoise(const Eigen::VectorXd& phase, long long m, int d);
+///
+/// `allan_variance_m` is the Allan variance at m in (phase units / m)^2, i.e. as returned by
+/// DeviationVariances, for the B1 ratio's denominator; pass the overlapping one when the caller
+/// has it. NaN (default) means: use the two-sample variance of the N averages themselves (Barnes'
+/// textbook B1). Either way the cost is O(n / m) unless the R(n) step runs (phase noise at < 30
+/// averages), which is O(n).
+NoiseId IdentifyNoise(const Eigen::VectorXd& phase, long long m, int d,
+                      double allan_variance_m = std::numeric_limits<double>::quiet_NaN());
 
 }  // namespace fogpipe::allan

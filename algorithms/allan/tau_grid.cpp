@@ -33,6 +33,11 @@ std::vector<long long> AveragingFactors(const TauGridOptions& options, long long
       }
       break;
     }
+    case TauGridKind::kDecade124:
+      for (long long decade = 1; decade <= max_m; decade *= 10)
+        for (long long f : {1, 2, 4})
+          if (f * decade <= max_m) m.push_back(f * decade);
+      break;
     case TauGridKind::kAll:
       m.reserve(static_cast<size_t>(max_m));
       for (long long v = 1; v <= max_m; ++v) m.push_back(v);

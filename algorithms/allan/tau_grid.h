@@ -10,10 +10,11 @@
 namespace fogpipe::allan {
 
 enum class TauGridKind {
-  kOctave,    ///< m = 1, 2, 4, 8, ... (Stable32 "octave").
-  kDecade,    ///< per_decade log-spaced points: m = round(10^(j / per_decade)), deduplicated.
-  kAll,       ///< Every m = 1 .. max_m (Stable32 "all tau").
-  kExplicit,  ///< The factors in TauGridOptions::explicit_m (sorted, deduplicated, clipped).
+  kOctave,     ///< m = 1, 2, 4, 8, ... (Stable32 "octave").
+  kDecade,     ///< per_decade log-spaced points: m = round(10^(j / per_decade)), deduplicated.
+  kAll,        ///< Every m = 1 .. max_m (Stable32 "all tau").
+  kDecade124,  ///< m = 1, 2, 4, 10, 20, 40, 100, ... (Stable32's "decade" grid).
+  kExplicit,   ///< The factors in TauGridOptions::explicit_m (sorted, deduplicated, clipped).
 };
 
 struct TauGridOptions {

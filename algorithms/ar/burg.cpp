@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "algorithms/ar/autocorrelation.h"
 #include "algorithms/ar/reflection.h"
 
 namespace fogpipe::ar {
@@ -13,8 +14,9 @@ constexpr Eigen::Index kBlock = 1024;
 
 }  // namespace
 
-OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x_centered, int max_order) {
-  const Eigen::Index n = x_centered.size();
+OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x, int max_order,
+                            double mean) {
+  const Eigen::Index n = x.size();
   OrderSequence out;
   out.num_effective = n;
   out.innovation_variance.setZero(max_order);
@@ -23,12 +25,12 @@ OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x_centered,
   // Layout after Collomb (2009): forward error of order m at time t is f[t] (t = m..N-1); backward
   // error of order m that predicts x_t from the m samples after it is b[t] (t = 0..N-1-m). Order m
   // pairs f[t + m + 1] with b[t], t = 0..N-m-2.
-  Eigen::VectorXd f = x_centered;
-  Eigen::VectorXd b = x_centered;
+  Eigen::VectorXd f = x.array() - mean;
+  Eigen::VectorXd b = f;
   double* fp = f.data();
   double* bp = b.data();
 
-  double sigma2 = x_centered.squaredNorm() / static_cast<double>(n);
+  double sigma2 = f.squaredNorm() / static_cast<double>(n);
   double num = f.tail(n - 1).dot(b.head(n - 1));
   double den = f.tail(n - 1).squaredNorm() + b.head(n - 1).squaredNorm();
   Eigen::VectorXd phi(0);
@@ -71,6 +73,52 @@ OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x_centered,
     }
     num = next_num;
     den = next_den;
+  }
+  out.innovation_variance.conservativeResize(out.orders_completed);
+  return out;
+}
+
+OrderSequence BurgAllOrdersFromAutocorrelation(const Eigen::Ref<const Eigen::VectorXd>& x,
+                                               int max_order) {
+  const Eigen::Index n = x.size();
+  OrderSequence out;
+  out.num_effective = n;
+  out.innovation_variance.setZero(max_order);
+  if (max_order < 1 || n <= 2 * static_cast<Eigen::Index>(max_order) + 1) return out;
+  const Eigen::VectorXd c = LaggedProducts(x, max_order + 1);
+  double sigma2 = c(0) / static_cast<double>(n);
+  Eigen::VectorXd a = Eigen::VectorXd::Ones(1);  // A(z) of the current order, a_0 = 1
+  for (int k = 0; k < max_order; ++k) {
+    // Phi(i, j) = sum_{t=k+1}^{N-1} x_{t-i} x_{t-j}, i, j = 0..k+1: c(d) minus the head products
+    // (lower index 0..k-M) and the tail products (lower index N-M..N-1-d), M = max(i, j).
+    const int s = k + 2;
+    Eigen::MatrixXd phi_mat(s, s);
+    for (int i = 0; i < s; ++i) {
+      for (int j = i; j < s; ++j) {
+        const int d = j - i;
+        const int big = j;
+        double v = c(d);
+        for (int t = 0; t <= k - big; ++t) v -= x(t) * x(t + d);
+        for (Eigen::Index t = n - big; t <= n - 1 - d; ++t) v -= x(t) * x(t + d);
+        phi_mat(i, j) = phi_mat(j, i) = v;
+      }
+    }
+    Eigen::VectorXd alpha = Eigen::VectorXd::Zero(s);
+    Eigen::VectorXd beta = Eigen::VectorXd::Zero(s);
+    alpha.head(k + 1) = a;
+    beta.tail(k + 1) = a.reverse();
+    const double num = alpha.dot(phi_mat * beta);
+    const double den = alpha.dot(phi_mat * alpha) + beta.dot(phi_mat * beta);
+    if (!(den > 0.0) || !std::isfinite(num)) break;
+    const double kappa = 2.0 * num / den;
+    const double shrink = (1.0 - kappa) * (1.0 + kappa);
+    if (!(shrink > 0.0)) break;
+    sigma2 *= shrink;
+    if (!(sigma2 > 0.0)) break;
+    a = alpha - kappa * beta;  // A_{k+1}(z) = A_k(z) - kappa z^{k+1} A_k(1/z)
+    out.phi.push_back(-a.tail(k + 1));
+    out.innovation_variance(k) = sigma2;
+    out.orders_completed = k + 1;
   }
   out.innovation_variance.conservativeResize(out.orders_completed);
   return out;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "algorithms/ar/autocorrelation.h"
 #include "algorithms/ar/chi_square.h"
@@ -43,29 +44,38 @@ Eigen::VectorXd OneStepResiduals(const Eigen::Ref<const Eigen::VectorXd>& x, con
 double SimulationFitPercent(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model) {
   const Eigen::Index n = x.size();
   const int p = model.order;
-  Eigen::VectorXd state(p);  // s_{t-1}, ..., s_{t-p}
-  for (int i = 0; i < p; ++i) state(i) = x(p - 1 - i) - model.mean;
+  // The free run s_t is written into a window of kBlock + p samples; each window's last p samples
+  // seed the next, so the history is always contiguous and memory stays O(kBlock).
+  std::vector<double> window(kBlock + p);
+  for (int i = 0; i < p; ++i) window[i] = x(i) - model.mean;
+  const double* phi = model.phi.data();
   double error_energy = 0.0;
-  for (Eigen::Index t = p; t < n; ++t) {
-    const double s = model.phi.dot(state);
-    const double d = x(t) - model.mean - s;
-    error_energy += d * d;
-    for (int i = p - 1; i > 0; --i) state(i) = state(i - 1);
-    if (p > 0) state(0) = s;
+  for (Eigen::Index t0 = p; t0 < n; t0 += kBlock) {
+    const Eigen::Index len = std::min(kBlock, n - t0);
+    for (Eigen::Index j = 0; j < len; ++j) {
+      double s = 0.0;
+      const double* past = &window[j + p - 1];  // s_{t-1}; s_{t-i} = past[1 - i]
+      for (int i = 0; i < p; ++i) s += phi[i] * past[-i];
+      window[j + p] = s;
+      const double d = x(t0 + j) - model.mean - s;
+      error_energy += d * d;
+    }
+    std::copy(window.begin() + len, window.begin() + len + p, window.begin());
   }
   return FitPercent(error_energy, CenteredEnergy(x.tail(n - p)));
 }
 
-LjungBoxTest LjungBox(const Eigen::Ref<const Eigen::VectorXd>& residuals, int lag, int num_params) {
+namespace {
+
+// Ljung-Box from the lagged products c(0..>=lag) of the n centred residuals.
+LjungBoxTest LjungBoxFromLaggedProducts(const Eigen::VectorXd& c, Eigen::Index n, int lag,
+                                        int num_params) {
   LjungBoxTest out;
-  const Eigen::Index n = residuals.size();
   out.dof = std::max(lag - num_params, 1);
-  if (n <= lag + 1) {
+  if (n <= lag + 1 || !(c(0) > 0.0)) {
     out.statistic = out.p_value = std::numeric_limits<double>::quiet_NaN();
     return out;
   }
-  const Eigen::VectorXd centered = residuals.array() - residuals.mean();
-  const Eigen::VectorXd c = LaggedProducts(centered, lag);
   const double nd = static_cast<double>(n);
   double q = 0.0;
   for (int k = 1; k <= lag; ++k) {
@@ -77,17 +87,29 @@ LjungBoxTest LjungBox(const Eigen::Ref<const Eigen::VectorXd>& residuals, int la
   return out;
 }
 
+}  // namespace
+
+LjungBoxTest LjungBox(const Eigen::Ref<const Eigen::VectorXd>& residuals, int lag, int num_params) {
+  const Eigen::VectorXd centered = residuals.array() - residuals.mean();
+  return LjungBoxFromLaggedProducts(LaggedProducts(centered, std::max(lag, 0)), residuals.size(),
+                                    lag, num_params);
+}
+
 ArDiagnostics ComputeDiagnostics(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model) {
   ArDiagnostics d;
   const Eigen::Index n = x.size();
   const int p = model.order;
-  const Eigen::VectorXd e = OneStepResiduals(x, model);
+  Eigen::VectorXd e = OneStepResiduals(x, model);
   const double centered = CenteredEnergy(x.tail(n - p));
-  d.fit_one_step_percent = FitPercent(e.squaredNorm(), centered);
+  const double error_energy = e.squaredNorm();
+  d.fit_one_step_percent = FitPercent(error_energy, centered);
   d.fit_simulation_percent = SimulationFitPercent(x, model);
-  d.residual_variance = e.squaredNorm() / static_cast<double>(e.size());
-  const LjungBoxTest lb10 = LjungBox(e, 10, p);
-  const LjungBoxTest lb20 = LjungBox(e, 20, p);
+  d.residual_variance = error_energy / static_cast<double>(e.size());
+  // Both Ljung-Box lags from one pass of lagged products over the residuals, centred in place.
+  e.array() -= e.mean();
+  const Eigen::VectorXd c = LaggedProducts(e, 20);
+  const LjungBoxTest lb10 = LjungBoxFromLaggedProducts(c, e.size(), 10, p);
+  const LjungBoxTest lb20 = LjungBoxFromLaggedProducts(c, e.size(), 20, p);
   d.ljung_box_q10 = lb10.statistic;
   d.ljung_box_p10 = lb10.p_value;
   d.ljung_box_q20 = lb20.statistic;

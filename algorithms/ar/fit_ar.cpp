@@ -60,18 +60,21 @@ ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options
     return fit;
   }
   const double mean = x.mean();
-  const Eigen::VectorXd xc = x.array() - mean;
-
+  // Burg subtracts the mean while copying into its two error arrays; the other estimators work on
+  // a centred copy. Peak extra memory: 2 N doubles (Burg, ML), N (Yule-Walker, QR), plus O(P^2).
+  Eigen::VectorXd xc;
   OrderSequence seq;
   switch (options.estimator) {
     case Estimator::kBurg:
     case Estimator::kMaximumLikelihood:
-      seq = BurgAllOrders(xc, top);
+      seq = BurgAllOrders(x, top, mean);
       break;
     case Estimator::kLeastSquaresQr:
+      xc = x.array() - mean;
       seq = LeastSquaresAllOrders(xc, top);
       break;
     case Estimator::kYuleWalker:
+      xc = x.array() - mean;
       seq = YuleWalkerAllOrders(xc, top);
       break;
   }
@@ -101,6 +104,7 @@ ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options
   if (options.estimator == Estimator::kMaximumLikelihood) {
     MaximumLikelihoodOptions ml_options;
     ml_options.max_iterations = options.ml_max_iterations;
+    xc = x.array() - mean;
     const MaximumLikelihoodResult ml = FitMaximumLikelihood(xc, phi, ml_options);
     fit.summary.ml_iterations = ml.iterations;
     if (!ml.valid) {
@@ -116,6 +120,7 @@ ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options
     }
   }
 
+  xc.resize(0);  // not needed by the diagnostics
   fit.model = MakeArModel(phi, sigma2, mean, n);
   msg << ToString(options.estimator) << " AR(" << order << ")"
       << (options.fixed_order > 0 ? " (fixed order)" : " selected by BIC") << ", max root modulus "

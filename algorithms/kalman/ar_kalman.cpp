@@ -22,10 +22,20 @@ ArKalmanResult Fail(ArKalmanResult result, Termination termination, std::string 
   return result;
 }
 
-double SampleVariance(const Eigen::Ref<const Eigen::VectorXd>& z) {
-  if (z.size() < 2) return 0.0;
-  const double m = z.mean();
-  return (z.array() - m).square().sum() / static_cast<double>(z.size() - 1);
+// One pass over z: the sample variance (about z's own mean, shifted by z[0] against cancellation)
+// and whether every sample is finite (a non-finite sample makes the sums non-finite).
+bool SampleVarianceIfFinite(const Eigen::Ref<const Eigen::VectorXd>& z, double* variance) {
+  const Eigen::Index n = z.size();
+  const double shift = z[0];
+  double sum = 0.0, sum_sq = 0.0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const double d = z[k] - shift;
+    sum += d;
+    sum_sq += d * d;
+  }
+  if (!std::isfinite(sum) || !std::isfinite(sum_sq)) return false;
+  *variance = n < 2 ? 0.0 : std::max(0.0, (sum_sq - sum * sum / n) / static_cast<double>(n - 1));
+  return true;
 }
 
 // max_i |G_i - G_inf,i| / max_i |G_inf,i| (absolute if G_inf = 0).
@@ -60,7 +70,7 @@ bool ArKalmanOptions::IsValid(std::string* error) const {
 
 ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
                         double innovation_variance, double white_noise_variance,
-                        const ArKalmanOptions& options) {
+                        const ArKalmanOptions& options, Eigen::VectorXd* reuse) {
   ArKalmanResult result;
   ArKalmanSummary& s = result.summary;
   const long long n = z.size();
@@ -70,7 +80,8 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
   if (phi.size() == 0 || !phi.allFinite())
     return Fail(std::move(result), Termination::kInvalidOptions, "phi must be non-empty, finite");
   if (n == 0) return Fail(std::move(result), Termination::kInsufficientData, "empty series");
-  if (!z.allFinite())
+  double z_variance = 0.0;
+  if (!SampleVarianceIfFinite(z, &z_variance))
     return Fail(std::move(result), Termination::kNumericalFailure, "z has non-finite samples");
 
   // Noise levels: explicit or default, then the sweep scale factors (see ArKalmanOptions).
@@ -101,12 +112,13 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
   result.steady_state_innovation_variance = dare.innovation_variance;
 
   const Eigen::Index p = phi.size();
-  const double p0 = options.initial_variance >= 0.0 ? options.initial_variance : SampleVariance(z);
+  const double p0 = options.initial_variance >= 0.0 ? options.initial_variance : z_variance;
   Eigen::VectorXd x = Eigen::VectorXd::Zero(p);               // X(0|0) = 0 (eq. 7)
   Eigen::MatrixXd pf = p0 * Eigen::MatrixXd::Identity(p, p);  // P(0|0) = var(x0) I
   Eigen::MatrixXd pp(p, p);
   Eigen::VectorXd g(p);
 
+  if (reuse != nullptr && reuse->size() == n) result.filtered.swap(*reuse);
   result.filtered.resize(n);
   Eigen::VectorXd innovations;
   FilterGainHistory history;
@@ -150,7 +162,7 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
   }
   history.time_varying_steps = k;
   if (k < n) {
-    SteadyStateFilter(z.data() + k, n - k, options.mean, phi, dare.gain, &x,
+    SteadyStateFilter(z.data() + k, n - k, options.mean, phi, dare.gain, x,
                       result.filtered.data() + k,
                       options.smooth ? innovations.data() + k : nullptr);
   }

@@ -89,8 +89,14 @@ struct ArKalmanResult {
 /// innovation_variance: the AR fit's one-step prediction-error variance of z (used by the default
 /// q rule only); white_noise_variance: the per-sample white measurement-noise variance (default R).
 /// Either may be given as a negative number if the matching explicit option is set.
+///
+/// reuse (optional): storage for ArKalmanResult::filtered, taken over (moved from) when its size
+/// is z's; move the previous result's vector back in to filter many equal-length series without
+/// allocating. A fresh 1e7-sample output costs ~4 ns/sample of page faults on the reference
+/// machine, more than the filtering itself.
 ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
                         double innovation_variance, double white_noise_variance,
-                        const ArKalmanOptions& options = ArKalmanOptions());
+                        const ArKalmanOptions& options = ArKalmanOptions(),
+                        Eigen::VectorXd* reuse = nullptr);
 
 }  // namespace fogpipe::kalman

@@ -1,5 +1,6 @@
 #include "algorithms/kalman/riccati.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <cmath>
 
@@ -150,9 +151,16 @@ DareSolution SolveDare(const Eigen::VectorXd& phi, double q, double r, const Dar
       JosephUpdate(out.predicted_covariance, r, &out.gain, &out.filtered_covariance);
   out.summary.iterations = iterations;
   out.summary.relative_residual = DareRelativeResidual(phi, q, r, out.predicted_covariance);
-  if (converged) {
+  Eigen::MatrixXd closed_loop = a;
+  closed_loop -= (a * out.gain) * Eigen::RowVectorXd::Unit(p, 0);
+  out.summary.closed_loop_spectral_radius =
+      Eigen::EigenSolver<Eigen::MatrixXd>(closed_loop, false).eigenvalues().cwiseAbs().maxCoeff();
+  if (converged && out.summary.closed_loop_spectral_radius < 1.0) {
     out.summary.termination = Termination::kSuccess;
     out.summary.message = "doubling converged";
+  } else if (converged) {
+    out.summary.termination = Termination::kNoConvergence;
+    out.summary.message = "the solution is not stabilizing (closed-loop spectral radius >= 1)";
   } else {
     out.summary.termination = Termination::kNoConvergence;
     out.summary.message = "doubling hit max_iterations (no stabilizing solution?)";

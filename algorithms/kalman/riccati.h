@@ -53,6 +53,10 @@ struct DareSummary {
   int refinement_steps = 0;  ///< Defect-correction steps taken.
   /// ||P - (A P A' - A P H'(H P H'+R)^-1 H P A' + Q)||_F / ||P||_F at the returned P.
   double relative_residual = 0.0;
+  /// Spectral radius of the closed loop A (I - G H): < 1 for the stabilizing solution. It sets the
+  /// filter's memory: errors decay like radius^k. A radius >= 1 (e.g. q = 0 with a unit root,
+  /// where the doubling returns P = 0) is reported as kNoConvergence.
+  double closed_loop_spectral_radius = 0.0;
 };
 
 struct DareSolution {

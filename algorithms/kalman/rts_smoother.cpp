@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "algorithms/kalman/companion.h"
+#include "algorithms/kalman/fixed_order.h"
 
 namespace fogpipe::kalman {
 namespace {
@@ -25,6 +26,53 @@ inline double BackwardStep(const double* phi, const double* g, int p, double e, 
   return out;
 }
 
+// The steady-state part of the backward pass, samples [begin, end) in reverse. Besides r it carries
+// t_j = sum_i G_i r_{i+j}, j = 1..p-1, which obey t_j <- (G' shifted phi)_j r_0 + t_{j+1} like the
+// r_j themselves; then G' A' r = gphi_0 r_0 + t_1 needs no dot product on the r_0 -> r_0 chain
+// (the same regrouping as the forward loop, steady_state_filter.h). With g_v = G' A' r:
+//   r_0 <- phi_0 r_0 + r_1 + e/S - g_v,   G' r_new = (1 - G_0) g_v + G_0 e / S.
+template <int P>
+void SteadyStateBackward(const double* z, double mean, const double* phi_in, const double* g_in,
+                         double s, int p_runtime, long long begin, long long end, double* io,
+                         double* r_io) {
+  const int p = P > 0 ? P : p_runtime;
+  internal::Buffer<P> phi_b(p), gphi_b(p), r_b(p), t_b(p);
+  double* phi = phi_b.get();
+  double* gphi = gphi_b.get();
+  double* r = r_b.get();
+  double* t = t_b.get();
+  for (int j = 0; j < p; ++j) {
+    phi[j] = phi_in[j];
+    r[j] = r_io[j];
+    double a = 0.0, b = 0.0;
+    for (int i = 0; i + j < p; ++i) {
+      a += g_in[i] * phi_in[i + j];
+      b += g_in[i] * r_io[i + j];
+    }
+    gphi[j] = a;
+    t[j] = b;  // t[0] unused
+  }
+  const double g0 = g_in[0];
+  const double inv_s = 1.0 / s;
+  for (long long k = end - 1; k >= begin; --k) {
+    const double e = io[k];
+    const double r0 = r[0];
+    const double gv = gphi[0] * r0 + (p > 1 ? t[1] : 0.0);
+    const double r0_new = (phi[0] * r0 + (p > 1 ? r[1] : 0.0)) + (e * inv_s - gv);
+    for (int j = 1; j + 1 < p; ++j) {
+      r[j] = phi[j] * r0 + r[j + 1];
+      t[j] = gphi[j] * r0 + t[j + 1];
+    }
+    if (p > 1) {
+      r[p - 1] = phi[p - 1] * r0;
+      t[p - 1] = gphi[p - 1] * r0;
+    }
+    r[0] = r0_new;
+    io[k] = ((z[k] - mean - e) + (s * (1.0 - g0) * gv + g0 * e)) + mean;
+  }
+  for (int j = 0; j < p; ++j) r_io[j] = r[j];
+}
+
 }  // namespace
 
 void RtsSmoothInPlace(const Eigen::Ref<const Eigen::VectorXd>& z, double mean,
@@ -37,17 +85,16 @@ void RtsSmoothInPlace(const Eigen::Ref<const Eigen::VectorXd>& z, double mean,
   const long long m = gains.time_varying_steps;
   const double* g_ss = gains.steady_state_gain.data();
   const double s_ss = gains.steady_state_innovation_variance;
-  for (long long k = n - 1; k >= m; --k) {
-    const double e = io[k];
-    io[k] = (z[k] - mean - e) + s_ss * BackwardStep(phi.data(), g_ss, p, e, s_ss, r.data());
-  }
+  internal::WithFixedOrder(p, [&](auto order) {
+    SteadyStateBackward<decltype(order)::value>(z.data(), mean, phi.data(), g_ss, s_ss, p, m, n,
+                                                io.data(), r.data());
+  });
   for (long long k = std::min(m, n) - 1; k >= 0; --k) {
     const double e = io[k];
     const double s = gains.time_varying_innovation_variances[k];
     const double* g = gains.time_varying_gains.data() + p * k;
-    io[k] = (z[k] - mean - e) + s * BackwardStep(phi.data(), g, p, e, s, r.data());
+    io[k] = ((z[k] - mean - e) + s * BackwardStep(phi.data(), g, p, e, s, r.data())) + mean;
   }
-  io.array() += mean;
 }
 
 double SteadyStateSmoothedVariance(const Eigen::VectorXd& phi, const DareSolution& dare) {

@@ -1,27 +1,34 @@
 // The constant-gain (steady-state) AR Kalman loop, the hot path of fogpipe's filtering:
 //
-//   pred = phi' x(k-1),  e(k) = z(k) - mean - pred,  x(k) = A x(k-1) + G e(k),  out(k) = x_0(k) +
-//   mean
+//   pred(k) = phi' X(k-1|k-1),  e(k) = z(k) - mean - pred(k),  X(k|k) = A X(k-1|k-1) + G e(k),
+//   out(k) = x(k|k) + mean = pred(k) + G_0 e(k) + mean.
 //
-// with A the companion matrix (a shift plus one dot product). No Eigen temporaries per sample;
-// orders 1..8 use fixed-size kernels whose state lives in registers.
+// Latency, not arithmetic, limits this loop: every prediction needs the previous update, and the
+// plain form (a dot product, then the update) puts p multiplications and a log2(p) addition tree
+// on that chain. The loop therefore carries, instead of X(k|k), the partial predictions
 //
-// Latency, not arithmetic, limits this loop: every prediction needs the previous update. The fixed
-// kernels therefore carry pred(k+1) = phi_0 pred(k) + c(k-1) + kappa e(k), with
-// kappa = phi' G and c(k-1) = sum_{i>=1} phi_i x_{i-1}(k-1) (known one step early), which is
-// phi' x(k) regrouped: x_0(k) = pred(k) + G_0 e(k) and x_i(k) = x_{i-1}(k-1) + G_i e(k). The state
-// itself is updated exactly as in the time-varying filter.
+//   s_m(k) = sum_{i=m}^{p-1} phi_i x_{i-m}(k|k),   m = 0..p-1,   pred(k+1) = s_0(k),
+//
+// which obey (substitute x_0(k|k) = pred(k) + G_0 e(k), x_j(k|k) = x_{j-1}(k-1|k-1) + G_j e(k))
+//
+//   s_m(k) = phi_m pred(k) + s_{m+1}(k-1) + beta_m e(k),   beta_m = sum_{i=m}^{p-1} phi_i G_{i-m},
+//
+// the transposed direct form of the filter's innovations recursion (Oppenheim & Schafer,
+// "Discrete-Time Signal Processing", sec. 6.5). It is an exact regrouping of phi' X(k|k); the
+// dependency chain per sample is one subtraction and one fused multiply-add, whatever p. The loop
+// starts from any state X (the time-varying filter's at the switch), with no Eigen temporaries per
+// sample; orders 1..8 use fixed-size kernels whose state lives in registers.
 #pragma once
 
 #include <Eigen/Core>
 
 namespace fogpipe::kalman {
 
-/// Runs the loop over n samples of z. `state` (size p) is X(k-1|k-1) on entry and X(n-1|n-1) on
-/// return. `filtered` receives n estimates of x(k); `innovations`, if not null, the n e(k) (for
-/// the smoother). phi and gain have size p >= 1.
+/// Runs the loop over n samples of z from the state X(k-1|k-1) = `state` (size p). `filtered`
+/// receives n estimates of x(k); `innovations`, if not null, the n e(k) (for the smoother).
+/// phi and gain have size p >= 1.
 void SteadyStateFilter(const double* z, long long n, double mean, const Eigen::VectorXd& phi,
-                       const Eigen::VectorXd& gain, Eigen::VectorXd* state, double* filtered,
+                       const Eigen::VectorXd& gain, const Eigen::VectorXd& state, double* filtered,
                        double* innovations);
 
 }  // namespace fogpipe::kalman

@@ -32,25 +32,30 @@ Eigen::VectorXd FlickerRateNoise(Eigen::Index n, double sample_rate_hz, double b
   Eigen::VectorXd out(n);
   if (n == 0) return out;
   const Eigen::Index size = FastFftSize(2 * n - 1);
+  const size_t half = static_cast<size_t>(size / 2 + 1);
   Eigen::FFT<double> fft;
   fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
 
+  // The filter, zero-padded, straight into the transform buffer (same recursion as
+  // KasdinCoefficients, without a second copy of n values).
   std::vector<double> buffer(static_cast<size_t>(size), 0.0);
-  std::vector<std::complex<double>> filter_spectrum(static_cast<size_t>(size / 2 + 1));
-  std::vector<std::complex<double>> noise_spectrum(static_cast<size_t>(size / 2 + 1));
-
-  const Eigen::VectorXd h = KasdinCoefficients(n, 1.0);
-  std::copy(h.data(), h.data() + n, buffer.begin());
+  buffer[0] = 1.0;
+  for (Eigen::Index k = 1; k < n; ++k) {
+    buffer[k] = buffer[k - 1] * (static_cast<double>(k) - 0.5) / static_cast<double>(k);
+  }
+  std::vector<std::complex<double>> filter_spectrum(half);
   fft.fwd(filter_spectrum.data(), buffer.data(), size);
 
   // sigma_w = B: see the header. The white noise is drawn after the filter so that the draw order
   // (and hence the realisation for a seed) does not depend on the FFT size.
-  for (Eigen::Index k = 0; k < n; ++k) buffer[static_cast<size_t>(k)] = b_rad_s * rng->Normal();
+  for (Eigen::Index k = 0; k < n; ++k) buffer[k] = b_rad_s * rng->Normal();
   std::fill(buffer.begin() + n, buffer.end(), 0.0);
-  fft.fwd(noise_spectrum.data(), buffer.data(), size);
+  std::vector<std::complex<double>> spectrum(half);
+  fft.fwd(spectrum.data(), buffer.data(), size);
+  for (size_t i = 0; i < half; ++i) spectrum[i] *= filter_spectrum[i];
+  std::vector<std::complex<double>>().swap(filter_spectrum);  // release before the inverse
 
-  for (size_t i = 0; i < noise_spectrum.size(); ++i) noise_spectrum[i] *= filter_spectrum[i];
-  fft.inv(buffer.data(), noise_spectrum.data(), size);  // Eigen's inverse divides by size.
+  fft.inv(buffer.data(), spectrum.data(), size);  // Eigen's inverse divides by size
   std::copy(buffer.begin(), buffer.begin() + n, out.data());
   return out;
 }

@@ -147,4 +147,31 @@ bool ParseRateProfile(const std::string& text, RateProfile* profile, std::string
   return true;
 }
 
+std::string FormatRateProfile(const RateProfile& profile) {
+  std::ostringstream out;
+  out.precision(17);
+  const double to_deg_h = units::RadPerSecondToDegPerHour(1.0);
+  for (size_t i = 0; i < profile.components.size(); ++i) {
+    const RateComponent& c = profile.components[i];
+    if (i > 0) out << ',';
+    out << ToString(c.kind) << ':';
+    switch (c.kind) {
+      case RateComponent::Kind::kConstant:
+        out << c.value_rad_s * to_deg_h;
+        break;
+      case RateComponent::Kind::kStep:
+        out << c.start_s << ':' << c.value_rad_s * to_deg_h;
+        break;
+      case RateComponent::Kind::kRamp:
+        out << c.start_s << ':' << c.end_s << ':' << c.slope_rad_s2 * to_deg_h;
+        break;
+      case RateComponent::Kind::kSine:
+        out << c.frequency_hz << ':' << c.value_rad_s * to_deg_h << ':'
+            << c.phase_rad * units::kDegPerRad;
+        break;
+    }
+  }
+  return out.str();
+}
+
 }  // namespace fogpipe::simulation

@@ -48,4 +48,8 @@ Eigen::VectorXd SampleRateProfile(const RateProfile& profile, Eigen::Index n,
 /// Returns false and sets *error (naming the component) on any malformed component.
 bool ParseRateProfile(const std::string& text, RateProfile* profile, std::string* error);
 
+/// The inverse of ParseRateProfile: the CLI spelling with 17 significant digits, so that parsing it
+/// gives back the same profile to within one rounding of the deg/h <-> rad/s factor.
+std::string FormatRateProfile(const RateProfile& profile);
+
 }  // namespace fogpipe::simulation

@@ -4,3 +4,10 @@ target_sources(fogpipe_pipeline PRIVATE
   ${CMAKE_CURRENT_LIST_DIR}/recording_error.cpp
   ${CMAKE_CURRENT_LIST_DIR}/missing_samples.cpp
   ${CMAKE_CURRENT_LIST_DIR}/recording_reader.cpp)
+target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/schema_validator.cpp)
+# The source tree's schemas/ folder: the last place `fogpipe validate` looks for schema files.
+# (Source properties apply to targets of the named directory: fogpipe_pipeline lives in pipeline/.)
+set_source_files_properties(${CMAKE_CURRENT_LIST_DIR}/schema_validator.cpp
+  DIRECTORY ${PROJECT_SOURCE_DIR}/pipeline PROPERTIES
+  COMPILE_DEFINITIONS "FOGPIPE_SCHEMAS_DIR=\"${PROJECT_SOURCE_DIR}/schemas\"")
+target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/file_validation.cpp)

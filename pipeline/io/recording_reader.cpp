@@ -132,7 +132,7 @@ bool IsValidAxisName(const std::string& name) {
          name.find('\0') == std::string::npos;
 }
 
-void CheckReadable(const std::string& path, RecordingInfo* info) {
+void CheckReadable(const std::string& path, long long* size_bytes) {
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
   if (ec || !fs::exists(status)) {
@@ -144,8 +144,8 @@ void CheckReadable(const std::string& path, RecordingInfo* info) {
   if (::access(path.c_str(), R_OK) != 0) {
     throw RecordingError(error_kind::kUnreadableFile, path, "cannot be read (permission denied)");
   }
-  info->file_size_bytes = static_cast<long long>(fs::file_size(path, ec));
-  if (!ec && info->file_size_bytes == 0) {
+  *size_bytes = static_cast<long long>(fs::file_size(path, ec));
+  if (!ec && *size_bytes == 0) {
     throw RecordingError(error_kind::kEmptyFile, path, "is empty (0 bytes), not an HDF5 file");
   }
   const htri_t is_hdf5 = H5Fis_hdf5(path.c_str());
@@ -322,9 +322,10 @@ bool ReadOptions::IsValid(std::string* error) const {
   return true;
 }
 
-RecordingReader::RecordingReader(const std::string& path)
-    : file_((CheckReadable(path, &info_), OpenChecked(path))) {
+RecordingReader::RecordingReader(const std::string& path) : file_(OpenHdf5ReadOnly(path)) {
   info_.path = path;
+  std::error_code ec;
+  info_.file_size_bytes = static_cast<long long>(fs::file_size(path, ec));
   try {
     const hdf5::Group root = file_.Root();
     InspectRate(root, &info_);
@@ -459,6 +460,12 @@ Eigen::VectorXd RecordingReader::ReadAux(const std::string& name, const ReadOpti
     throw RecordingError(error_kind::kCorruptFile, info_.path,
                          "HDF5 failed on " + what + ": " + InnermostHdf5Message(e));
   }
+}
+
+hdf5::File OpenHdf5ReadOnly(const std::string& path) {
+  long long size_bytes = 0;
+  CheckReadable(path, &size_bytes);
+  return OpenChecked(path);
 }
 
 RecordingInfo InspectRecording(const std::string& path) {

@@ -111,6 +111,11 @@ class RecordingReader {
   RecordingInfo info_;
 };
 
+/// Opens any HDF5 file read-only after the checks every reader of fogpipe files needs, each with
+/// its RecordingError kind: missing_file, unreadable_file, empty_file, not_hdf5, truncated_file,
+/// corrupt_file. Caller holds LockHdf5().
+hdf5::File OpenHdf5ReadOnly(const std::string& path);
+
 /// Metadata only (takes the HDF5 lock).
 RecordingInfo InspectRecording(const std::string& path);
 /// One axis in rad/s (takes the HDF5 lock). `axis` is a name or a decimal index.

@@ -3,5 +3,14 @@ fogpipe_add_test(NAME io_recording_reader_test
   SOURCES ${CMAKE_CURRENT_LIST_DIR}/io/recording_reader_test.cpp
           ${CMAKE_CURRENT_LIST_DIR}/io/bad_input_test.cpp
           ${CMAKE_CURRENT_LIST_DIR}/io/missing_samples_test.cpp
+          ${CMAKE_CURRENT_LIST_DIR}/io/schema_validator_test.cpp
           ${CMAKE_CURRENT_LIST_DIR}/io/test_recording_files.cpp
   LIBS fogpipe::pipeline)
+
+# `fogpipe validate` run as a program (exit codes, output).
+fogpipe_add_test(NAME cli_validate_command_test
+  SOURCES ${CMAKE_CURRENT_LIST_DIR}/cli/validate_command_test.cpp
+          ${CMAKE_CURRENT_LIST_DIR}/io/test_recording_files.cpp
+  LIBS fogpipe::pipeline)
+target_compile_definitions(cli_validate_command_test PRIVATE FOGPIPE_BINARY="$<TARGET_FILE:fogpipe>")
+add_dependencies(cli_validate_command_test fogpipe)

@@ -163,6 +163,29 @@ TEST(FitNoiseTerms, RejectsInvalidOptionsAndTooFewPoints) {
   two.edf = {10.0, 5.0};
   EXPECT_EQ(FitNoiseTerms(two, NoiseFitOptions()).summary.termination,
             Termination::kInsufficientData);
+  AllanTable hadamard;
+  hadamard.deviation = Deviation::kOverlappingHadamard;
+  EXPECT_EQ(FitNoiseTerms(hadamard, NoiseFitOptions()).summary.termination,
+            Termination::kInvalidOptions);
+}
+
+// Without EDF (confidence intervals off) the fit still recovers an exact model, with unit
+// relative weights and no standard errors.
+TEST(FitNoiseTerms, WorksWithoutEdfButGivesNoStandardErrors) {
+  NoiseTerms truth;
+  truth.n_rad_sqrt_s = 3e-6;
+  truth.b_rad_s = 1e-6;
+  AllanTable table;
+  for (double tau = 0.01; tau < 1e3; tau *= 2) {
+    table.tau_s.push_back(tau);
+    table.sigma.push_back(std::sqrt(NoiseModelVariance(truth, tau)));
+    table.edf.push_back(std::nan(""));
+  }
+  const NoiseFitResult fit = FitNoiseTerms(table, NoiseFitOptions());
+  ASSERT_EQ(fit.summary.termination, Termination::kSuccess);
+  EXPECT_NEAR(fit.terms.n_rad_sqrt_s / truth.n_rad_sqrt_s, 1.0, 1e-6);
+  EXPECT_NEAR(fit.terms.b_rad_s / truth.b_rad_s, 1.0, 1e-6);
+  EXPECT_TRUE(std::isnan(fit.terms.n_se));
 }
 
 TEST(NoiseTerms, ConvertToEngineeringUnits) {

@@ -34,8 +34,9 @@ TEST(TermAllanVariance, GaussMarkovPeaksAt062SigmaNear189Tc) {
   }
 }
 
-// Its asymptotes: RRW with K^2 = q = 2 sigma^2 / Tc for tau << Tc, ARW with N^2 = q Tc^2 for
-// tau >> Tc (1e-3 relative at tau = Tc / 1e4, where the next series term is u / ... ~ 1e-4).
+// Its asymptotes: RRW with K^2 = q = 2 sigma^2 / Tc for tau << Tc (relative deviation
+// 1 - bracket / (u^2 / 3) = 3u/4 + O(u^2) <= 7.5e-5 for u <= 1e-4, so 1e-3 is ample), and ARW with
+// N^2 = q Tc^2 for tau >> Tc (relative deviation 3 / (2u) = 1.5e-5 at u = 1e5, checked to 1e-4).
 TEST(TermAllanVariance, GaussMarkovApproachesRateRandomWalkAndArwAsymptotes) {
   TermParams p;
   p.amplitude = 2.0;

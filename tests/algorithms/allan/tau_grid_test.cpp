@@ -25,6 +25,14 @@ TEST(AveragingFactors, DecadeIsRoundedLogSpacingWithoutDuplicates) {
   EXPECT_EQ(AveragingFactors(o, 1000), (V{1, 2, 5, 10, 22, 46, 100, 215, 464, 1000}));
 }
 
+// Stable32's decade grid, as in its reports (e.g. allantools tests/phasedat/*_decade.txt:
+// AF 1 2 4 10 20 40 100 200 for 1000 points).
+TEST(AveragingFactors, Decade124IsStable32sDecadeGrid) {
+  TauGridOptions o;
+  o.kind = TauGridKind::kDecade124;
+  EXPECT_EQ(AveragingFactors(o, 333), (V{1, 2, 4, 10, 20, 40, 100, 200}));
+}
+
 TEST(AveragingFactors, AllIsEveryFactor) {
   TauGridOptions o;
   o.kind = TauGridKind::kAll;

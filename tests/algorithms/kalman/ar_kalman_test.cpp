@@ -94,6 +94,33 @@ TEST(FilterAr, SteadyStateAndTimeVaryingFiltersAgreeAfterConvergence) {
   EXPECT_EQ(switched, cases);  // every one of these switches, well before the end
 }
 
+// The slowest models at q/R = 1e-10: the time-varying gain stalls at the rounding floor of its own
+// recursion (relative gain noise 1e-9 .. 1e-7, see ArKalmanOptions::stall_tolerance). The residue
+// model stalls below 1e-9 and switches; imf6 stalls above it and runs time-varying to the end.
+// Either way the output is within 1e-9 of the time-varying filter.
+TEST(FilterAr, IllConditionedModelsSwitchOnlyWhenTheStallIsBelowTolerance) {
+  const long long n = 60000;
+  const auto models = PaperTable2Models();
+  for (int index : {5, 8}) {  // imf6, residue
+    const testing::PaperModel& m = models[index];
+    const testing::ArSimulation sim = SimulateArPlusNoise(m.phi, 1e-10, 1.0, n, 31);
+    ArKalmanOptions o = Explicit(1e-10, 1.0);
+    const ArKalmanResult fast = FilterAr(sim.z, m.phi, -1, -1, o);
+    o.steady_state_switch = false;
+    const ArKalmanResult slow = FilterAr(sim.z, m.phi, -1, -1, o);
+    ASSERT_EQ(fast.summary.termination, Termination::kSuccess) << m.name;
+    if (m.name == "imf6") {
+      EXPECT_EQ(fast.summary.switched_at_sample, -1);
+    } else {
+      EXPECT_GT(fast.summary.switched_at_sample, 0);
+      EXPECT_GT(fast.summary.gain_distance_at_switch, 1e-12);  // it was the stall rule
+    }
+    const double rel =
+        (fast.filtered - slow.filtered).cwiseAbs().maxCoeff() / slow.filtered.cwiseAbs().maxCoeff();
+    EXPECT_LE(rel, 1e-9) << m.name;
+  }
+}
+
 // Independent reference for the time-varying part: the paper's equations 7-11 written with dense
 // matrices, in the textbook form P = (I - G H) P, from the same X0 = 0 and P0 = var(z) I.
 TEST(FilterAr, TimeVaryingFilterFollowsThePapersEquations) {
@@ -192,6 +219,17 @@ TEST(FilterAr, InvalidOptionsAndInputsAreReportedNotThrown) {
   EXPECT_EQ(nan.summary.termination, Termination::kNumericalFailure);
   EXPECT_EQ(nan.filtered.size(), 0);
   EXPECT_FALSE(nan.summary.message.empty());
+}
+
+TEST(FilterAr, ReusedOutputStorageGivesTheSameResult) {
+  const Eigen::VectorXd phi = Phi({1.5, -0.7});
+  const testing::ArSimulation sim = SimulateArPlusNoise(phi, 1.0, 4.0, 3000, 12);
+  const ArKalmanResult fresh = FilterAr(sim.z, phi, -1, -1, Explicit(1.0, 4.0));
+  Eigen::VectorXd storage = Eigen::VectorXd::Constant(3000, 99.0);
+  const double* memory = storage.data();
+  const ArKalmanResult reused = FilterAr(sim.z, phi, -1, -1, Explicit(1.0, 4.0), &storage);
+  EXPECT_EQ(reused.filtered.data(), memory);  // no new allocation
+  EXPECT_EQ((reused.filtered - fresh.filtered).cwiseAbs().maxCoeff(), 0.0);
 }
 
 TEST(FilterAr, FixedAndGenericKernelsAgree) {

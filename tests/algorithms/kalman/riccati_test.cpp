@@ -113,5 +113,18 @@ TEST(SolveDare, ZeroProcessNoiseOnAStableModelGivesZeroCovariance) {
   EXPECT_EQ(d.gain.norm(), 0.0);
 }
 
+TEST(SolveDare, FlagsAMissingStabilizingSolution) {
+  // q = 0 with a random walk: P = 0 solves the equation but leaves the unit pole in the loop.
+  Eigen::VectorXd phi(1);
+  phi << 1.0;
+  const DareSolution d = SolveDare(phi, 0.0, 1.0);
+  EXPECT_EQ(d.summary.termination, Termination::kNoConvergence);
+  EXPECT_GE(d.summary.closed_loop_spectral_radius, 1.0);
+  // With q > 0 the same model is fine, and the loop is stable.
+  const DareSolution ok = SolveDare(phi, 1e-6, 1.0);
+  EXPECT_EQ(ok.summary.termination, Termination::kSuccess);
+  EXPECT_LT(ok.summary.closed_loop_spectral_radius, 1.0);
+}
+
 }  // namespace
 }  // namespace fogpipe::kalman

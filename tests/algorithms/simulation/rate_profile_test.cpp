@@ -60,5 +60,20 @@ TEST(RateProfile, RejectsMalformedComponentsAndNamesThem) {
   EXPECT_NE(error.find("wobble"), std::string::npos);
 }
 
+TEST(RateProfile, FormattingThenParsingGivesTheSameProfile) {
+  RateProfile p;
+  std::string error;
+  ASSERT_TRUE(
+      ParseRateProfile("constant:0.1,step:600:10,ramp:1200:1800:0.01,sine:0.013:5:33", &p, &error));
+  RateProfile again;
+  ASSERT_TRUE(ParseRateProfile(FormatRateProfile(p), &again, &error)) << error;
+  ASSERT_EQ(again.components.size(), p.components.size());
+  for (double t : {0.0, 599.0, 600.0, 1333.3, 1800.0, 4000.0}) {
+    // Two roundings of the unit factor per value: a few ulp of ~1e-4 rad/s (ulp 1.4e-20).
+    EXPECT_NEAR(EvaluateRateProfile(again, t), EvaluateRateProfile(p, t), 1e-18) << t;
+  }
+  EXPECT_EQ(FormatRateProfile(RateProfile{}), "");
+}
+
 }  // namespace
 }  // namespace fogpipe::simulation

@@ -241,6 +241,9 @@ std::vector<BadCase> Corpus() {
   };
 }
 
+// Names the case in ctest output instead of dumping its bytes.
+void PrintTo(const BadCase& c, std::ostream* os) { *os << c.name; }
+
 class BadInput : public ::testing::TestWithParam<BadCase> {};
 
 TEST_P(BadInput, GivesItsOwnKindAndAMessageNamingTheFileAndTheProblem) {

@@ -72,6 +72,8 @@ std::vector<Variant> AllVariants() {
   return variants;
 }
 
+void PrintTo(const Variant& v, std::ostream* os) { *os << v.name; }
+
 class EveryContractVariant : public ::testing::TestWithParam<Variant> {};
 
 TEST_P(EveryContractVariant, ReadsBackExactlyAndConvertsUnits) {

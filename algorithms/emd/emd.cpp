@@ -1,0 +1,216 @@
+#include "algorithms/emd/emd.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <sstream>
+
+#include "algorithms/emd/envelope.h"
+#include "algorithms/emd/extrema.h"
+
+namespace fogpipe::emd {
+
+namespace {
+
+constexpr Eigen::Index kMaxSamples = Eigen::Index{1} << 29;  // int32 half-sample positions.
+
+// The envelope knots and the spline work array, reused for every sift of every IMF.
+class EnvelopeBuffers {
+ public:
+  // FindExtrema storing the knots; grows the buffers (exactly, with a little slack so a sift that
+  // gains a few extrema does not reallocate) and repeats the pass if the counts did not fit.
+  ExtremaCounts Find(const double* x, int n) {
+    ExtremaCounts counts = FindExtrema(x, n, &upper_, &lower_);
+    if (counts.num_maxima > upper_.interior_capacity() ||
+        counts.num_minima > lower_.interior_capacity()) {
+      // Interior maxima (or minima) alternate with the other kind and exclude the end samples, so
+      // there are at most (n - 1) / 2 of each: the slack never takes the knots past 4 x that.
+      const int most = (n - 1) / 2;
+      auto grown = [most](int needed, int have) {
+        return needed <= have ? have : std::max(needed, std::min(most, needed + needed / 32 + 16));
+      };
+      upper_.Reserve(grown(counts.num_maxima, upper_.interior_capacity()));
+      lower_.Reserve(grown(counts.num_minima, lower_.interior_capacity()));
+      const size_t work =
+          static_cast<size_t>(std::max(upper_.interior_capacity(), lower_.interior_capacity()) +
+                              2 * EnvelopeKnots::kMaxMirrored);
+      work_ = std::vector<double>();
+      work_.resize(work);
+      counts = FindExtrema(x, n, &upper_, &lower_);
+    }
+    return counts;
+  }
+
+  // One sift of h in place (knots already found on h).
+  SiftStatistics Sift(double* h, int n, const EmdOptions& options, SiftStatisticsKind kind) {
+    if (options.mirror_ends) MirrorEnds(h, n, &upper_, &lower_);
+    SolveMoments(upper_, options.spline, upper_.moments(), work_.data());
+    SolveMoments(lower_, options.spline, lower_.moments(), work_.data());
+    return SubtractEnvelopeMean(h, n, upper_, lower_, kind, options.rilling_theta1,
+                                options.rilling_theta2);
+  }
+
+  void RebindSignal(const double* x) {
+    upper_.RebindSignal(x);
+    lower_.RebindSignal(x);
+  }
+
+ private:
+  EnvelopeKnots upper_, lower_;
+  std::vector<double> work_;
+};
+
+// residue = x - (imf_1 + ... + imf_K), summed in IMF order, block by block so that every array is
+// read sequentially.
+void RecomputeResidue(const Eigen::Ref<const Eigen::VectorXd>& x,
+                      const std::vector<Eigen::VectorXd>& imfs, Eigen::VectorXd* residue) {
+  constexpr Eigen::Index kBlock = 512;
+  double sum[kBlock];
+  const Eigen::Index n = x.size();
+  for (Eigen::Index start = 0; start < n; start += kBlock) {
+    const Eigen::Index len = std::min(kBlock, n - start);
+    std::fill(sum, sum + len, 0.0);
+    for (const Eigen::VectorXd& imf : imfs) {
+      const double* p = imf.data() + start;
+      for (Eigen::Index i = 0; i < len; ++i) sum[i] += p[i];
+    }
+    for (Eigen::Index i = 0; i < len; ++i) (*residue)[start + i] = x[start + i] - sum[i];
+  }
+}
+
+double MeanPeriodSamples(int n, const ExtremaCounts& counts) {
+  if (counts.num_zero_crossings > 0) return 2.0 * n / counts.num_zero_crossings;
+  if (counts.num_extrema() > 0) return 2.0 * n / counts.num_extrema();
+  return n;
+}
+
+}  // namespace
+
+bool EmdOptions::IsValid(std::string* error) const {
+  auto fail = [error](const char* what) {
+    if (error) *error = what;
+    return false;
+  };
+  if (fixed_sifts < 1) return fail("fixed_sifts must be >= 1");
+  if (!(cauchy_sd > 0.0)) return fail("cauchy_sd must be > 0");
+  if (s_number < 1) return fail("s_number must be >= 1");
+  if (!(rilling_theta1 > 0.0) || !(rilling_theta2 >= rilling_theta1)) {
+    return fail("rilling thresholds must satisfy 0 < theta1 <= theta2");
+  }
+  if (!(rilling_alpha >= 0.0 && rilling_alpha < 1.0))
+    return fail("rilling_alpha must be in [0, 1)");
+  if (max_sifts < 1) return fail("max_sifts must be >= 1");
+  if (stop_rule == StopRule::kFixedSifts && fixed_sifts > max_sifts) {
+    return fail("fixed_sifts must not exceed max_sifts");
+  }
+  if (max_imfs < 0) return fail("max_imfs must be >= 0 (0 = no limit)");
+  return true;
+}
+
+EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions& options) {
+  EmdResult result;
+  EmdSummary& summary = result.summary;
+  std::string error;
+  if (!options.IsValid(&error)) {
+    summary.termination = Termination::kInvalidOptions;
+    summary.message = "invalid options: " + error;
+    return result;
+  }
+  if (x.size() > kMaxSamples) {
+    summary.termination = Termination::kInvalidOptions;
+    summary.message = "record longer than 2^29 samples; decompose it in parts";
+    return result;
+  }
+  if (!x.allFinite()) {
+    summary.termination = Termination::kNumericalFailure;
+    summary.message = "input contains NaN or Inf";
+    return result;
+  }
+  const int n = static_cast<int>(x.size());
+  result.residue = x;  // The running remainder r; ends as the residue.
+  if (n < 3) {
+    summary.termination = Termination::kInsufficientData;
+    summary.message = "need at least 3 samples, got " + std::to_string(n);
+    return result;
+  }
+
+  const StopCriteria& criteria = options;
+  const SiftStatisticsKind stats_kind = StatisticsFor(options.stop_rule);
+  EnvelopeBuffers buffers;
+  double* r = result.residue.data();
+  ExtremaCounts counts = buffers.Find(r, n);
+  if (!counts.EnoughToSift()) {
+    std::ostringstream msg;
+    msg << "input has too few extrema for one IMF (" << counts.num_maxima << " maxima, "
+        << counts.num_minima << " minima); residue = input";
+    summary.termination = Termination::kInsufficientData;
+    summary.message = msg.str();
+    return result;
+  }
+
+  result.imfs.reserve(64);
+  int capped_imfs = 0;
+  bool hit_max_imfs = false;
+  while (counts.EnoughToSift()) {
+    if (options.max_imfs > 0 && static_cast<int>(result.imfs.size()) == options.max_imfs) {
+      hit_max_imfs = true;
+      break;
+    }
+    result.imfs.emplace_back(result.residue);  // h_0 = r, sifted in place.
+    double* h = result.imfs.back().data();
+    buffers.RebindSignal(h);
+    SiftStopper stopper(criteria, counts);
+    SiftStop reason = SiftStop::kFixedCount;
+    int sifts = 0;
+    while (true) {
+      const SiftStatistics stats = buffers.Sift(h, n, options, stats_kind);
+      ++sifts;
+      // Knots are needed only if another sift may follow.
+      counts = stopper.StopsAt(sifts) ? FindExtrema(h, n, nullptr, nullptr) : buffers.Find(h, n);
+      if (stopper.ShouldStop(sifts, counts, stats, n, &reason)) break;
+      if (!counts.EnoughToSift()) {
+        reason = SiftStop::kTooFewExtrema;
+        break;
+      }
+    }
+    // Report the IMF and remove it from the remainder in one pass. `probe` stays 0 unless some
+    // sample is Inf or NaN (x * 0 is NaN for those), e.g. when the input is near overflow.
+    double energy = 0.0, probe = 0.0;
+    for (int i = 0; i < n; ++i) {
+      energy += h[i] * h[i];
+      probe += h[i] * 0.0;
+      r[i] -= h[i];
+    }
+    if (probe != 0.0 || std::isnan(probe)) {
+      const int k = static_cast<int>(result.imfs.size());
+      result = EmdResult();
+      result.summary.termination = Termination::kNumericalFailure;
+      result.summary.message = "IMF " + std::to_string(k) + " became non-finite";
+      return result;
+    }
+    ImfInfo info;
+    info.sifts = sifts;
+    info.stop_reason = reason;
+    info.mean_period_samples = MeanPeriodSamples(n, counts);
+    info.energy = energy / n;
+    info.num_extrema = counts.num_extrema();
+    info.num_zero_crossings = counts.num_zero_crossings;
+    result.imf_info.push_back(info);
+    summary.total_sifts += sifts;
+    if (reason == SiftStop::kSiftCap) ++capped_imfs;
+    counts = buffers.Find(r, n);
+  }
+  RecomputeResidue(x, result.imfs, &result.residue);
+
+  summary.num_imfs = static_cast<int>(result.imfs.size());
+  std::ostringstream msg;
+  msg << summary.num_imfs << " IMFs, " << summary.total_sifts << " sifts ("
+      << ToString(options.stop_rule) << "); stopped because "
+      << (hit_max_imfs ? "max_imfs was reached" : "the remainder has too few extrema");
+  if (capped_imfs > 0) msg << "; " << capped_imfs << " IMF(s) hit max_sifts";
+  summary.message = msg.str();
+  summary.termination = capped_imfs > 0 ? Termination::kNoConvergence : Termination::kSuccess;
+  return result;
+}
+
+}  // namespace fogpipe::emd

@@ -1,0 +1,51 @@
+// What `fogpipe validate FILE` does, as a library function: recognise the kind of fogpipe file,
+// check it against its layout schema (schemas/), and for recordings also run the reader's
+// semantic checks (NaN gaps, infinities, constant axes, readable data).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "pipeline/io/schema_validator.h"
+
+namespace fogpipe::io {
+
+/// Root attribute that marks fogpipe output files, e.g. "fogpipe-results-v1". A file without it
+/// is treated as a recording (contract v1).
+inline constexpr const char* kFormatAttribute = "fogpipe_format";
+
+struct FileValidationOptions {
+  /// Folder with the schema files ("" = the default search path, see SchemaSearchPath()).
+  std::string schemas_dir;
+  /// Force a schema by name ("recording-v1") or path ("x/y.json"); "" = detect from the file.
+  std::string schema;
+  /// Read every axis and aux channel of a recording and run the reader's checks.
+  bool check_data = true;
+  /// Reader options for those checks. min_samples is 2 here: the contract sets no minimum
+  /// length, but a single sample has no noise to analyse.
+  long long max_nan_gap_samples = 10;
+  long long min_samples = 2;
+};
+
+struct FileValidation {
+  std::string file;
+  std::string detected;  ///< "recording" or "results" (or the format tag found)
+  std::string schema;    ///< schema name used, e.g. "recording-v1"
+  std::string schema_path;
+  std::vector<SchemaProblem> problems;  ///< empty when valid
+  long long objects_checked = 0;
+  long long samples_checked = 0;  ///< values read by the semantic checks
+  /// Not empty when the file could not be validated for reasons outside the file (schema not
+  /// found or broken): a usage error, exit code 2.
+  std::string usage_error;
+  bool valid() const { return usage_error.empty() && problems.empty(); }
+};
+
+/// Validates one file; never throws for problems of the file itself. Takes the HDF5 lock.
+FileValidation ValidateFile(const std::string& path, const FileValidationOptions& options);
+
+/// The schema name for a `fogpipe_format` tag: "fogpipe-results-v1" -> "results-v1"; "" (no
+/// tag) -> "recording-v1".
+std::string SchemaNameForFormat(const std::string& format_tag);
+
+}  // namespace fogpipe::io

@@ -1,0 +1,352 @@
+#include "pipeline/io/recording_writer.h"
+
+#include <H5Cpp.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "algorithms/simulation/navigation_grade.h"
+
+namespace fogpipe::io {
+namespace {
+
+namespace fs = std::filesystem;
+namespace sim = fogpipe::simulation;
+
+std::string TemporaryPath(const std::string& path) {
+  return path + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
+}
+
+// Renames the finished temporary onto the target; both live in the same folder, so rename(2) is
+// atomic on POSIX file systems.
+void Commit(const std::string& temporary, const std::string& path) {
+  std::error_code ec;
+  fs::rename(temporary, path, ec);
+  if (ec) {
+    fs::remove(temporary, ec);
+    throw std::runtime_error(path +
+                             ": cannot rename the temporary file into place: " + ec.message());
+  }
+}
+
+// Scalar variable-length UTF-8 strings, the layout h5py writes (it reads them back as str).
+void WriteStringAttribute(H5::H5Object& object, const std::string& name, const std::string& value) {
+  H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
+  type.setCset(H5T_CSET_UTF8);
+  H5::Attribute attribute = object.createAttribute(name, type, H5::DataSpace(H5S_SCALAR));
+  attribute.write(type, value);
+}
+
+void WriteDoubleAttribute(H5::H5Object& object, const std::string& name, double value) {
+  H5::Attribute attribute =
+      object.createAttribute(name, H5::PredType::IEEE_F64LE, H5::DataSpace(H5S_SCALAR));
+  attribute.write(H5::PredType::NATIVE_DOUBLE, &value);
+}
+
+// A 1-D array of variable-length strings (h5py reads it as an array of str).
+void WriteStringArrayAttribute(H5::H5Object& object, const std::string& name,
+                               const std::vector<std::string>& values) {
+  H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
+  type.setCset(H5T_CSET_UTF8);
+  const hsize_t size = values.size();
+  H5::Attribute attribute = object.createAttribute(name, type, H5::DataSpace(1, &size));
+  std::vector<const char*> pointers;
+  for (const std::string& v : values) pointers.push_back(v.c_str());
+  attribute.write(type, pointers.data());
+}
+
+H5::DSetCreatPropList ChunkedDeflate(int rank, const hsize_t* dims,
+                                     const RecordingWriterOptions& options) {
+  H5::DSetCreatPropList properties;
+  hsize_t chunk[2] = {std::min<hsize_t>(dims[0], options.chunk_samples), rank == 2 ? dims[1] : 1};
+  chunk[0] = std::max<hsize_t>(chunk[0], 1);
+  properties.setChunk(rank, chunk);
+  if (options.deflate_level > 0) {
+    properties.setShuffle();
+    properties.setDeflate(options.deflate_level);
+  }
+  return properties;
+}
+
+void WriteDataset(H5::Group& parent, const std::string& name, int rank, const hsize_t* dims,
+                  const double* row_major, SampleType type, const RecordingWriterOptions& options,
+                  const std::string& units) {
+  const H5::PredType& file_type =
+      type == SampleType::kFloat32 ? H5::PredType::IEEE_F32LE : H5::PredType::IEEE_F64LE;
+  H5::DataSet dataset = parent.createDataSet(name, file_type, H5::DataSpace(rank, dims),
+                                             ChunkedDeflate(rank, dims, options));
+  // HDF5 converts float64 -> float32 on writing (round to nearest).
+  dataset.write(row_major, H5::PredType::NATIVE_DOUBLE);
+  WriteStringAttribute(dataset, "units", units);
+}
+
+void Validate(const RecordingData& data, const RecordingWriterOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument(error);
+  if (!(data.sample_rate_hz > 0.0) || !std::isfinite(data.sample_rate_hz)) {
+    throw std::invalid_argument("sample_rate_hz must be finite and > 0");
+  }
+  if (data.rate_rad_s.rows() < 1 || data.rate_rad_s.cols() < 1) {
+    throw std::invalid_argument("the rate needs at least one sample and one axis");
+  }
+  if (!data.axes.empty() && data.axes.size() != static_cast<size_t>(data.rate_rad_s.cols())) {
+    throw std::invalid_argument("one axis name per rate column is needed");
+  }
+  for (const auto& [name, channel] : data.aux) {
+    if (channel.samples.size() != data.rate_rad_s.rows()) {
+      throw std::invalid_argument("aux channel '" + name + "' must have as many samples as /rate");
+    }
+    if (name.empty() || name.find('/') != std::string::npos || channel.units.empty()) {
+      throw std::invalid_argument("aux channel '" + name + "' needs a plain name and units");
+    }
+  }
+}
+
+}  // namespace
+
+const char* ToString(SampleType type) {
+  return type == SampleType::kFloat32 ? "float32" : "float64";
+}
+
+bool RecordingWriterOptions::IsValid(std::string* error) const {
+  if (chunk_samples < 1) {
+    if (error) *error = "chunk_samples must be >= 1";
+    return false;
+  }
+  if (deflate_level < 0 || deflate_level > 9) {
+    if (error) *error = "deflate_level must be in 0..9";
+    return false;
+  }
+  return true;
+}
+
+void WriteRecording(const std::string& path, const RecordingData& data,
+                    const RecordingWriterOptions& options) {
+  Validate(data, options);
+  const std::string temporary = TemporaryPath(path);
+  try {
+    H5::Exception::dontPrint();
+    {
+      H5::H5File file(temporary, H5F_ACC_TRUNC);
+      WriteDoubleAttribute(file, "sample_rate_hz", data.sample_rate_hz);
+      if (!data.start_time_utc.empty()) {
+        WriteStringAttribute(file, "start_time_utc", data.start_time_utc);
+      }
+      if (!data.instrument.empty()) WriteStringAttribute(file, "instrument", data.instrument);
+      if (!data.serial.empty()) WriteStringAttribute(file, "serial", data.serial);
+      if (data.latitude_deg) WriteDoubleAttribute(file, "latitude_deg", *data.latitude_deg);
+
+      const Eigen::Index n = data.rate_rad_s.rows();
+      const Eigen::Index axes = data.rate_rad_s.cols();
+      // Row-major [N, A] in the declared unit.
+      using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+      const RowMajor rate = data.rate_rad_s / units::ToRadPerSecond(options.rate_unit);
+      const bool one_d = axes == 1 && options.squeeze_single_axis;
+      const hsize_t dims[2] = {static_cast<hsize_t>(n), static_cast<hsize_t>(axes)};
+      WriteDataset(file, "rate", one_d ? 1 : 2, dims, rate.data(), options.sample_type, options,
+                   units::ToString(options.rate_unit));
+      if (!data.axes.empty()) {
+        H5::DataSet dataset = file.openDataSet("rate");
+        WriteStringArrayAttribute(dataset, "axes", data.axes);
+      }
+      if (!data.aux.empty()) {
+        H5::Group aux = file.createGroup("aux");
+        for (const auto& [name, channel] : data.aux) {
+          const hsize_t aux_dims[1] = {static_cast<hsize_t>(n)};
+          WriteDataset(aux, name, 1, aux_dims, channel.samples.data(), SampleType::kFloat64,
+                       options, channel.units);
+        }
+      }
+    }  // the file is closed (and flushed) here, before the rename
+  } catch (const H5::Exception& e) {
+    std::error_code ec;
+    fs::remove(temporary, ec);
+    throw std::runtime_error(path + ": HDF5 error in " + e.getFuncName() + ": " + e.getDetailMsg());
+  }
+  Commit(temporary, path);
+}
+
+std::string TruthSidecarPath(const std::string& recording_path) {
+  return recording_path + ".truth.json";
+}
+
+void WriteJsonFile(const std::string& path, const nlohmann::json& json) {
+  const std::string temporary = TemporaryPath(path);
+  {
+    std::ofstream out(temporary, std::ios::trunc);
+    out << json.dump(2) << '\n';
+    out.close();
+    if (!out) {
+      std::error_code ec;
+      fs::remove(temporary, ec);
+      throw std::runtime_error(path + ": cannot write the JSON file");
+    }
+  }
+  Commit(temporary, path);
+}
+
+nlohmann::json SimulationTruthToJson(const std::vector<sim::SimulationTruth>& axes,
+                                     const std::vector<std::string>& axis_names) {
+  using nlohmann::json;
+  using namespace fogpipe::units;
+  if (axes.empty()) throw std::invalid_argument("the truth needs at least one axis");
+  const sim::GyroSimulatorOptions& first = axes.front().options;
+  json j;
+  j["format"] = "fogpipe-simulation-truth";
+  j["format_version"] = 1;
+  j["note"] = "ground truth of a simulated recording; the analysis never reads this file";
+  j["seed"] = first.seed;
+  j["sample_rate_hz"] = first.sample_rate_hz;
+  j["duration_s"] = first.duration_s;
+  j["num_samples"] = axes.front().num_samples;
+  j["latitude_deg"] = first.latitude_deg ? json(*first.latitude_deg) : json(nullptr);
+  j["earth_rate_deg_h"] = RadPerSecondToDegPerHour(axes.front().earth_rate_rad_s);
+  j["earth_rate_rad_s"] = axes.front().earth_rate_rad_s;
+
+  json input = json::array();
+  for (const sim::RateComponent& c : first.input_rate.components) {
+    json item{{"kind", sim::ToString(c.kind)}};
+    switch (c.kind) {
+      case sim::RateComponent::Kind::kConstant:
+        item["value_deg_h"] = RadPerSecondToDegPerHour(c.value_rad_s);
+        break;
+      case sim::RateComponent::Kind::kStep:
+        item["start_s"] = c.start_s;
+        item["value_deg_h"] = RadPerSecondToDegPerHour(c.value_rad_s);
+        break;
+      case sim::RateComponent::Kind::kRamp:
+        item["start_s"] = c.start_s;
+        item["end_s"] = c.end_s;
+        item["slope_deg_h_per_s"] = RadPerSecondToDegPerHour(c.slope_rad_s2);
+        break;
+      case sim::RateComponent::Kind::kSine:
+        item["frequency_hz"] = c.frequency_hz;
+        item["amplitude_deg_h"] = RadPerSecondToDegPerHour(c.value_rad_s);
+        item["phase_rad"] = c.phase_rad;
+        break;
+    }
+    input.push_back(item);
+  }
+  j["input_rate"] = input;
+  j["input_rate_text"] = sim::FormatRateProfile(first.input_rate);
+
+  if (first.temperature) {
+    const sim::TemperatureProfile& t = *first.temperature;
+    j["aux_temperature"] = {{"mean_degC", t.mean_degC},
+                            {"peak_to_peak_degC", t.peak_to_peak_degC},
+                            {"period_s", t.period_s},
+                            {"sharpness", t.sharpness},
+                            {"phase_rad", t.phase_rad},
+                            {"noise_std_degC", t.noise_std_degC},
+                            {"max_abs_rate_degC_per_s", sim::MaxAbsTemperatureRate(t)}};
+  } else {
+    j["aux_temperature"] = nullptr;
+  }
+
+  json axis_list = json::array();
+  for (size_t i = 0; i < axes.size(); ++i) {
+    const sim::GyroErrorModel& e = axes[i].options.errors;
+    json a;
+    a["name"] = i < axis_names.size() ? axis_names[i] : std::to_string(i);
+    a["stream_axis"] = axes[i].options.axis;
+    json terms = json::array();
+    for (sim::Term term : axes[i].terms) terms.push_back(sim::ToString(term));
+    a["terms"] = terms;
+    a["bias_deg_h"] = RadPerSecondToDegPerHour(e.bias_rad_s);
+    a["bias_rad_s"] = e.bias_rad_s;
+    if (e.n_rad_sqrt_s > 0.0) {
+      a["white"] = {{"n_deg_sqrt_h", ArwToDegPerSqrtHour(e.n_rad_sqrt_s)},
+                    {"n_rad_sqrt_s", e.n_rad_sqrt_s}};
+    }
+    if (e.q_rad > 0.0) {
+      a["quantization"] = {{"q_arcsec", QuantizationToArcsec(e.q_rad)},
+                           {"q_rad", e.q_rad},
+                           {"model", sim::ToString(e.quantization_model)}};
+    }
+    if (e.b_rad_s > 0.0) {
+      a["bias_instability"] = {
+          {"b_deg_h", BiasToDegPerHour(e.b_rad_s)},
+          {"b_rad_s", e.b_rad_s},
+          {"allan_floor_deg_h", BiasToDegPerHour(sim::BiasInstabilityFloor(e.b_rad_s))}};
+    }
+    if (e.k_rad_s_sqrt_s > 0.0) {
+      a["rate_random_walk"] = {{"k_deg_h_sqrt_h", RrwToDegPerHourSqrtHour(e.k_rad_s_sqrt_s)},
+                               {"k_rad_s_sqrt_s", e.k_rad_s_sqrt_s}};
+    }
+    if (e.r_rad_s2 != 0.0) {
+      a["rate_ramp"] = {{"r_deg_h2", RampToDegPerHour2(e.r_rad_s2)}, {"r_rad_s2", e.r_rad_s2}};
+    }
+    if (!e.gauss_markov.empty()) {
+      json list = json::array();
+      for (const sim::GaussMarkovTerm& g : e.gauss_markov) {
+        list.push_back({{"sigma_deg_h", RadPerSecondToDegPerHour(g.sigma_rad_s)},
+                        {"sigma_rad_s", g.sigma_rad_s},
+                        {"correlation_time_s", g.correlation_time_s}});
+      }
+      a["gauss_markov"] = list;
+    }
+    if (!e.sinusoids.empty()) {
+      json list = json::array();
+      for (const sim::SinusoidTerm& s : e.sinusoids) {
+        list.push_back({{"frequency_hz", s.frequency_hz},
+                        {"amplitude_deg_h", RadPerSecondToDegPerHour(s.amplitude_rad_s)},
+                        {"amplitude_rad_s", s.amplitude_rad_s},
+                        {"phase_rad", s.phase_rad}});
+      }
+      a["sinusoid"] = list;
+    }
+    if (e.temperature) {
+      a["temperature"] = {{"coefficient_deg_h_per_degC",
+                           RadPerSecondToDegPerHour(e.temperature->coefficient_rad_s_per_degC)},
+                          {"coefficient_rad_s_per_degC", e.temperature->coefficient_rad_s_per_degC},
+                          {"reference_degC", e.temperature->reference_degC}};
+    }
+    if (e.temperature_rate) {
+      a["temperature_rate"] = {
+          {"coefficient_deg_h_per_degC_per_s",
+           RadPerSecondToDegPerHour(e.temperature_rate->coefficient_rad_s_per_degC_per_s)},
+          {"coefficient_rad_s_per_degC_per_s",
+           e.temperature_rate->coefficient_rad_s_per_degC_per_s}};
+    }
+    if (!e.bias_steps.empty()) {
+      json list = json::array();
+      for (const sim::BiasStep& s : e.bias_steps) {
+        list.push_back({{"time_s", s.time_s},
+                        {"size_deg_h", RadPerSecondToDegPerHour(s.size_rad_s)},
+                        {"size_rad_s", s.size_rad_s}});
+      }
+      a["bias_step"] = list;
+    }
+    if (e.warmup) {
+      a["warmup"] = {{"amplitude_deg_h", RadPerSecondToDegPerHour(e.warmup->amplitude_rad_s)},
+                     {"amplitude_rad_s", e.warmup->amplitude_rad_s},
+                     {"time_constant_s", e.warmup->time_constant_s}};
+    }
+    axis_list.push_back(a);
+  }
+  j["axes"] = axis_list;
+  return j;
+}
+
+Eigen::VectorXd TrueRateFromTruth(const nlohmann::json& truth) {
+  try {
+    sim::RateProfile profile;
+    std::string error;
+    if (!sim::ParseRateProfile(truth.at("input_rate_text").get<std::string>(), &profile, &error)) {
+      throw std::runtime_error("truth: input_rate_text: " + error);
+    }
+    const double sample_rate_hz = truth.at("sample_rate_hz").get<double>();
+    const auto n = truth.at("num_samples").get<Eigen::Index>();
+    return sim::SampleRateProfile(profile, n, sample_rate_hz).array() +
+           truth.at("earth_rate_rad_s").get<double>();
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(std::string("truth JSON: ") + e.what());
+  }
+}
+
+}  // namespace fogpipe::io

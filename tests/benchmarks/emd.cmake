@@ -1,0 +1,4 @@
+# EMD speed: 10 fixed sifts of 1e6 white-noise samples (target <= 1.5 s, one thread).
+fogpipe_add_benchmark(NAME emd_benchmark SOURCES emd_benchmark.cpp LIBS fogpipe::algorithms)
+target_compile_definitions(emd_benchmark PRIVATE FOGPIPE_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+target_include_directories(emd_benchmark PRIVATE ${PROJECT_SOURCE_DIR})
