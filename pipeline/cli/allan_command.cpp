@@ -1,18 +1,112 @@
-// fogpipe allan: not yet implemented (placeholder registered so the CLI links; see the open issue).
+// fogpipe allan RECORDING: the Allan table and the five IEEE noise terms of one recording axis,
+// for people who want only that (no decomposition, no output file).
+//
+// Exit codes: 0 done, 1 the recording cannot be analysed (message names file and problem),
+// 2 usage error.
 #include <CLI/CLI.hpp>
-
 #include <iostream>
+#include <string>
 
+#include "algorithms/allan/allan.h"
+#include "algorithms/allan/noise_fit.h"
 #include "pipeline/cli/commands.h"
+#include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/allan_report.h"
+#include "pipeline/io/recording_reader.h"
 
 namespace fogpipe::cli {
+namespace {
+
+struct AllanArgs {
+  std::string recording;
+  std::string axis;  // empty: the first axis
+  std::string taus = "octave";
+  bool json = false;
+  bool csv = false;
+  double confidence = 0.683;
+  long long max_nan_gap = 10;
+};
+
+int RunAllan(const AllanArgs& args) {
+  if (args.recording.empty()) {
+    std::cerr << "fogpipe allan: give a RECORDING (see fogpipe allan --help)\n";
+    return 2;
+  }
+  hdf5::SilenceHdf5ErrorPrinter();
+  io::AllanReport report;
+  Eigen::VectorXd rate_rad_s;
+  allan::AllanOptions options;
+  options.confidence = args.confidence;
+  try {
+    io::ReadOptions read;
+    read.max_nan_gap_samples = args.max_nan_gap;
+    io::ReadReport read_report;
+    auto lock = hdf5::LockHdf5();
+    io::RecordingReader reader(args.recording);
+    const int axis = args.axis.empty() ? 0 : reader.AxisIndex(args.axis);
+    rate_rad_s = reader.ReadAxisRadPerSecond(axis, read, &read_report);
+    const io::RecordingInfo& info = reader.info();
+    report.file = args.recording;
+    report.axis = info.axis_names[axis];
+    report.rate_units = info.rate_units;
+    report.rate_unit = info.rate_unit;
+    report.sample_rate_hz = info.sample_rate_hz;
+    report.samples = info.samples;
+    report.nan_bridged = read_report.nan.bridged_samples;
+  } catch (const io::RecordingError& e) {
+    std::cerr << "fogpipe allan: " << e.what() << " [" << e.kind() << "]\n";
+    return 1;
+  }
+  std::string error;
+  if (!io::ParseTauGrid(args.taus, report.samples, options.deviation, &options.grid, &error) ||
+      !options.IsValid(&error)) {
+    std::cerr << "fogpipe allan: " << error << "\n";
+    return 2;
+  }
+  report.taus = args.taus;
+  report.confidence = options.confidence;
+  allan::AllanResult allan = allan::ComputeAllan(rate_rad_s, report.sample_rate_hz, options);
+  if (!HasResult(allan.summary.termination)) {
+    std::cerr << "fogpipe allan: " << args.recording << ": " << allan.summary.message << " ["
+              << ToString(allan.summary.termination) << "]\n";
+    return 1;
+  }
+  report.table = std::move(allan.table);
+  report.fit = allan::FitNoiseTerms(report.table, allan::NoiseFitOptions{});
+  if (args.json) {
+    std::cout << io::AllanReportJson(report).dump(2) << "\n";
+  } else if (args.csv) {
+    io::PrintAllanCsv(std::cout, report);
+  } else {
+    io::PrintAllanText(std::cout, report);
+  }
+  return 0;
+}
+
+}  // namespace
 
 void AddAllanCommand(CLI::App& app, int* exit_code) {
-  auto* cmd = app.add_subcommand("allan", "(not implemented yet)");
-  cmd->callback([exit_code]() {
-    std::cerr << "fogpipe allan: not implemented yet\n";
-    *exit_code = 2;
-  });
+  auto args = std::make_shared<AllanArgs>();
+  auto* cmd = app.add_subcommand(
+      "allan",
+      "Allan deviation table (tau, sigma in the recording's unit and deg/h, CI, EDF, count) and "
+      "the noise terms Q, N, B, K, R of one recording axis. Exit code 0: done, 1: bad recording, "
+      "2: usage error.");
+  cmd->add_option("RECORDING", args->recording, "HDF5 recording (input contract v1)");
+  cmd->add_option("--axis", args->axis, "Axis name (from the file's `axes`) or index; default 0");
+  cmd->add_option("--taus", args->taus,
+                  "Tau grid: octave (1, 2, 4, ... samples), decade:K (K log-spaced per decade), "
+                  "all (every m), log10 (allantools' taus='log10')")
+      ->capture_default_str();
+  auto* json = cmd->add_flag("--json", args->json, "Print one JSON object");
+  auto* csv = cmd->add_flag("--csv", args->csv, "Print the table as CSV");
+  json->excludes(csv);
+  cmd->add_option("--confidence", args->confidence, "Two-sided confidence level of the interval")
+      ->capture_default_str();
+  cmd->add_option("--max-nan-gap", args->max_nan_gap,
+                  "Longest run of missing (NaN) samples bridged by linear interpolation")
+      ->capture_default_str();
+  cmd->callback([args, exit_code]() { *exit_code = RunAllan(*args); });
 }
 
 }  // namespace fogpipe::cli

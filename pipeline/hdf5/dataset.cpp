@@ -133,30 +133,32 @@ void Dataset::ReadColumn(hsize_t column, hsize_t row0, hsize_t rows, double* out
   }
 }
 
-void Dataset::ReadRows(hsize_t row0, hsize_t rows, double* out) const {
-  std::vector<hsize_t> extent = dims();
-  const std::string operation =
-      "read rows [" + std::to_string(row0) + ", " + std::to_string(row0 + rows) + ")";
-  if (extent.empty() || row0 + rows > extent[0]) {
+std::vector<hsize_t> Dataset::RowBlockStart(hsize_t row0, hsize_t rows, std::vector<hsize_t>* count,
+                                            const std::string& operation) const {
+  *count = dims();
+  if (count->empty() || row0 + rows > (*count)[0]) {
     throw Error(file_path(), path(), operation, "outside the dataset's extent", "");
   }
-  std::vector<hsize_t> start(extent.size(), 0);
+  std::vector<hsize_t> start(count->size(), 0);
   start[0] = row0;
-  extent[0] = rows;
-  TransferBlock(start, extent, H5T_NATIVE_DOUBLE, out, false, operation);
+  (*count)[0] = rows;
+  return start;
+}
+
+void Dataset::ReadRows(hsize_t row0, hsize_t rows, double* out) const {
+  const std::string operation =
+      "read rows [" + std::to_string(row0) + ", " + std::to_string(row0 + rows) + ")";
+  std::vector<hsize_t> count;
+  const std::vector<hsize_t> start = RowBlockStart(row0, rows, &count, operation);
+  TransferBlock(start, count, H5T_NATIVE_DOUBLE, out, false, operation);
 }
 
 void Dataset::WriteRows(hsize_t row0, hsize_t rows, const double* data) {
-  std::vector<hsize_t> extent = dims();
   const std::string operation =
       "write rows [" + std::to_string(row0) + ", " + std::to_string(row0 + rows) + ")";
-  if (extent.empty() || row0 + rows > extent[0]) {
-    throw Error(file_path(), path(), operation, "outside the dataset's extent", "");
-  }
-  std::vector<hsize_t> start(extent.size(), 0);
-  start[0] = row0;
-  extent[0] = rows;
-  TransferBlock(start, extent, H5T_NATIVE_DOUBLE, const_cast<double*>(data), true, operation);
+  std::vector<hsize_t> count;
+  const std::vector<hsize_t> start = RowBlockStart(row0, rows, &count, operation);
+  TransferBlock(start, count, H5T_NATIVE_DOUBLE, const_cast<double*>(data), true, operation);
 }
 
 }  // namespace fogpipe::hdf5

@@ -75,6 +75,11 @@ class Dataset : public Object {
                      hid_t memory_type, void* buffer, bool write,
                      const std::string& operation) const;
 
+  /// Start and count (in *count) of rows [row0, row0 + rows) x all columns; throws when the
+  /// rows are outside the extent.
+  std::vector<hsize_t> RowBlockStart(hsize_t row0, hsize_t rows, std::vector<hsize_t>* count,
+                                     const std::string& operation) const;
+
   H5::DataSet dataset_;
 };
 

@@ -42,6 +42,14 @@ Error::Error(std::string file, std::string object, std::string operation, std::s
       operation_(std::move(operation)),
       hdf5_stack_(std::move(hdf5_stack)) {}
 
+std::string Error::innermost_message() const {
+  if (hdf5_stack_.empty()) return what();
+  const size_t line_start = hdf5_stack_.rfind('\n');
+  std::string line = hdf5_stack_.substr(line_start == std::string::npos ? 0 : line_start + 1);
+  const size_t colon = line.find("): ");
+  return colon == std::string::npos ? line : line.substr(colon + 3);
+}
+
 std::string CurrentErrorStack() {
   std::string text;
   // H5E_WALK_UPWARD starts at the innermost entry (the library routine that detected the error);

@@ -18,6 +18,9 @@ class Error : public std::runtime_error {
   const std::string& operation() const { return operation_; }
   /// One line per stack entry, innermost (where HDF5 noticed the problem) last; may be empty.
   const std::string& hdf5_stack() const { return hdf5_stack_; }
+  /// What the innermost stack entry says, i.e. what the library found wrong ("truncated file:
+  /// eof = ...", "inflate() failed [Data filters / ...]"); the whole message if there is no stack.
+  std::string innermost_message() const;
 
  private:
   std::string file_, object_, operation_, hdf5_stack_;

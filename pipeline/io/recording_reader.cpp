@@ -17,18 +17,6 @@ namespace fs = std::filesystem;
 using hdf5::ObjectKind;
 using hdf5::TypeClass;
 
-/// The description of the innermost (last) entry of an HDF5 error stack text, which is where
-/// the library says what it found wrong ("truncated file: eof = ...", "inflate() failed").
-std::string InnermostHdf5Message(const hdf5::Error& error) {
-  const std::string& stack = error.hdf5_stack();
-  if (stack.empty()) return error.what();
-  const size_t line_start = stack.rfind('\n');
-  std::string line = stack.substr(line_start == std::string::npos ? 0 : line_start + 1);
-  const size_t colon = line.find("): ");
-  if (colon != std::string::npos) line = line.substr(colon + 3);
-  return line;
-}
-
 std::string FloatName(const hdf5::TypeInfo& type) {
   return "float" + std::to_string(type.size_bytes * 8);
 }
@@ -167,11 +155,10 @@ hdf5::File OpenChecked(const std::string& path) {
       throw RecordingError(error_kind::kTruncatedFile, path,
                            "is truncated (shorter than its HDF5 superblock says; an interrupted "
                            "copy or write?): " +
-                               InnermostHdf5Message(e));
+                               e.innermost_message());
     }
-    throw RecordingError(
-        error_kind::kCorruptFile, path,
-        "is a damaged HDF5 file that cannot be opened: " + InnermostHdf5Message(e));
+    throw RecordingError(error_kind::kCorruptFile, path,
+                         "is a damaged HDF5 file that cannot be opened: " + e.innermost_message());
   }
 }
 
@@ -334,7 +321,7 @@ RecordingReader::RecordingReader(const std::string& path) : file_(OpenHdf5ReadOn
   } catch (const hdf5::Error& e) {
     throw RecordingError(error_kind::kCorruptFile, path,
                          "HDF5 failed while reading its metadata (" + e.operation() + " of '" +
-                             e.object() + "'): " + InnermostHdf5Message(e));
+                             e.object() + "'): " + e.innermost_message());
   }
 }
 
@@ -382,7 +369,7 @@ Eigen::VectorXd RecordingReader::ReadColumn(const hdf5::Dataset& dataset, int co
       throw RecordingError(error_kind::kCorruptFile, info_.path,
                            "cannot read samples " + std::to_string(row0) + ".." +
                                std::to_string(row0 + rows - 1) + " of " + what +
-                               " (damaged data): " + InnermostHdf5Message(e));
+                               " (damaged data): " + e.innermost_message());
     }
     ++local.blocks_read;
   }
@@ -428,7 +415,7 @@ Eigen::VectorXd RecordingReader::ReadAxisNative(int axis, const ReadOptions& opt
     return ReadColumn(rate, axis, what, options, options.reject_constant, report);
   } catch (const hdf5::Error& e) {
     throw RecordingError(error_kind::kCorruptFile, info_.path,
-                         "HDF5 failed on " + what + ": " + InnermostHdf5Message(e));
+                         "HDF5 failed on " + what + ": " + e.innermost_message());
   }
 }
 
@@ -458,7 +445,7 @@ Eigen::VectorXd RecordingReader::ReadAux(const std::string& name, const ReadOpti
     return ReadColumn(channel, 0, what, options, /*reject_constant=*/false, report);
   } catch (const hdf5::Error& e) {
     throw RecordingError(error_kind::kCorruptFile, info_.path,
-                         "HDF5 failed on " + what + ": " + InnermostHdf5Message(e));
+                         "HDF5 failed on " + what + ": " + e.innermost_message());
   }
 }
 

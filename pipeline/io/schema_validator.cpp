@@ -54,25 +54,24 @@ struct AttributeRule {
   std::optional<int> length_equals_dim;
 };
 
-struct DatasetRule {
+/// What groups and datasets share: a name (or pattern), presence and count, attributes.
+struct ObjectRule {
   NameRule name;
   bool required = false;
   std::optional<long long> min_count, max_count;
-  TypeRule type;
-  std::vector<int> ranks;
   std::vector<AttributeRule> attributes;
   bool forbid_additional_attributes = false;
+};
+
+struct DatasetRule : ObjectRule {
+  TypeRule type;
+  std::vector<int> ranks;
   bool units_required = false;
   std::vector<std::string> units_allowed;
   std::string same_length_as;
 };
 
-struct GroupRule {
-  NameRule name;
-  bool required = false;
-  std::optional<long long> min_count, max_count;
-  std::vector<AttributeRule> attributes;
-  bool forbid_additional_attributes = false;
+struct GroupRule : ObjectRule {
   std::vector<GroupRule> groups;
   std::vector<DatasetRule> datasets;
   bool forbid_additional = false;
@@ -246,19 +245,24 @@ class Parser {
     return rules;
   }
 
+  void ParseCommon(const std::string& key, const Json& node, const std::string& where,
+                   ObjectRule* rule) {
+    rule->name = ParseName(key, where);
+    rule->required = OptionalBool(node, "required", where, false);
+    rule->min_count = OptionalCount(node, "min_count", where);
+    rule->max_count = OptionalCount(node, "max_count", where);
+    if (node.contains("attributes")) rule->attributes = ParseAttributes(node["attributes"], where);
+    rule->forbid_additional_attributes = ParseAdditional(node, "additional_attributes", where);
+  }
+
   DatasetRule ParseDataset(const std::string& key, const Json& node, const std::string& where) {
     CheckKeys(node, where,
               {"description", "required", "min_count", "max_count", "type", "rank", "attributes",
                "additional_attributes", "units", "same_length_as"});
     DatasetRule rule;
-    rule.name = ParseName(key, where);
-    rule.required = OptionalBool(node, "required", where, false);
-    rule.min_count = OptionalCount(node, "min_count", where);
-    rule.max_count = OptionalCount(node, "max_count", where);
+    ParseCommon(key, node, where, &rule);
     if (node.contains("type")) rule.type = ParseType(node["type"], where);
     if (node.contains("rank")) rule.ranks = ParseRanks(node["rank"], where);
-    if (node.contains("attributes")) rule.attributes = ParseAttributes(node["attributes"], where);
-    rule.forbid_additional_attributes = ParseAdditional(node, "additional_attributes", where);
     if (node.contains("units")) {
       const Json& units = node["units"];
       if (units.is_boolean()) {
@@ -285,12 +289,7 @@ class Parser {
               {"description", "required", "min_count", "max_count", "attributes",
                "additional_attributes", "groups", "datasets", "additional"});
     GroupRule rule;
-    rule.name = ParseName(key, where);
-    rule.required = OptionalBool(node, "required", where, false);
-    rule.min_count = OptionalCount(node, "min_count", where);
-    rule.max_count = OptionalCount(node, "max_count", where);
-    if (node.contains("attributes")) rule.attributes = ParseAttributes(node["attributes"], where);
-    rule.forbid_additional_attributes = ParseAdditional(node, "additional_attributes", where);
+    ParseCommon(key, node, where, &rule);
     rule.forbid_additional = ParseAdditional(node, "additional", where);
     if (node.contains("groups")) {
       if (!node["groups"].is_object()) Fail(where, "'groups' must be an object");
@@ -334,15 +333,6 @@ std::string NumberText(double v) {
   out.precision(17);
   out << v;
   return out.str();
-}
-
-std::string InnermostMessage(const hdf5::Error& e) {
-  const std::string& stack = e.hdf5_stack();
-  if (stack.empty()) return e.what();
-  const size_t line = stack.rfind('\n');
-  std::string last = stack.substr(line == std::string::npos ? 0 : line + 1);
-  const size_t colon = last.find("): ");
-  return colon == std::string::npos ? last : last.substr(colon + 3);
 }
 
 class Validator {
@@ -501,40 +491,36 @@ class Validator {
     ++report_->objects_checked;
     if (rule) CheckAttributes(group, rule->attributes, rule->forbid_additional_attributes, nullptr);
     const std::vector<std::string> children = group.ChildNames();
-    std::map<const void*, long long> counts;
+    std::map<const ObjectRule*, long long> counts;
     for (const std::string& child : children) {
       const std::string path = JoinPath(group.path(), child);
       try {
         CheckChild(group, child, path, rule, &counts);
       } catch (const hdf5::Error& e) {
-        Problem(path, "cannot be read: " + InnermostMessage(e));
+        Problem(path, "cannot be read: " + e.innermost_message());
       }
     }
     if (!rule) return;
-    auto check_count = [&](const void* key, const NameRule& name, bool required,
-                           const std::optional<long long>& min_count,
-                           const std::optional<long long>& max_count, const char* what) {
-      const long long n = counts.count(key) ? counts[key] : 0;
-      const std::string label = std::string(what) + " '" + name.key + "'";
-      if (n == 0 && required) {
+    auto check_count = [&](const ObjectRule& r, const char* what) {
+      const long long n = counts.count(&r) ? counts[&r] : 0;
+      const std::string label = std::string(what) + " '" + r.name.key + "'";
+      if (n == 0 && r.required) {
         Problem(group.path(), "missing required " + label);
-      } else if (min_count && n < *min_count) {
+      } else if (r.min_count && n < *r.min_count) {
         Problem(group.path(), "has " + std::to_string(n) + " " + label + ", expected at least " +
-                                  std::to_string(*min_count));
+                                  std::to_string(*r.min_count));
       }
-      if (max_count && n > *max_count) {
+      if (r.max_count && n > *r.max_count) {
         Problem(group.path(), "has " + std::to_string(n) + " " + label + ", expected at most " +
-                                  std::to_string(*max_count));
+                                  std::to_string(*r.max_count));
       }
     };
-    for (const GroupRule& g : rule->groups)
-      check_count(&g, g.name, g.required, g.min_count, g.max_count, "group");
-    for (const DatasetRule& d : rule->datasets)
-      check_count(&d, d.name, d.required, d.min_count, d.max_count, "dataset");
+    for (const GroupRule& g : rule->groups) check_count(g, "group");
+    for (const DatasetRule& d : rule->datasets) check_count(d, "dataset");
   }
 
   void CheckChild(const hdf5::Group& group, const std::string& child, const std::string& path,
-                  const GroupRule* rule, std::map<const void*, long long>* counts) {
+                  const GroupRule* rule, std::map<const ObjectRule*, long long>* counts) {
     const ObjectKind kind = group.KindOf(child);
     const GroupRule* group_rule = nullptr;
     const DatasetRule* dataset_rule = nullptr;
@@ -655,7 +641,7 @@ ValidationReport Schema::Validate(const hdf5::File& file) const {
     validator.CheckGroup(root, &impl_->root);
   } catch (const hdf5::Error& e) {
     report.problems.push_back(
-        {e.object().empty() ? "/" : e.object(), "cannot be read: " + InnermostMessage(e)});
+        {e.object().empty() ? "/" : e.object(), "cannot be read: " + e.innermost_message()});
   }
   return report;
 }

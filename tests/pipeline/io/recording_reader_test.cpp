@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <atomic>
 #include <filesystem>
+#include <thread>
 
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "tests/pipeline/io/test_recording_files.h"
@@ -214,6 +216,41 @@ TEST(RecordingReader, BridgesShortNanRunsAndReportsThem) {
   // Straight line between samples 49 and 53.
   EXPECT_DOUBLE_EQ(x[51], values[49] + 0.5 * (values[53] - values[49]));
   EXPECT_DOUBLE_EQ(x[120], 0.5 * (values[119] + values[121]));
+}
+
+TEST(RecordingReader, ReadsFromSeveralThreadsUnderTheGlobalLock) {
+  TempDir dir;
+  std::vector<std::string> paths;
+  for (int f = 0; f < 4; ++f) {
+    RecordingSpec spec;
+    spec.samples = 5000;
+    spec.axes = 2;
+    spec.two_dimensional = true;
+    spec.layout = Layout{H5T_IEEE_F32LE, {700, 2}, 3, true};
+    paths.push_back(dir.File("t" + std::to_string(f) + ".h5"));
+    testing::WriteRecording(paths.back(), spec);
+  }
+  const Eigen::VectorXd expected = ReadAxisRadPerSecond(paths[0], "1");
+  std::atomic<int> mismatches{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&, t] {
+      hdf5::SilenceHdf5ErrorPrinter();
+      for (int i = 0; i < 10; ++i) {
+        const std::string& path = paths[(t + i) % 4];
+        // Both styles: the self-locking free function and a reader held under the lock.
+        if (i % 2 == 0) {
+          if (ReadAxisRadPerSecond(path, "1") != expected) ++mismatches;
+        } else {
+          auto lock = hdf5::LockHdf5();
+          RecordingReader reader(path);
+          if (reader.ReadAxisRadPerSecond(1) != expected) ++mismatches;
+        }
+      }
+    });
+  }
+  for (auto& thread : threads) thread.join();
+  EXPECT_EQ(mismatches.load(), 0);
 }
 
 TEST(RecordingReader, ReadsTheRealAdis16405RecordingWhenAvailable) {

@@ -76,17 +76,23 @@ void RawFile::Dataset(const std::string& path, const std::vector<hsize_t>& dims,
   H5Sclose(space);
 }
 
+void RawFile::Attribute(const std::string& object, const std::string& name, hid_t file_type,
+                        hid_t memory_type, long long count, const void* data) {
+  const hsize_t n = static_cast<hsize_t>(count);
+  hid_t space = count < 0 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &n, nullptr);
+  hid_t attr = H5Acreate_by_name(file_, object.c_str(), name.c_str(), file_type, space, H5P_DEFAULT,
+                                 H5P_DEFAULT, H5P_DEFAULT);
+  Check(attr, "attribute " + name);
+  Check(H5Awrite(attr, memory_type, data), "write attribute " + name);
+  H5Aclose(attr);
+  H5Sclose(space);
+}
+
 void RawFile::StringAttribute(const std::string& object, const std::string& name,
                               const std::string& value) {
   hid_t type = VariableString();
-  hid_t space = H5Screate(H5S_SCALAR);
-  hid_t attr = H5Acreate_by_name(file_, object.c_str(), name.c_str(), type, space, H5P_DEFAULT,
-                                 H5P_DEFAULT, H5P_DEFAULT);
-  Check(attr, "attribute " + name);
   const char* p = value.c_str();
-  Check(H5Awrite(attr, type, &p), "write attribute " + name);
-  H5Aclose(attr);
-  H5Sclose(space);
+  Attribute(object, name, type, type, -1, &p);
   H5Tclose(type);
 }
 
@@ -101,14 +107,7 @@ void RawFile::FixedStringArrayAttribute(const std::string& object, const std::st
   for (size_t i = 0; i < values.size(); ++i) {
     std::memcpy(buffer.data() + i * width, values[i].data(), values[i].size());
   }
-  const hsize_t n = values.size();
-  hid_t space = H5Screate_simple(1, &n, nullptr);
-  hid_t attr = H5Acreate_by_name(file_, object.c_str(), name.c_str(), type, space, H5P_DEFAULT,
-                                 H5P_DEFAULT, H5P_DEFAULT);
-  Check(attr, "attribute " + name);
-  Check(H5Awrite(attr, type, buffer.data()), "write attribute " + name);
-  H5Aclose(attr);
-  H5Sclose(space);
+  Attribute(object, name, type, type, static_cast<long long>(values.size()), buffer.data());
   H5Tclose(type);
 }
 
@@ -117,35 +116,16 @@ void RawFile::StringArrayAttribute(const std::string& object, const std::string&
   hid_t type = VariableString();
   std::vector<const char*> pointers;
   for (const auto& v : values) pointers.push_back(v.c_str());
-  const hsize_t n = values.size();
-  hid_t space = H5Screate_simple(1, &n, nullptr);
-  hid_t attr = H5Acreate_by_name(file_, object.c_str(), name.c_str(), type, space, H5P_DEFAULT,
-                                 H5P_DEFAULT, H5P_DEFAULT);
-  Check(attr, "attribute " + name);
-  Check(H5Awrite(attr, type, pointers.data()), "write attribute " + name);
-  H5Aclose(attr);
-  H5Sclose(space);
+  Attribute(object, name, type, type, static_cast<long long>(values.size()), pointers.data());
   H5Tclose(type);
 }
 
 void RawFile::DoubleAttribute(const std::string& object, const std::string& name, double value) {
-  hid_t space = H5Screate(H5S_SCALAR);
-  hid_t attr = H5Acreate_by_name(file_, object.c_str(), name.c_str(), H5T_IEEE_F64LE, space,
-                                 H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  Check(attr, "attribute " + name);
-  Check(H5Awrite(attr, H5T_NATIVE_DOUBLE, &value), "write attribute " + name);
-  H5Aclose(attr);
-  H5Sclose(space);
+  Attribute(object, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, -1, &value);
 }
 
 void RawFile::IntAttribute(const std::string& object, const std::string& name, int value) {
-  hid_t space = H5Screate(H5S_SCALAR);
-  hid_t attr = H5Acreate_by_name(file_, object.c_str(), name.c_str(), H5T_STD_I32LE, space,
-                                 H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  Check(attr, "attribute " + name);
-  Check(H5Awrite(attr, H5T_NATIVE_INT, &value), "write attribute " + name);
-  H5Aclose(attr);
-  H5Sclose(space);
+  Attribute(object, name, H5T_STD_I32LE, H5T_NATIVE_INT, -1, &value);
 }
 
 void RawFile::Group(const std::string& path) {

@@ -55,6 +55,10 @@ class RawFile {
   void Close();
 
  private:
+  /// Scalar attribute when count < 0, else 1-D of `count` elements.
+  void Attribute(const std::string& object, const std::string& name, hid_t file_type,
+                 hid_t memory_type, long long count, const void* data);
+
   hid_t file_ = -1;
 };
 

@@ -1,0 +1,194 @@
+#include "pipeline/io/allan_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iomanip>
+#include <sstream>
+
+namespace fogpipe::io {
+namespace {
+
+/// sigma in rad/s -> the recording's unit.
+double ToFileUnit(double rad_s, units::RateUnit unit) {
+  return rad_s / units::ToRadPerSecond(unit);
+}
+
+std::string Fixed(double value, const char* format) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), format, value);
+  return buffer;
+}
+
+/// JSON cannot hold NaN or Inf: those become null.
+nlohmann::json Number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
+}  // namespace
+
+std::string UnitToken(const std::string& units) {
+  std::string token = units;
+  std::replace(token.begin(), token.end(), '/', '_');
+  return token;
+}
+
+std::vector<long long> AllantoolsLog10Factors(long long n_samples, long long max_m) {
+  std::vector<long long> m;
+  const double length = static_cast<double>(n_samples + 1);
+  const double max_exponent = std::log10(length);
+  const long long points = static_cast<long long>(10.0 * max_exponent);
+  for (long long i = 0; i < points; ++i) {
+    // numpy.logspace(0, stop, num): 10^(i * stop / (num - 1)).
+    const double exponent = points > 1 ? max_exponent * static_cast<double>(i) / (points - 1) : 0.0;
+    const double tau_samples = std::pow(10.0, exponent);
+    if (!(tau_samples < length)) continue;  // allantools keeps tau < L tau0
+    // numpy.round rounds half to even; std::nearbyint does the same in the default mode.
+    const long long factor = static_cast<long long>(std::nearbyint(tau_samples));
+    if (factor >= 1 && factor <= max_m) m.push_back(factor);
+  }
+  std::sort(m.begin(), m.end());
+  m.erase(std::unique(m.begin(), m.end()), m.end());
+  return m;
+}
+
+bool ParseTauGrid(const std::string& text, long long n_samples, allan::Deviation deviation,
+                  allan::TauGridOptions* grid, std::string* error) {
+  *grid = allan::TauGridOptions{};
+  if (text == "octave") {
+    grid->kind = allan::TauGridKind::kOctave;
+  } else if (text == "all") {
+    grid->kind = allan::TauGridKind::kAll;
+  } else if (text == "log10") {
+    grid->kind = allan::TauGridKind::kExplicit;
+    grid->explicit_m =
+        AllantoolsLog10Factors(n_samples, allan::MaxAveragingFactor(deviation, n_samples));
+  } else if (text == "decade" || text.rfind("decade:", 0) == 0) {
+    grid->kind = allan::TauGridKind::kDecade;
+    if (text != "decade") {
+      const std::string k = text.substr(7);
+      if (k.empty() || k.size() > 4 || !std::all_of(k.begin(), k.end(), ::isdigit) ||
+          std::stoi(k) < 1) {
+        *error =
+            "--taus decade:K needs a whole number K >= 1 of points per decade, got '" + k + "'";
+        return false;
+      }
+      grid->per_decade = std::stoi(k);
+    }
+  } else {
+    *error = "--taus must be octave, decade, decade:K, all or log10, got '" + text + "'";
+    return false;
+  }
+  return true;
+}
+
+void PrintAllanText(std::ostream& out, const AllanReport& r) {
+  const std::string u = r.rate_units;
+  const allan::AllanTable& t = r.table;
+  out << "fogpipe allan: " << r.file << ", axis " << r.axis << "\n"
+      << "  " << r.samples << " samples at " << r.sample_rate_hz << " Hz ("
+      << Fixed(r.samples / r.sample_rate_hz / 3600.0, "%.3f") << " h), rate in " << u;
+  if (r.nan_bridged > 0) out << ", " << r.nan_bridged << " missing samples bridged";
+  out << "\n  " << allan::ToString(t.deviation) << " on the " << r.taus << " grid, "
+      << Fixed(100.0 * r.confidence, "%.1f") << " % confidence interval (Stable32 convention)\n\n";
+  const std::string sigma_u = "sigma [" + u + "]";
+  out << std::setw(14) << "tau [s]" << std::setw(10) << "m" << std::setw(15) << sigma_u
+      << std::setw(15) << "sigma [deg/h]" << std::setw(15) << "ci_low [deg/h]" << std::setw(16)
+      << "ci_high [deg/h]" << std::setw(10) << "EDF" << std::setw(11) << "count"
+      << "\n";
+  for (size_t i = 0; i < t.size(); ++i) {
+    out << std::setw(14) << Fixed(t.tau_s[i], "%.6g") << std::setw(10) << t.m[i] << std::setw(15)
+        << Fixed(ToFileUnit(t.sigma[i], r.rate_unit), "%.6e") << std::setw(15)
+        << Fixed(units::RadPerSecondToDegPerHour(t.sigma[i]), "%.6e") << std::setw(15)
+        << Fixed(units::RadPerSecondToDegPerHour(t.ci_low[i]), "%.6e") << std::setw(16)
+        << Fixed(units::RadPerSecondToDegPerHour(t.ci_high[i]), "%.6e") << std::setw(10)
+        << Fixed(t.edf[i], "%.4g") << std::setw(11) << t.count[i] << "\n";
+  }
+  const allan::NoiseTermsEngineering e = allan::ToEngineeringUnits(r.fit.terms);
+  out << "\nNoise terms (joint non-negative weighted fit of sigma^2, IEEE Std 952-1997 Annex C; "
+      << ToString(r.fit.summary.termination) << ", " << r.fit.summary.points << " points):\n";
+  auto row = [&out](const char* symbol, const char* name, double value, double se,
+                    const char* unit) {
+    out << "  " << symbol << "  " << std::left << std::setw(20) << name << std::right
+        << std::setw(13) << Fixed(value, "%.4e") << " +- " << std::left << std::setw(11)
+        << Fixed(se, "%.2e") << std::right << unit << "\n";
+  };
+  row("Q", "quantization", e.q_arcsec, e.q_se, units::kQuantizationUnit);
+  row("N", "angle random walk", e.n_deg_sqrt_h, e.n_se, units::kArwUnit);
+  row("B", "bias instability", e.b_deg_h, e.b_se, units::kBiasUnit);
+  row("K", "rate random walk", e.k_deg_h_sqrt_h, e.k_se, units::kRrwUnit);
+  row("R", "rate ramp", e.r_deg_h2, e.r_se, units::kRampUnit);
+  if (!r.fit.summary.message.empty()) out << "  (" << r.fit.summary.message << ")\n";
+}
+
+void PrintAllanCsv(std::ostream& out, const AllanReport& r) {
+  const std::string u = UnitToken(r.rate_units);
+  const allan::AllanTable& t = r.table;
+  out << "# fogpipe allan: " << r.file << ", axis " << r.axis << ", " << r.samples << " samples at "
+      << r.sample_rate_hz << " Hz, " << allan::ToString(t.deviation) << ", " << r.taus
+      << " taus, CI " << r.confidence << "\n";
+  out << "tau_s,m,sigma_" << u << ",sigma_deg_h,ci_low_deg_h,ci_high_deg_h,edf,count\n";
+  auto g = [](double v) { return Fixed(v, "%.17g"); };
+  for (size_t i = 0; i < t.size(); ++i) {
+    out << g(t.tau_s[i]) << "," << t.m[i] << "," << g(ToFileUnit(t.sigma[i], r.rate_unit)) << ","
+        << g(units::RadPerSecondToDegPerHour(t.sigma[i])) << ","
+        << g(units::RadPerSecondToDegPerHour(t.ci_low[i])) << ","
+        << g(units::RadPerSecondToDegPerHour(t.ci_high[i])) << "," << g(t.edf[i]) << ","
+        << t.count[i] << "\n";
+  }
+}
+
+nlohmann::json AllanReportJson(const AllanReport& r) {
+  const allan::AllanTable& t = r.table;
+  const std::string u = UnitToken(r.rate_units);
+  nlohmann::json table;
+  std::vector<nlohmann::json> sigma_file, sigma_deg_h, low, high, edf;
+  for (size_t i = 0; i < t.size(); ++i) {
+    sigma_file.push_back(Number(ToFileUnit(t.sigma[i], r.rate_unit)));
+    sigma_deg_h.push_back(Number(units::RadPerSecondToDegPerHour(t.sigma[i])));
+    low.push_back(Number(units::RadPerSecondToDegPerHour(t.ci_low[i])));
+    high.push_back(Number(units::RadPerSecondToDegPerHour(t.ci_high[i])));
+    edf.push_back(Number(t.edf[i]));
+  }
+  table["tau_s"] = t.tau_s;
+  table["m"] = t.m;
+  table["sigma_" + u] = sigma_file;
+  table["sigma_deg_h"] = sigma_deg_h;
+  table["ci_low_deg_h"] = low;
+  table["ci_high_deg_h"] = high;
+  table["edf"] = edf;
+  table["count"] = t.count;
+  auto terms_json = [](const allan::NoiseTerms& terms) {
+    const allan::NoiseTermsEngineering e = allan::ToEngineeringUnits(terms);
+    return nlohmann::json{{"q_arcsec", Number(e.q_arcsec)},
+                          {"q_arcsec_se", Number(e.q_se)},
+                          {"n_deg_sqrt_h", Number(e.n_deg_sqrt_h)},
+                          {"n_deg_sqrt_h_se", Number(e.n_se)},
+                          {"b_deg_h", Number(e.b_deg_h)},
+                          {"b_deg_h_se", Number(e.b_se)},
+                          {"k_deg_h_sqrt_h", Number(e.k_deg_h_sqrt_h)},
+                          {"k_deg_h_sqrt_h_se", Number(e.k_se)},
+                          {"r_deg_h2", Number(e.r_deg_h2)},
+                          {"r_deg_h2_se", Number(e.r_se)}};
+  };
+  return nlohmann::json{
+      {"file", r.file},
+      {"axis", r.axis},
+      {"rate_units", r.rate_units},
+      {"sample_rate_hz", r.sample_rate_hz},
+      {"samples", r.samples},
+      {"nan_bridged", r.nan_bridged},
+      {"deviation", allan::ToString(t.deviation)},
+      {"taus", r.taus},
+      {"confidence", r.confidence},
+      {"table", table},
+      {"noise_terms", terms_json(r.fit.terms)},
+      {"noise_fit",
+       {{"termination", ToString(r.fit.summary.termination)},
+        {"message", r.fit.summary.message},
+        {"points", r.fit.summary.points},
+        {"chi2", Number(r.fit.chi2)},
+        {"dof", r.fit.dof}}},
+      {"slope_readoff", terms_json(r.fit.slope_readoff)},
+  };
+}
+
+}  // namespace fogpipe::io

@@ -1,0 +1,55 @@
+// The quick Allan report of one recording axis (`fogpipe allan`): tau grid parsing, the table in
+// the recording's rate unit and in deg/h, the five IEEE noise terms, and its text / CSV / JSON
+// renderings. The numbers come from fogpipe::allan (ComputeAllan, FitNoiseTerms); this file only
+// chooses, converts and prints.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "algorithms/allan/allan.h"
+#include "algorithms/allan/noise_fit.h"
+#include "algorithms/common/units.h"
+
+namespace fogpipe::io {
+
+/// Averaging factors of allantools' taus="log10" grid for n rate samples, as allantools
+/// 2024.06 builds it for frequency data (found by reproducing the reference table of
+/// adis16405_imu1 exactly): the phase has L = n + 1 points, taus = logspace(0, log10(L),
+/// int(10 log10(L))) samples, m = round(tau), unique, 1 <= m <= max_m. About 10 per decade.
+std::vector<long long> AllantoolsLog10Factors(long long n_samples, long long max_m);
+
+/// Parses a --taus value: "octave", "decade" (10 per decade), "decade:K", "all", or "log10"
+/// (allantools-compatible, see above). Fills `grid` (log10 becomes an explicit list for
+/// n_samples). Returns false with a message on anything else.
+bool ParseTauGrid(const std::string& text, long long n_samples, allan::Deviation deviation,
+                  allan::TauGridOptions* grid, std::string* error);
+
+/// Everything `fogpipe allan` prints.
+struct AllanReport {
+  std::string file;
+  std::string axis;
+  std::string rate_units;  ///< the recording's unit, e.g. "deg/s"
+  units::RateUnit rate_unit = units::RateUnit::kRadPerSecond;
+  double sample_rate_hz = 0.0;
+  long long samples = 0;
+  long long nan_bridged = 0;
+  std::string taus;           ///< the grid as asked, e.g. "octave"
+  double confidence = 0.683;  ///< of ci_low / ci_high
+  allan::AllanTable table;    ///< SI: sigma, ci_low, ci_high in rad/s
+  allan::NoiseFitResult fit;  ///< SI
+};
+
+/// Human-readable table + noise terms, units in every header.
+void PrintAllanText(std::ostream& out, const AllanReport& report);
+/// The table as CSV (header row with units; '#' comment lines before and after).
+void PrintAllanCsv(std::ostream& out, const AllanReport& report);
+/// One JSON object with the table and the terms (units in every key name).
+nlohmann::json AllanReportJson(const AllanReport& report);
+
+/// "deg/s" -> "deg_s", "deg/h" -> "deg_h", "rad/s" -> "rad_s": unit spelling for column names.
+std::string UnitToken(const std::string& units);
+
+}  // namespace fogpipe::io

@@ -1,0 +1,211 @@
+// `fogpipe allan` as a user runs it, checked against independent computations: a direct
+// (moving-average, no cumulative sum) overlapping Allan deviation written here, allantools'
+// published table of the real ADIS16405 recording, and allantools' tau grid.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+
+#include "pipeline/io/allan_report.h"
+#include "tests/pipeline/io/run_fogpipe.h"
+#include "tests/pipeline/io/test_recording_files.h"
+
+namespace fogpipe {
+namespace {
+
+using testing::Quote;
+using testing::RunFogpipe;
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// Deterministic white noise plus a slow random walk (std::mt19937_64 + Box-Muller: the same
+/// numbers on every platform).
+std::vector<double> Noise(int n, double white_sigma, double walk_sigma, uint64_t seed) {
+  std::mt19937_64 engine(seed);
+  auto uniform = [&engine] { return (static_cast<double>(engine() >> 11) + 0.5) * 0x1.0p-53; };
+  std::vector<double> y(n);
+  double walk = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const double u1 = uniform(), u2 = uniform();
+    const double r = std::sqrt(-2.0 * std::log(u1));
+    walk += walk_sigma * r * std::sin(2.0 * kPi * u2);
+    y[k] = 5.0 + white_sigma * r * std::cos(2.0 * kPi * u2) + walk;
+  }
+  return y;
+}
+
+/// Overlapping Allan deviation straight from its definition (IEEE Std 952-1997 eq. C.2 with
+/// overlapping clusters; NIST SP 1065 eq. 11): means of m consecutive samples, differences of
+/// adjacent means, summed in long double. Shares no code or algebra (no cumulative sum) with
+/// fogpipe::allan.
+long double DirectOadev(const std::vector<double>& y, int m) {
+  const int n = static_cast<int>(y.size());
+  std::vector<long double> mean(n - m + 1);
+  for (int k = 0; k + m <= n; ++k) {
+    long double s = 0;
+    for (int j = 0; j < m; ++j) s += y[k + j];
+    mean[k] = s / m;
+  }
+  long double sum = 0;
+  const int terms = n - 2 * m + 1;
+  for (int k = 0; k < terms; ++k) {
+    const long double d = mean[k + m] - mean[k];
+    sum += d * d;
+  }
+  return std::sqrt(sum / (2.0L * terms));
+}
+
+std::string WriteNoiseRecording(const testing::TempDir& dir, const std::vector<double>& y,
+                                const std::string& units, double rate_hz) {
+  const std::string path = dir.File("noise.h5");
+  testing::RawFile file(path);
+  file.Dataset("/rate", {y.size(), 1}, y, {H5T_IEEE_F64LE, {512, 1}, 4, true});
+  file.StringAttribute("/rate", "units", units);
+  file.StringArrayAttribute("/rate", "axes", {"z"});
+  file.DoubleAttribute("/", "sample_rate_hz", rate_hz);
+  return path;
+}
+
+TEST(AllanCommand, JsonTableEqualsTheDefinitionOfTheOverlappingAllanDeviation) {
+  testing::TempDir dir;
+  const std::vector<double> y = Noise(4000, 2.0, 0.01, 7);  // deg/h
+  const std::string path = WriteNoiseRecording(dir, y, "deg/h", 10.0);
+  const auto r = RunFogpipe("allan " + Quote(path) + " --axis z --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = nlohmann::json::parse(r.output);
+  EXPECT_EQ(j["axis"], "z");
+  EXPECT_EQ(j["rate_units"], "deg/h");
+  EXPECT_EQ(j["samples"], 4000);
+  const auto& t = j["table"];
+  const std::vector<long long> m = t["m"];
+  ASSERT_GE(m.size(), 10u);
+  for (size_t i = 0; i < m.size(); ++i) {
+    EXPECT_EQ(m[i], 1LL << i) << "octave grid";
+    EXPECT_DOUBLE_EQ(t["tau_s"][i].get<double>(), m[i] / 10.0);
+    EXPECT_EQ(t["count"][i].get<long long>(), 4000 - 2 * m[i] + 1);
+    const double expected = static_cast<double>(DirectOadev(y, static_cast<int>(m[i])));
+    // fogpipe sums a compensated cumulative sum in double; the direct form here sums in long
+    // double. Both are within ~1e-13 relative of the exact value for 4000 samples (error of a
+    // sum of n terms ~ n eps |terms| / |sum| with mean removed); 1e-9 leaves room and still
+    // catches any formula slip (a wrong normalisation is >= 1e-4 off).
+    EXPECT_NEAR(t["sigma_deg_h"][i].get<double>(), expected, 1e-9 * expected) << "m " << m[i];
+    const double low = t["ci_low_deg_h"][i], high = t["ci_high_deg_h"][i];
+    EXPECT_LT(low, expected);
+    EXPECT_GT(high, expected);
+  }
+  // White noise of 2 deg/h per sample at 10 Hz: N = 2 / sqrt(10) / 60 deg/sqrt(h)
+  // (sigma(tau) = N / sqrt(tau), IEEE 952 Annex C). 4000 samples give sigma(tau0) to
+  // 1/sqrt(2 * 4000 / 1.3) ~ 1.3 % (EDF of white noise at m = 1); the joint fit also spreads
+  // over the walk, so 10 % is a safe bound that still catches a unit slip (x 60, x 3600).
+  const double n_true = 2.0 / std::sqrt(10.0) / 60.0;
+  EXPECT_NEAR(j["noise_terms"]["n_deg_sqrt_h"].get<double>(), n_true, 0.1 * n_true);
+}
+
+TEST(AllanCommand, CsvAndTextCarryTheSameNumbersInTheRecordingUnitAndInDegPerHour) {
+  testing::TempDir dir;
+  const std::vector<double> y = Noise(3000, 0.01, 0.0, 11);  // rad/s
+  const std::string path = WriteNoiseRecording(dir, y, "rad/s", 100.0);
+  const auto csv = RunFogpipe("allan " + Quote(path) + " --csv --taus decade:5");
+  ASSERT_EQ(csv.exit_code, 0) << csv.output;
+  std::istringstream lines(csv.output);
+  std::string line;
+  std::getline(lines, line);
+  EXPECT_EQ(line.rfind("# fogpipe allan: ", 0), 0u) << line;
+  std::getline(lines, line);
+  EXPECT_EQ(line, "tau_s,m,sigma_rad_s,sigma_deg_h,ci_low_deg_h,ci_high_deg_h,edf,count");
+  int rows = 0;
+  while (std::getline(lines, line)) {
+    double tau, sigma_rad_s, sigma_deg_h;
+    long long m;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lld,%lf,%lf", &tau, &m, &sigma_rad_s, &sigma_deg_h),
+              4)
+        << line;
+    const double expected = static_cast<double>(DirectOadev(y, static_cast<int>(m)));
+    EXPECT_NEAR(sigma_rad_s, expected, 1e-9 * expected);
+    // 1 rad/s = 180/pi * 3600 deg/h, written out here rather than taken from units.h.
+    EXPECT_NEAR(sigma_deg_h, sigma_rad_s * 180.0 / kPi * 3600.0, 1e-14 * sigma_deg_h);
+    ++rows;
+  }
+  EXPECT_GE(rows, 10);  // 5 per decade over 3 decades, deduplicated at small m
+  const auto text = RunFogpipe("allan " + Quote(path));
+  ASSERT_EQ(text.exit_code, 0);
+  for (const char* header : {"tau [s]", "sigma [rad/s]", "sigma [deg/h]", "ci_low [deg/h]", "EDF",
+                             "count", "deg/sqrt(h)", "arcsec", "deg/h/sqrt(h)", "deg/h^2"}) {
+    EXPECT_NE(text.output.find(header), std::string::npos) << header << "\n" << text.output;
+  }
+}
+
+TEST(AllanCommand, ExitCodesSeparateBadRecordingsFromUsageErrors) {
+  testing::TempDir dir;
+  const std::string path = WriteNoiseRecording(dir, Noise(1000, 1.0, 0.0, 3), "deg/s", 1.0);
+  EXPECT_EQ(RunFogpipe("allan").exit_code, 2);
+  EXPECT_EQ(RunFogpipe("allan " + Quote(path) + " --taus weekly").exit_code, 2);
+  EXPECT_EQ(RunFogpipe("allan " + Quote(path) + " --taus decade:0").exit_code, 2);
+  const auto axis = RunFogpipe("allan " + Quote(path) + " --axis q", true);
+  EXPECT_EQ(axis.exit_code, 1);
+  EXPECT_NE(axis.output.find("has no axis 'q'"), std::string::npos) << axis.output;
+  const std::string text = dir.File("notes.h5");
+  std::ofstream(text) << "hello";
+  const auto bad = RunFogpipe("allan " + Quote(text), true);
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.output.find(text + ": is not an HDF5 file"), std::string::npos) << bad.output;
+}
+
+// allantools 2024.06 oadev(taus="log10") on 1e6 frequency samples at 100 Hz: the tau column of
+// adis16405_imu1_gyro_x_oadev_allantools.csv times 100 (the grid depends only on N, not on the
+// data). Lets this test run where the shared data is absent.
+TEST(AllanCommand, Log10GridIsAllantoolsGrid) {
+  const std::vector<long long> allantools_first = {1,  2,  3,  4,  5,  7,  8,  10,  13,  17,
+                                                   21, 27, 34, 42, 54, 68, 86, 108, 137, 173};
+  const std::vector<long long> m = io::AllantoolsLog10Factors(1000000, 500000);
+  ASSERT_EQ(m.size(), 54u);
+  EXPECT_EQ(std::vector<long long>(m.begin(), m.begin() + 20), allantools_first);
+  EXPECT_EQ(m.back(), 495354);  // tau 4953.54 s, the table's last row
+}
+
+std::string SharedRealImuDir() {
+  for (const std::string& dir : {std::string(FOGPIPE_SOURCE_DIR) + "/../shared/data/real-imu",
+                                 std::string("/work/shared/data/real-imu")}) {
+    if (std::filesystem::exists(dir + "/adis16405_imu1.h5")) return dir;
+  }
+  return "";
+}
+
+TEST(AllanCommand, AgreesWithAllantoolsOnTheRealAdis16405RecordingToItsPrintedDigits) {
+  const std::string dir = SharedRealImuDir();
+  if (dir.empty()) GTEST_SKIP() << "shared real-imu data not present (../shared/data/real-imu)";
+  const auto r =
+      RunFogpipe("allan " + Quote(dir + "/adis16405_imu1.h5") + " --axis x --taus log10 --csv");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream reference(dir + "/adis16405_imu1_gyro_x_oadev_allantools.csv");
+  std::vector<std::pair<double, double>> expected;  // tau_s, oadev deg/s
+  std::string line;
+  while (std::getline(reference, line)) {
+    double tau, sigma;
+    if (line.empty() || line[0] == '#') continue;
+    if (std::sscanf(line.c_str(), "%lf,%lf", &tau, &sigma) == 2) expected.push_back({tau, sigma});
+  }
+  ASSERT_EQ(expected.size(), 54u);
+  std::istringstream lines(r.output);
+  size_t row = 0;
+  while (std::getline(lines, line)) {
+    double tau, sigma;
+    long long m;
+    if (line.empty() || line[0] == '#' || line[0] == 't') continue;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lld,%lf", &tau, &m, &sigma), 3) << line;
+    ASSERT_LT(row, expected.size());
+    // allantools printed 6 significant digits: a value v is known to +-0.5 in its 6th digit,
+    // i.e. to 5e-6 relative at worst; 1e-5 relative (the bound) covers that.
+    EXPECT_NEAR(tau, expected[row].first, 1e-5 * expected[row].first) << "row " << row;
+    EXPECT_NEAR(sigma, expected[row].second, 1e-5 * expected[row].second) << "tau " << tau;
+    ++row;
+  }
+  EXPECT_EQ(row, expected.size());
+}
+
+}  // namespace
+}  // namespace fogpipe
