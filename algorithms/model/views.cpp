@@ -252,6 +252,7 @@ void ComputeAuxView(const Eigen::VectorXd& r, double fs, const std::vector<Prepa
     const AuxChannel& ch = *pa.channel;
     AuxChannelView cv;
     cv.name = ch.name;
+    cv.units = ch.units;
     const Eigen::VectorXd cl = BlockMeans(ch.values, block), dl = BlockMeans(pa.derivative, block);
     cv.lowpass.assign(cl.data(), cl.data() + cl.size());
     double ne = 0;

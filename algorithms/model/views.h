@@ -97,6 +97,7 @@ struct TimeView {
 
 struct AuxChannelView {
   std::string name;
+  std::string units;
   double r = 0, z = 0, r_derivative = 0, z_derivative = 0;
   std::vector<double> lowpass;  ///< block means of the channel
 };

@@ -54,7 +54,7 @@ simulation::GyroSimulatorOptions HiddenEffectOptions(std::uint64_t seed,
       }
       case Term::kTemperatureRate: {
         const double amp =
-            k(t, 3, 5) * NoiseAllanDeviation(e, 0.371 * o.temperature->period_s) / 0.725;
+            k(t, 4, 6) * NoiseAllanDeviation(e, 0.371 * o.temperature->period_s) / 0.725;
         e.temperature_rate->coefficient_rad_s_per_degC_per_s =
             Sign(e.temperature_rate->coefficient_rad_s_per_degC_per_s) * amp /
             simulation::MaxAbsTemperatureRate(*o.temperature);

