@@ -48,7 +48,8 @@ def allan_view(s, cj, out):
         if f["domain"] == "tau":
             ax.axvspan(f["from"], f["to"], color="red", alpha=0.15)
         if f["domain"] == "frequency":  # where the line shows in the Allan view: 0.371 / f
-            ax.axvspan(0.371 / f["to"], 0.371 / f["from"], color="orange", alpha=0.2)
+            t0 = 0.371 / (0.5 * (f["from"] + f["to"]))
+            ax.axvspan(t0 / 1.15, t0 * 1.15, color="orange", alpha=0.35)
     ax.fill_between(tau, lo, hi, color="C0", alpha=0.25, label="measured, 68 % CI")
     ax.loglog(tau, meas, "o-", color="C0", label="measured (residual)")
     ax.loglog(tau, model, "-", color="k", lw=2, label="model")
