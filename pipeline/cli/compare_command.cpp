@@ -1,17 +1,186 @@
-// fogpipe compare: not yet implemented (placeholder registered so the CLI links; see the open issue).
+// fogpipe compare: the model loop of issue 4.
+//
+//   fogpipe compare RECORDING [--model FILE | --terms a,b,c] [--add TERM ...] [--axis A] [--json]
+//                   [-o RESULTS] [--save-model FILE]
+//   fogpipe compare --history RESULTS
+//
+// Fits the model (algorithms/model/compare.h), prints the error, the failures and the ranked
+// suggestions (or, with --json, one JSON object with exactly error, consistent, failures,
+// suggestions, model), appends the step to RESULTS and optionally writes the model file that
+// `compare --model` and `run --model` read. The trial fits run in parallel (oneTBB); the numbers
+// do not depend on the thread count.
+//
+// Exit codes: 0 compared (consistent or not) or history printed; 1 a read/fit/write failed;
+// 2 invalid options.
+#include <tbb/parallel_for.h>
+
 #include <CLI/CLI.hpp>
-
+#include <cstdio>
 #include <iostream>
+#include <string>
+#include <vector>
 
+#include "algorithms/model/compare.h"
 #include "pipeline/cli/commands.h"
+#include "pipeline/io/model_history.h"
+#include "pipeline/io/recording_reader.h"
 
 namespace fogpipe::cli {
+namespace {
+
+struct CompareArguments {
+  std::string recording;
+  std::string model_file;
+  std::string terms;
+  std::vector<std::string> add;
+  std::string axis = "0";
+  bool json = false;
+  std::string results;
+  std::string save_model;
+  std::string history;
+};
+
+model::CompareResult RunCompare(const model::CompareInput& in,
+                                const std::vector<model::Term>& terms,
+                                const model::CompareOptions& o) {
+  model::CompareResult r;
+  const auto prepared =
+      model::PrepareAux(in.aux, in.rate_rad_s->size(), in.sample_rate_hz, o.views);
+  r.base = model::EvaluateModel(in, terms, o, &prepared);
+  r.summary.termination = r.base.termination;
+  r.summary.message = r.base.message;
+  if (!HasResult(r.base.termination) || r.base.views.consistent) return r;
+  const std::vector<model::Term> tt = model::TrialTerms(in, terms);
+  r.trials.resize(tt.size());
+  tbb::parallel_for(size_t{0}, tt.size(), [&](size_t i) {
+    std::vector<model::Term> with = terms;
+    with.push_back(tt[i]);
+    r.trials[i] = model::EvaluateModel(in, with, o, &prepared);
+  });
+  r.summary.num_trials = static_cast<int>(tt.size());
+  r.suggestions = model::RankSuggestions(r.base, tt, r.trials, o);
+  return r;
+}
+
+void PrintText(const model::CompareResult& r) {
+  const auto& v = r.base.views;
+  std::printf("error %.3g (%s; 1 = the family-wise 95 %% band)\n", v.error,
+              v.consistent ? "consistent" : "NOT consistent");
+  for (const auto& f : v.failures) {
+    if (f.domain == "aux")
+      std::printf("  fails in aux: channel %s, severity %.3g\n", f.channel.c_str(), f.severity);
+    else
+      std::printf("  fails in %s: %.4g .. %.4g %s, severity %.3g\n", f.domain.c_str(), f.from, f.to,
+                  f.domain == "frequency" ? "Hz" : "s", f.severity);
+  }
+  for (size_t i = 0; i < r.suggestions.size(); ++i) {
+    const auto& s = r.suggestions[i];
+    std::printf("%s %s: error after %.3g, delta BIC %.3g\n  %s\n", i == 0 ? "ADD" : "   ",
+                model::ToString(s.term), s.error_after, s.delta_bic, s.evidence.c_str());
+    for (const auto& p : s.parameters)
+      std::printf("    %s = %.5g +- %.2g %s\n", p.name.c_str(), p.value, p.standard_error,
+                  p.units.c_str());
+  }
+  std::printf("model:\n");
+  for (const auto& ft : r.base.fitted)
+    for (const auto& p : ft.parameters)
+      std::printf("  %-18s %-24s %.5g +- %.2g %s\n", ft.term.c_str(), p.name.c_str(), p.value,
+                  p.standard_error, p.units.c_str());
+}
+
+int PrintHistory(const std::string& results) {
+  const auto steps = io::ReadHistory(results);
+  std::printf("%-5s %-10s %-11s %-18s %s\n", "step", "error", "consistent", "next suggestion",
+              "terms");
+  double prev = 0;
+  for (const auto& s : steps) {
+    std::string terms;
+    for (const auto& t : s.terms) terms += (terms.empty() ? "" : ",") + t;
+    std::printf("%-5d %-10.4g %-11s %-18s %s", s.index, s.error, s.consistent ? "yes" : "no",
+                s.first_suggestion.empty() ? "-" : s.first_suggestion.c_str(), terms.c_str());
+    if (s.index > 0 && s.error > 0) std::printf("   (error x%.2g)", s.error / prev);
+    std::printf("\n");
+    prev = s.error;
+  }
+  return 0;
+}
+
+int Run(const CompareArguments& a) {
+  if (!a.history.empty()) return PrintHistory(a.history);
+  if (a.recording.empty()) {
+    std::cerr << "fogpipe compare: RECORDING is required (or --history RESULTS)\n";
+    return 2;
+  }
+  std::vector<model::Term> terms;
+  if (!a.model_file.empty()) {
+    terms = io::ReadModelFile(a.model_file).terms;
+  } else if (!a.terms.empty()) {
+    std::string err;
+    if (!model::ParseTermList(a.terms, &terms, &err)) {
+      std::cerr << "fogpipe compare: --terms: " << err << "\n";
+      return 2;
+    }
+  } else {
+    terms = model::DefaultTerms();
+  }
+  for (const auto& name : a.add) {
+    std::string err;
+    if (!model::ParseTermList(name, &terms, &err)) {
+      std::cerr << "fogpipe compare: --add: " << err << "\n";
+      return 2;
+    }
+  }
+  const io::RecordingInfo info = io::InspectRecording(a.recording);
+  io::ReadOptions ro;
+  const Eigen::VectorXd rate = io::ReadAxisRadPerSecond(a.recording, a.axis, ro);
+  model::CompareInput in;
+  in.rate_rad_s = &rate;
+  in.sample_rate_hz = info.sample_rate_hz;
+  in.latitude_deg = info.latitude_deg;
+  for (const auto& ch : info.aux) {
+    io::ReadOptions ao = ro;
+    ao.reject_constant = false;
+    in.aux.push_back({ch.name, ch.units, io::ReadAux(a.recording, ch.name, ao)});
+  }
+  const model::CompareOptions options;
+  const model::CompareResult r = RunCompare(in, terms, options);
+  if (!HasResult(r.summary.termination)) {
+    std::cerr << "fogpipe compare: " << ToString(r.summary.termination) << ": " << r.summary.message
+              << "\n";
+    return 1;
+  }
+  if (a.json)
+    std::cout << io::CompareJson(r).dump(2) << "\n";
+  else
+    PrintText(r);
+  if (!a.results.empty()) io::AppendHistory(a.results, a.recording, a.axis, r);
+  if (!a.save_model.empty()) io::WriteModelFile(a.save_model, r.base);
+  return 0;
+}
+
+}  // namespace
 
 void AddCompareCommand(CLI::App& app, int* exit_code) {
-  auto* cmd = app.add_subcommand("compare", "(not implemented yet)");
-  cmd->callback([exit_code]() {
-    std::cerr << "fogpipe compare: not implemented yet\n";
-    *exit_code = 2;
+  auto args = std::make_shared<CompareArguments>();
+  auto* cmd = app.add_subcommand(
+      "compare", "Compare a gyro model with a recording; name the missing effect (issue 4)");
+  cmd->add_option("recording", args->recording, "Contract-v1 recording (HDF5)");
+  auto* model = cmd->add_option("--model", args->model_file, "Model file (JSON) to start from");
+  cmd->add_option("--terms", args->terms, "Comma-separated catalog terms (bias is implicit)")
+      ->excludes(model);
+  cmd->add_option("--add", args->add, "Add a catalog term (repeatable)");
+  cmd->add_option("--axis", args->axis, "Axis name or index (default 0)");
+  cmd->add_flag("--json", args->json, "Print one JSON object");
+  cmd->add_option("-o,--results", args->results, "Append the step to this RESULTS file (HDF5)");
+  cmd->add_option("--save-model", args->save_model, "Write the fitted model file (JSON)");
+  cmd->add_option("--history", args->history, "Print the model history of a RESULTS file");
+  cmd->callback([args, exit_code]() {
+    try {
+      *exit_code = Run(*args);
+    } catch (const std::exception& e) {
+      std::cerr << "fogpipe compare: " << e.what() << "\n";
+      *exit_code = 1;
+    }
   });
 }
 

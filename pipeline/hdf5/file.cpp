@@ -9,13 +9,26 @@ namespace fogpipe::hdf5 {
 File::File(std::string path, std::unique_ptr<H5::H5File> file)
     : path_(std::move(path)), file_(std::move(file)) {}
 
+namespace {
+
+/// fogpipe reports HDF5's error stack inside hdf5::Error; the library's own printing to stderr
+/// is turned off for the calling thread (per-thread state; the caller holds the lock).
+void SilencePrinterLocked() {
+  H5::Exception::dontPrint();
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
+
+}  // namespace
+
 File File::OpenReadOnly(const std::string& path) {
+  SilencePrinterLocked();
   return detail::Checked(path, "", "open read-only", [&] {
     return File(path, std::make_unique<H5::H5File>(path, H5F_ACC_RDONLY));
   });
 }
 
 File File::Create(const std::string& path, bool overwrite) {
+  SilencePrinterLocked();
   return detail::Checked(path, "", "create file", [&] {
     H5::FileAccPropList access;
     access.setFcloseDegree(H5F_CLOSE_STRONG);

@@ -1,7 +1,8 @@
 // fogpipe::hdf5::File: opening inputs read-only and creating outputs.
 //
 // Requires the caller to hold LockHdf5() for the whole lifetime of the File and of every Group or
-// Dataset taken from it; throws hdf5::Error.
+// Dataset taken from it; throws hdf5::Error. Opening or creating a file also turns off HDF5's
+// automatic error printing for the calling thread (as SilenceHdf5ErrorPrinter() does).
 #pragma once
 
 #include <H5Cpp.h>

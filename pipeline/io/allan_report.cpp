@@ -1,6 +1,7 @@
 #include "pipeline/io/allan_report.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
@@ -65,7 +66,8 @@ bool ParseTauGrid(const std::string& text, long long n_samples, allan::Deviation
     grid->kind = allan::TauGridKind::kDecade;
     if (text != "decade") {
       const std::string k = text.substr(7);
-      if (k.empty() || k.size() > 4 || !std::all_of(k.begin(), k.end(), ::isdigit) ||
+      if (k.empty() || k.size() > 4 ||
+          !std::all_of(k.begin(), k.end(), [](unsigned char c) { return std::isdigit(c); }) ||
           std::stoi(k) < 1) {
         *error =
             "--taus decade:K needs a whole number K >= 1 of points per decade, got '" + k + "'";

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <set>
@@ -136,6 +137,7 @@ void CheckReadable(const std::string& path, long long* size_bytes) {
   if (!ec && *size_bytes == 0) {
     throw RecordingError(error_kind::kEmptyFile, path, "is empty (0 bytes), not an HDF5 file");
   }
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // problems are reported, not printed
   const htri_t is_hdf5 = H5Fis_hdf5(path.c_str());
   if (is_hdf5 == 0) {
     throw RecordingError(error_kind::kNotHdf5, path,
@@ -328,7 +330,9 @@ RecordingReader::RecordingReader(const std::string& path) : file_(OpenHdf5ReadOn
 int RecordingReader::AxisIndex(const std::string& axis) const {
   const auto found = std::find(info_.axis_names.begin(), info_.axis_names.end(), axis);
   if (found != info_.axis_names.end()) return static_cast<int>(found - info_.axis_names.begin());
-  if (!axis.empty() && std::all_of(axis.begin(), axis.end(), ::isdigit) && axis.size() < 9) {
+  if (!axis.empty() &&
+      std::all_of(axis.begin(), axis.end(), [](unsigned char c) { return std::isdigit(c); }) &&
+      axis.size() < 9) {
     const int index = std::stoi(axis);
     if (index < info_.axis_count) return index;
   }

@@ -1,0 +1,126 @@
+// Model against measurement (issue 4): fit a gyro model, compare it with the recording in five
+// views, report one dimensionless error, the failures, and a ranked list of the catalog terms
+// that would fix the misfit.
+//
+//   EvaluateModel: deterministic least squares (deterministic_fit.h) -> Allan variance of the
+//   residual -> stochastic NNLS fit (stochastic_fit.h) -> views, error, failures (views.h).
+//   TrialTerms / RankSuggestions: every catalog term not in the model is added in turn and the
+//   model re-evaluated (the pipeline runs these trials in parallel; Compare() runs them in order).
+//
+// Ranking. A trial is a candidate when the model is not consistent and the trial lowers the error
+// by at least 10 % (`min_improvement`). Thermal terms must in addition be supported by the aux
+// view (|z| of the residual against T, resp. dT/dt, above the aux view's critical value): a
+// temperature explanation is only offered when the residual actually follows the temperature.
+// Candidates are sorted by error_after; those within 15 % (+0.05) of the best error_after are
+// statistically indistinguishable on the error, and are ordered among themselves by delta_bic (the
+// simpler explanation first, Schwarz 1978). The first suggestion is the one to add.
+//
+// delta_bic. Rate-fitted terms: (n / lambda) ln(RSS_after / RSS_before) + dk ln(n / lambda), the
+// Gaussian BIC with the sample count deflated by the long-run variance ratio lambda of the
+// residual (coloured noise carries fewer independent samples than n). Allan-fitted terms:
+// chi2_after - chi2_before + dk ln(J) with chi2 the weighted NNLS cost over J taus.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "algorithms/common/status.h"
+#include "algorithms/model/catalog.h"
+#include "algorithms/model/deterministic_fit.h"
+#include "algorithms/model/stochastic_fit.h"
+#include "algorithms/model/views.h"
+
+namespace fogpipe::model {
+
+/// One recording axis and its aux channels (non-owning view of the rate).
+struct CompareInput {
+  const Eigen::VectorXd* rate_rad_s = nullptr;
+  double sample_rate_hz = 0;
+  std::vector<AuxChannel> aux;         ///< "temperature" (degC) feeds the thermal terms
+  std::optional<double> latitude_deg;  ///< root attribute latitude_deg, for the Earth-rate bias
+};
+
+struct CompareOptions {
+  DeterministicOptions deterministic;
+  StochasticFitOptions stochastic;
+  ViewOptions views;
+  double min_improvement = 0.9;  ///< a suggestion must bring error_after <= this * error
+  double tie_ratio = 1.15;       ///< error_after within tie_ratio * best + tie_offset ...
+  double tie_offset = 0.05;      ///< ... are ranked by delta_bic
+  bool IsValid(std::string* error) const;
+};
+
+/// A parameter as reported: value and standard error in engineer's units.
+struct Parameter {
+  std::string name;
+  double value = 0;
+  double standard_error = 0;
+  std::string units;
+};
+
+struct FittedTerm {
+  std::string term;  ///< catalog name, or "bias"
+  std::vector<Parameter> parameters;
+};
+
+/// One evaluated model.
+struct Evaluation {
+  std::vector<Term> terms;
+  DeterministicFit deterministic;
+  StochasticFit stochastic;
+  AllanData allan;
+  Views views;
+  std::vector<FittedTerm> fitted;  ///< bias first, then each term with its parameters
+  Termination termination = Termination::kSuccess;
+  std::string message;
+};
+
+struct Suggestion {
+  Term term = Term::kWhite;
+  double error_after = 0;
+  double delta_bic = 0;
+  std::vector<Parameter> parameters;
+  std::string evidence;
+};
+
+struct CompareSummary {
+  Termination termination = Termination::kSuccess;
+  std::string message;
+  int num_trials = 0;
+};
+
+struct CompareResult {
+  Evaluation base;
+  std::vector<Evaluation> trials;  ///< one per TrialTerms() entry
+  std::vector<Suggestion> suggestions;
+  CompareSummary summary;
+};
+
+/// Fits `terms` (bias implicit) and computes the views. `prepared` (from PrepareAux on the
+/// input's aux channels) may be shared between evaluations of one input; null: prepared here.
+Evaluation EvaluateModel(const CompareInput& input, const std::vector<Term>& terms,
+                         const CompareOptions& options,
+                         const std::vector<PreparedAux>* prepared = nullptr);
+
+/// The catalog terms to trial-fit: every term not in `terms` (sinusoid always: there may be
+/// several), thermal terms only with an aux "temperature".
+std::vector<Term> TrialTerms(const CompareInput& input, const std::vector<Term>& terms);
+
+/// Builds the ranked suggestions from the base evaluation and the trials (trial i adds
+/// TrialTerms()[i]).
+std::vector<Suggestion> RankSuggestions(const Evaluation& base,
+                                        const std::vector<Term>& trial_terms,
+                                        const std::vector<Evaluation>& trials,
+                                        const CompareOptions& options);
+
+/// EvaluateModel + every trial + RankSuggestions, sequentially. Trials are run only when the base
+/// model is not consistent.
+CompareResult Compare(const CompareInput& input, const std::vector<Term>& terms,
+                      const CompareOptions& options);
+
+/// The parameters of `term` in an evaluation (the last sinusoid for kSinusoid), engineer's units.
+std::vector<Parameter> ParametersOf(const Evaluation& e, Term term);
+
+}  // namespace fogpipe::model

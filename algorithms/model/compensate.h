@@ -1,0 +1,42 @@
+// Compensation of the deterministic effects of a fitted gyro model (issue 4: `fogpipe run --model
+// FILE` removes them before the EMD, AR and Kalman stages, so adding an effect to the model also
+// improves the filtered output and its Allan tables).
+//
+// The effects are re-evaluated on the recording being compensated (deterministic_fit.h,
+// EvaluateDeterministic): temperature terms use that recording's aux temperature (smoothed and
+// differentiated exactly as in the fit), bias_step and warmup use time from its first sample.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+
+#include "algorithms/common/status.h"
+#include "algorithms/model/deterministic_fit.h"
+
+namespace fogpipe::model {
+
+struct CompensateOptions {
+  /// Also subtract the fitted constant bias (off by default: the bias is part of the gyro's
+  /// output that the later stages and the Allan tables ignore anyway).
+  bool subtract_bias = false;
+  bool IsValid(std::string* error) const { return true; }
+};
+
+struct CompensationSummary {
+  Termination termination = Termination::kSuccess;
+  std::string message;
+  int num_effects = 0;  ///< deterministic components subtracted
+};
+
+struct Compensation {
+  Eigen::VectorXd rate_rad_s;  ///< input minus the effects, rad/s
+  CompensationSummary summary;
+};
+
+/// rate - effects(model). temperature_degc may be null only if the model has no thermal term
+/// (otherwise kInsufficientData and an empty rate).
+Compensation Compensate(const Eigen::VectorXd& rate_rad_s, double sample_rate_hz,
+                        const Eigen::VectorXd* temperature_degc, const DeterministicModel& model,
+                        const CompensateOptions& options);
+
+}  // namespace fogpipe::model

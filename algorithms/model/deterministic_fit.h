@@ -1,0 +1,106 @@
+// Joint least-squares fit of the bias and the deterministic effects of the gyro model:
+//
+//   rate(t) = bias + c_T (T - T_ref) + c_dT dTs/dt + sum_i [a_i cos(2 pi f_i t) + b_i sin(2 pi f_i
+//   t)]
+//             + D 1{t >= t_s} + A exp(-t / tau_w) + noise
+//
+// The model is linear in every amplitude; the nonlinear parameters (f_i, t_s, tau_w) are found by
+// 1-D searches with all amplitudes profiled out (variable projection, Golub & Pereyra 1973):
+//   - warm-up time constant: log-spaced grid then golden-section search on log(tau_w);
+//   - step time: CUSUM scan of the residual (Page 1954; Hinkley 1970), then the exact profile RSS
+//     in a neighbourhood;
+//   - sinusoid frequency: the largest peak of the zero-padded periodogram of the residual relative
+//     to a band-median background, then golden-section refinement of the profile RSS (Rife &
+//     Boorstyn 1974: this is the maximum-likelihood frequency in white noise).
+// Coordinate-descent passes then re-optimise each nonlinear parameter with the others fixed (full
+// searches for the warm-up and the step, a local golden-section search for the frequencies).
+//
+// Temperature: T_ref is the mean temperature of the record. dT/dt is the slope of a local
+// least-squares line over a centred window of temperature_smoothing_s (Savitzky & Golay 1964),
+// because differencing a sampled, noisy temperature amplifies its noise by fs.
+//
+// Standard errors: the residual of a gyro is coloured (bias instability, rate random walk), so the
+// ordinary least-squares covariance is too optimistic for slowly varying regressors. We use the
+// batch-means sandwich covariance (X'X)^-1 [sum_b s_b s_b'] (X'X)^-1 with s_b = X_b' r_b over 32
+// contiguous blocks (a cluster-robust estimator; cf. Newey & West 1987), never smaller than OLS.
+// Nonlinear parameters get theirs from the linearised model (Jacobian column); the step time from
+// Hinkley's (1970) scale sigma_lr^2 / D^2 with sigma_lr^2 the long-run variance.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "algorithms/common/status.h"
+#include "algorithms/model/catalog.h"
+
+namespace fogpipe::model {
+
+struct DeterministicOptions {
+  /// Window of the local least-squares slope that gives dT/dt, s.
+  double temperature_smoothing_s = 120.0;
+  /// A step is searched in [margin, 1 - margin] of the record (an edge step is a warm-up or bias).
+  double step_margin_fraction = 0.02;
+  /// Warm-up time constants searched, s: [max(min_warmup_tau_s, 3/fs), record / 3].
+  double min_warmup_tau_s = 5.0;
+  /// A sinusoid must complete at least this many cycles in the record (slower is drift).
+  double min_sinusoid_cycles = 3.0;
+  /// Coordinate-descent passes over the nonlinear parameters after initialisation.
+  int refinement_passes = 2;
+  bool IsValid(std::string* error) const;
+};
+
+/// One fitted deterministic component. Values in SI: rate coefficients in rad/s per unit of the
+/// regressor; the nonlinear parameter in Hz (sinusoid) or s (bias_step time, warmup constant).
+struct DeterministicComponent {
+  Term term = Term::kTemperature;
+  double nonlinear = 0.0;     ///< frequency_hz | step_time_s | time_constant_s; 0 if none
+  double nonlinear_se = 0.0;  ///< its standard error (same units)
+  /// Linear coefficients: temperature rad/s/degC; temperature_rate rad/s/(degC/s); sinusoid
+  /// (cosine, sine) rad/s; bias_step size rad/s; warmup amplitude rad/s at t = 0.
+  std::vector<double> coefficients;
+  std::vector<double> coefficients_se;
+};
+
+/// Everything needed to evaluate (and so compensate) the deterministic part on a recording.
+struct DeterministicModel {
+  double bias_rad_s = 0.0;
+  double bias_se_rad_s = 0.0;
+  double temperature_ref_degc = 0.0;
+  double temperature_smoothing_s = 120.0;
+  std::vector<DeterministicComponent> components;
+};
+
+struct DeterministicSummary {
+  Termination termination = Termination::kSuccess;
+  std::string message;
+  int num_parameters = 0;  ///< linear + nonlinear parameters, bias included
+  long num_samples = 0;
+};
+
+struct DeterministicFit {
+  DeterministicModel model;
+  Eigen::VectorXd residual;  ///< rate - bias - effects, rad/s
+  double rss = 0.0;          ///< sum of squared residuals, (rad/s)^2
+  /// Long-run to short-run variance ratio of the residual (batch means); >= 1 for coloured noise.
+  double long_run_variance_ratio = 1.0;
+  DeterministicSummary summary;
+};
+
+/// Fits bias + the rate-fitted terms of `terms` (others are ignored). `temperature_degc` may be
+/// null; terms that need it then make the fit fail with kInsufficientData.
+DeterministicFit FitDeterministic(const Eigen::VectorXd& rate_rad_s, double sample_rate_hz,
+                                  const Eigen::VectorXd* temperature_degc,
+                                  const std::vector<Term>& terms,
+                                  const DeterministicOptions& options);
+
+/// The smoothed temperature derivative used by temperature_rate, degC/s.
+Eigen::VectorXd SmoothedDerivative(const Eigen::VectorXd& temperature_degc, double sample_rate_hz,
+                                   double smoothing_s);
+
+/// Evaluates the effects (without the bias when include_bias is false), rad/s, on n samples.
+Eigen::VectorXd EvaluateDeterministic(const DeterministicModel& model, long n,
+                                      double sample_rate_hz,
+                                      const Eigen::VectorXd* temperature_degc, bool include_bias);
+
+}  // namespace fogpipe::model

@@ -1,0 +1,51 @@
+// Spectral estimates used by the model comparison: a zero-padded periodogram (to locate lines) and
+// Welch's averaged periodogram (Welch 1967) for the frequency view, plus a robust band-median
+// background against which lines are judged.
+//
+// All PSDs are one-sided: the variance of x equals the integral of psd over [0, fs/2].
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+namespace fogpipe::model {
+
+struct Spectrum {
+  std::vector<double> frequency_hz;
+  std::vector<double> psd;  ///< one-sided, (units of x)^2 / Hz
+  /// Equivalent degrees of freedom of each psd value: psd / E[psd] ~ chi2(dof) / dof.
+  double dof = 2.0;
+  int segment_length = 0;  ///< samples per FFT segment (before zero padding)
+};
+
+/// Periodogram of x - mean(x), zero padded to the next power of two >= pad_factor * n (pad_factor
+/// >= 1). Rectangular window: best resolution for locating a line's frequency.
+Spectrum Periodogram(const Eigen::VectorXd& x, double sample_rate_hz, int pad_factor);
+
+/// Welch PSD with Hann windows of `segment_length` samples (a power of two is fastest) and 50 %
+/// overlap. dof from Welch (1967) for Hann/50 %: nu = 36 K^2 / (19 K - 1), K segments.
+Spectrum WelchPsd(const Eigen::VectorXd& x, double sample_rate_hz, int segment_length);
+
+/// A smooth background for line detection: for each bin, the median of the psd over a band of
+/// bins [j / ratio, j * ratio] widened to at least min_bins, divided by the median of chi2(dof)/dof
+/// so that it estimates the mean. Robust to the lines themselves (a line is a few bins).
+std::vector<double> BandMedianBackground(const Spectrum& s, double ratio, int min_bins);
+
+/// Median of chi2(nu)/nu (Wilson-Hilferty approximation; exact enough for nu >= 2).
+double ChiSquareMedianOverNu(double nu);
+
+/// Standard normal deviate of a ratio r = estimate / expectation distributed as chi2(nu)/nu
+/// (Wilson & Hilferty 1931). Positive when the estimate is above its expectation.
+double WilsonHilfertyZ(double ratio, double nu);
+
+/// z with upper-tail probability p: Phi^{-1}(1 - p), accurate for tiny p.
+double UpperTailZ(double p);
+
+/// Two-sided family-wise critical |z| for `count` tests at total level alpha (Bonferroni):
+/// Phi^{-1}(1 - alpha / (2 count)).
+double BonferroniCriticalZ(int count, double alpha);
+
+/// One-sided family-wise critical z for `count` tests: Phi^{-1}(1 - alpha / count).
+double BonferroniCriticalZOneSided(int count, double alpha);
+
+}  // namespace fogpipe::model

@@ -1,0 +1,149 @@
+// The five views of model against measurement (issue 4) and the dimensionless `error`.
+//
+// Every view reduces to standardized statistics z that are ~N(0, 1) when the model is right:
+//   - Allan (domain "tau"): at octave taus, r = s2_meas / s2_model ~ chi2(nu)/nu with nu the
+//     Greenhall-Riley EDF shrunk by a relative model-shape tolerance c (nu' = 2 / (2/edf + c^2));
+//     z by Wilson & Hilferty (1931), two-sided. Octave spacing limits the correlation of taus.
+//   - Frequency ("frequency"): lines. The 2x zero-padded periodogram of the residual over the
+//     model PSD (its shape; the level is scaled so that the median ratio is ln 2): each bin is
+//     S(f) Exp(1) under the model, so the exact tail exp(-ratio) gives a one-sided z. Lines slower
+//     than min_line_cycles per record are left to the Allan view. The Welch PSD is for display.
+//   - Time ("time"): differences of adjacent window means of the residual over their model
+//     standard deviation sqrt(2 sigma_A^2(window)) (the definition of the Allan variance), at a
+//     half-window stride and windows of record/time_windows x 1, 2, 4, 8; and each window's
+//     variance against the pooled variance (chi2(L-1)).
+//   - Aux ("aux"): for each aux channel and its smoothed derivative, the score test of "rate +=
+//     c * channel" under the fitted noise model, in the frequency domain (Whittle 1953): the
+//     generalised least-squares t-statistic of c. For display and the evidence sentences, Pearson
+//     r of the low-frequency residual (block means) with the channel (and its derivative).
+//   - IMF: diagnostic only (imf_view.h); not part of the error.
+// Each view's statistic S_v = max |z| (max z for lines) is divided by its family-wise critical
+// value c_v: Bonferroni at level alpha / V over the view's count (V = number of scored views).
+//
+//   error = max_v (S_v / c_v)^2,   consistent = error <= 1.
+//
+// The square makes the error a chi-square-like ratio (like a reduced chi-square, it scales with the
+// energy of the misfit): error <= 1 means every view is inside its family-wise (1 - alpha) band,
+// so a correct model is declared inconsistent with probability at most alpha (Bonferroni); error 9
+// means the worst deviation is three times the width of that band. Under a correct model the
+// error is typically 0.3-0.7. A failure is a run of statistics above c_v: a tau range, a frequency
+// band, a time window, or an aux channel; severity = (max |z| / c_v)^2 over the run.
+#pragma once
+
+#include <Eigen/Core>
+#include <complex>
+#include <string>
+#include <vector>
+
+#include "algorithms/model/stochastic_fit.h"
+
+namespace fogpipe::model {
+
+/// One aux channel sampled with the rate (input contract v1 /aux/<name>).
+struct AuxChannel {
+  std::string name;   ///< e.g. "temperature"
+  std::string units;  ///< e.g. "degC"
+  Eigen::VectorXd values;
+};
+
+struct ViewOptions {
+  double alpha = 0.05;              ///< family-wise false-alarm level of `consistent`
+  double relative_floor = 0.05;     ///< Allan model-shape tolerance c (closed forms are idealised)
+  double max_tau_fraction = 0.125;  ///< octave taus up to record * this (EDF >= ~4)
+  int welch_segments = 16;          ///< Welch segment ~ n / this, rounded down to a power of two
+  int psd_skip_bins = 4;            ///< lowest Welch bins not displayed (Hann leakage)
+  double min_line_cycles = 3.0;     ///< lines slower than this many cycles per record: Allan view
+  int time_windows = 64;            ///< finest windows of the time view: record / this
+  double aux_block_s = 60.0;        ///< block-mean length of the low-frequency residual
+  double aux_smoothing_s = 120.0;   ///< smoothing before differentiating an aux channel
+  bool IsValid(std::string* error) const;
+};
+
+/// Allan variance of the residual at the view's taus, from fogpipe::allan.
+struct AllanData {
+  std::vector<double> tau_s, avar, edf, ci_low, ci_high;  ///< avar (rad/s)^2; ci on sigma, rad/s
+};
+
+struct Failure {
+  std::string domain;  ///< "tau" | "frequency" | "time" | "aux"
+  double from = 0;     ///< s, Hz or s (NaN for aux)
+  double to = 0;
+  std::string channel;  ///< aux channel ("temperature" or "d(temperature)/dt"); empty otherwise
+  double severity = 0;  ///< max |z| / critical over the failure (> 1)
+};
+
+struct AllanView {
+  std::vector<double> tau_s, avar_meas, avar_model, ci_low, ci_high, edf, z;
+  std::vector<std::string> term_names;
+  std::vector<std::vector<double>> term_avar;  ///< per term, at tau_s
+  double statistic = 0, critical = 1;
+};
+
+struct FrequencyView {
+  std::vector<double> frequency_hz, psd, model_psd, z;
+  double dof = 2, scale = 1;
+  std::vector<double> line_frequency_hz, line_z;  ///< significant lines (local maxima)
+  double statistic = 0, critical = 1;
+};
+
+struct TimeView {
+  double window_s = 0;
+  std::vector<double> center_s, mean, variance, z_variance;  ///< per window
+  /// Mean changes: boundary time, window length either side, z (octave scales, half stride).
+  std::vector<double> boundary_s, boundary_window_s, z_mean;
+  std::vector<double> change_point_s;
+  double statistic = 0, critical = 1;
+};
+
+struct AuxChannelView {
+  std::string name;
+  std::string units;
+  double r = 0, z = 0, r_derivative = 0, z_derivative = 0;
+  std::vector<double> lowpass;  ///< block means of the channel
+};
+
+struct AuxView {
+  std::vector<double> block_center_s, residual_lowpass;
+  std::vector<AuxChannelView> channels;
+  double statistic = 0, critical = 1;
+};
+
+struct Views {
+  AllanView allan;
+  FrequencyView frequency;
+  TimeView time;
+  AuxView aux;
+  double error = 0;
+  bool consistent = true;
+  std::vector<Failure> failures;
+};
+
+/// Octave averaging factors m = 1, 2, 4, ... with m / fs <= record * max_tau_fraction.
+std::vector<long long> ViewAveragingFactors(long n, const ViewOptions& options);
+
+/// Allan variance of the residual at ViewAveragingFactors, with EDF (fogpipe::allan).
+AllanData ResidualAllan(const Eigen::VectorXd& residual, double sample_rate_hz,
+                        const ViewOptions& options);
+
+/// An aux channel prepared once per recording (smoothed derivative, DFTs of both), shared by the
+/// base model and every trial fit.
+struct PreparedAux {
+  const AuxChannel* channel = nullptr;
+  Eigen::VectorXd derivative;  ///< smoothed d/dt, units/s
+  std::vector<std::complex<double>> dft, dft_derivative;
+};
+
+/// Prepares the aux channels that have the rate's length n (others are skipped).
+std::vector<PreparedAux> PrepareAux(const std::vector<AuxChannel>& aux, long n,
+                                    double sample_rate_hz, const ViewOptions& options);
+
+/// Computes the four scored views, the error, consistency and failures.
+Views ComputeViews(const Eigen::VectorXd& residual, double sample_rate_hz,
+                   const std::vector<PreparedAux>& aux, const StochasticModel& model,
+                   const AllanData& allan, const ViewOptions& options);
+
+/// Pearson r and Bretherton n_eff of two equally long series.
+void CorrelationWithEffectiveDof(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double* r,
+                                 double* n_eff);
+
+}  // namespace fogpipe::model

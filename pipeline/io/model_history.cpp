@@ -1,0 +1,272 @@
+#include "pipeline/io/model_history.h"
+
+#include <H5Cpp.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "pipeline/hdf5/atomic_output_file.h"
+#include "pipeline/hdf5/file.h"
+#include "pipeline/hdf5/group.h"
+#include "pipeline/hdf5/hdf5_lock.h"
+
+namespace fogpipe::io {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+json Number(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+json ParametersJson(const std::vector<model::Parameter>& ps) {
+  json o = json::object();
+  for (const auto& p : ps)
+    o[p.name] = {{"value", Number(p.value)},
+                 {"standard_error", Number(p.standard_error)},
+                 {"units", p.units}};
+  return o;
+}
+
+std::string NowUtc() {
+  std::time_t t = std::time(nullptr);
+  char buf[32];
+  std::strftime(buf, sizeof(buf), "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return buf;
+}
+
+void WriteText(const fs::path& path, const std::string& text) {
+  const fs::path tmp = path.string() + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream f(tmp);
+    if (!f) throw std::runtime_error("cannot write " + tmp.string());
+    f << text;
+    if (!f) throw std::runtime_error("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, path);
+}
+
+void WriteViews(hdf5::Group& g, const model::Evaluation& e) {
+  const model::Views& v = e.views;
+  hdf5::Group a = g.CreateGroup("allan");
+  a.WriteDataset("tau_s", v.allan.tau_s, "s");
+  a.WriteDataset("avar_meas", v.allan.avar_meas, "(rad/s)^2");
+  a.WriteDataset("avar_model", v.allan.avar_model, "(rad/s)^2");
+  a.WriteDataset("ci_low", v.allan.ci_low, "rad/s");
+  a.WriteDataset("ci_high", v.allan.ci_high, "rad/s");
+  a.WriteDataset("edf", v.allan.edf, "1");
+  a.WriteDataset("z", v.allan.z, "1");
+  a.WriteDoubleAttribute("statistic", v.allan.statistic);
+  a.WriteDoubleAttribute("critical", v.allan.critical);
+  hdf5::Group terms = a.CreateGroup("terms");
+  for (size_t i = 0; i < v.allan.term_names.size(); ++i)
+    terms.WriteDataset(v.allan.term_names[i], v.allan.term_avar[i], "(rad/s)^2");
+  hdf5::Group f = g.CreateGroup("frequency");
+  f.WriteDataset("frequency_hz", v.frequency.frequency_hz, "Hz");
+  f.WriteDataset("psd", v.frequency.psd, "(rad/s)^2/Hz");
+  f.WriteDataset("model_psd", v.frequency.model_psd, "(rad/s)^2/Hz");
+  f.WriteDataset("line_frequency_hz", v.frequency.line_frequency_hz, "Hz");
+  f.WriteDataset("line_z", v.frequency.line_z, "1");
+  f.WriteDoubleAttribute("statistic", v.frequency.statistic);
+  f.WriteDoubleAttribute("critical", v.frequency.critical);
+  hdf5::Group t = g.CreateGroup("time");
+  t.WriteDataset("center_s", v.time.center_s, "s");
+  t.WriteDataset("mean", v.time.mean, "rad/s");
+  t.WriteDataset("variance", v.time.variance, "(rad/s)^2");
+  t.WriteDataset("z_variance", v.time.z_variance, "1");
+  t.WriteDataset("boundary_s", v.time.boundary_s, "s");
+  t.WriteDataset("boundary_window_s", v.time.boundary_window_s, "s");
+  t.WriteDataset("z_mean", v.time.z_mean, "1");
+  t.WriteDataset("change_point_s", v.time.change_point_s, "s");
+  t.WriteDoubleAttribute("window_s", v.time.window_s);
+  t.WriteDoubleAttribute("statistic", v.time.statistic);
+  t.WriteDoubleAttribute("critical", v.time.critical);
+  hdf5::Group x = g.CreateGroup("aux");
+  x.WriteDataset("block_center_s", v.aux.block_center_s, "s");
+  x.WriteDataset("residual_lowpass", v.aux.residual_lowpass, "rad/s");
+  x.WriteDoubleAttribute("statistic", v.aux.statistic);
+  x.WriteDoubleAttribute("critical", v.aux.critical);
+  for (const auto& c : v.aux.channels) {
+    hdf5::Group cg = x.CreateGroup(c.name);
+    cg.WriteDataset("lowpass", c.lowpass, c.units.empty() ? "1" : c.units);
+    cg.WriteDoubleAttribute("r", c.r);
+    cg.WriteDoubleAttribute("z", c.z);
+    cg.WriteDoubleAttribute("r_derivative", c.r_derivative);
+    cg.WriteDoubleAttribute("z_derivative", c.z_derivative);
+  }
+}
+
+}  // namespace
+
+json ModelJson(const model::Evaluation& e) {
+  json terms = json::array();
+  for (model::Term t : e.terms) terms.push_back(model::ToString(t));
+  json fitted = json::array();
+  for (const auto& ft : e.fitted)
+    fitted.push_back({{"term", ft.term}, {"parameters", ParametersJson(ft.parameters)}});
+  return {{"terms", terms}, {"fitted", fitted}};
+}
+
+json CompareJson(const model::CompareResult& r) {
+  json failures = json::array();
+  for (const auto& f : r.base.views.failures) {
+    json o = {{"domain", f.domain}, {"severity", Number(f.severity)}};
+    if (f.domain == "aux") {
+      o["channel"] = f.channel;
+    } else {
+      o["from"] = Number(f.from);
+      o["to"] = Number(f.to);
+    }
+    failures.push_back(o);
+  }
+  json suggestions = json::array();
+  for (const auto& s : r.suggestions)
+    suggestions.push_back({{"term", model::ToString(s.term)},
+                           {"error_after", Number(s.error_after)},
+                           {"delta_bic", Number(s.delta_bic)},
+                           {"parameters", ParametersJson(s.parameters)},
+                           {"evidence", s.evidence}});
+  return {{"error", Number(r.base.views.error)},
+          {"consistent", r.base.views.consistent},
+          {"failures", failures},
+          {"suggestions", suggestions},
+          {"model", ModelJson(r.base)}};
+}
+
+void WriteModelFile(const std::string& path, const model::Evaluation& e) {
+  const auto& d = e.deterministic.model;
+  json comps = json::array();
+  for (const auto& c : d.components)
+    comps.push_back({{"term", model::ToString(c.term)},
+                     {"nonlinear", c.nonlinear},
+                     {"coefficients", c.coefficients}});
+  json out = {{"format", "fogpipe-model-1"},
+              {"terms", ModelJson(e)["terms"]},
+              {"deterministic",
+               {{"bias_rad_s", d.bias_rad_s},
+                {"temperature_ref_degC", d.temperature_ref_degc},
+                {"temperature_smoothing_s", d.temperature_smoothing_s},
+                {"components", comps}}},
+              {"model", ModelJson(e)}};
+  WriteText(path, out.dump(2) + "\n");
+}
+
+ModelFile ReadModelFile(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) throw std::runtime_error(path + ": cannot open model file");
+  json j;
+  try {
+    f >> j;
+  } catch (const std::exception& ex) {
+    throw std::runtime_error(path + ": not JSON: " + ex.what());
+  }
+  if (j.value("format", "") != "fogpipe-model-1")
+    throw std::runtime_error(path + ": not a fogpipe-model-1 file");
+  ModelFile m;
+  try {
+    for (const auto& t : j.at("terms")) {
+      auto term = model::ParseTerm(t.get<std::string>());
+      if (!term) throw std::runtime_error("unknown term '" + t.get<std::string>() + "'");
+      m.terms.push_back(*term);
+    }
+    const json& d = j.at("deterministic");
+    m.deterministic.bias_rad_s = d.at("bias_rad_s").get<double>();
+    m.deterministic.temperature_ref_degc = d.at("temperature_ref_degC").get<double>();
+    m.deterministic.temperature_smoothing_s = d.at("temperature_smoothing_s").get<double>();
+    for (const auto& c : d.at("components")) {
+      model::DeterministicComponent comp;
+      auto term = model::ParseTerm(c.at("term").get<std::string>());
+      if (!term || !model::IsFittedOnRate(*term))
+        throw std::runtime_error("bad deterministic term");
+      comp.term = *term;
+      comp.nonlinear = c.at("nonlinear").get<double>();
+      comp.coefficients = c.at("coefficients").get<std::vector<double>>();
+      comp.coefficients_se.assign(comp.coefficients.size(), 0.0);
+      m.deterministic.components.push_back(comp);
+    }
+  } catch (const std::exception& ex) {
+    throw std::runtime_error(path + ": " + ex.what());
+  }
+  return m;
+}
+
+int AppendHistory(const std::string& results, const std::string& recording, const std::string& axis,
+                  const model::CompareResult& r) {
+  auto lock = hdf5::LockHdf5();
+  const fs::path final_path = fs::absolute(results);
+  const fs::path tmp = hdf5::MakeAtomicTempPath(final_path);
+  int index = 0;
+  try {
+    std::unique_ptr<H5::H5File> file;
+    if (fs::exists(final_path)) {
+      fs::copy_file(final_path, tmp, fs::copy_options::overwrite_existing);
+      file = std::make_unique<H5::H5File>(tmp.string(), H5F_ACC_RDWR);
+    } else {
+      file = std::make_unique<H5::H5File>(tmp.string(), H5F_ACC_EXCL);
+    }
+    hdf5::Group root(tmp.string(), "/", file->openGroup("/"));
+    hdf5::Group compare = root.RequireGroup("compare");
+    index =
+        compare.HasAttribute("steps") ? static_cast<int>(compare.ReadInt64Attribute("steps")) : 0;
+    char name[32];
+    std::snprintf(name, sizeof(name), "step_%03d", index);
+    hdf5::Group step = compare.CreateGroup(name);
+    std::vector<std::string> terms;
+    for (model::Term t : r.base.terms) terms.push_back(model::ToString(t));
+    step.WriteStringArrayAttribute("terms", terms);
+    step.WriteDoubleAttribute("error", r.base.views.error);
+    step.WriteInt64Attribute("consistent", r.base.views.consistent ? 1 : 0);
+    step.WriteStringAttribute("first_suggestion",
+                              r.suggestions.empty() ? "" : model::ToString(r.suggestions[0].term));
+    step.WriteStringAttribute("recording", recording);
+    step.WriteStringAttribute("axis", axis);
+    step.WriteStringAttribute("created_utc", NowUtc());
+    const json cj = CompareJson(r);
+    step.WriteTextDataset("compare_json", cj.dump());
+    step.WriteTextDataset("model_json", cj["model"].dump());
+    WriteViews(step, r.base);
+    compare.WriteInt64Attribute("steps", index + 1);
+    file->flush(H5F_SCOPE_GLOBAL);
+    file->close();
+    fs::rename(tmp, final_path);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
+  }
+  return index;
+}
+
+std::vector<HistoryStep> ReadHistory(const std::string& results) {
+  auto lock = hdf5::LockHdf5();
+  hdf5::File f = hdf5::File::OpenReadOnly(results);
+  hdf5::Group root = f.Root();
+  if (root.KindOf("compare") != hdf5::ObjectKind::kGroup)
+    throw std::runtime_error(results + ": no /compare history");
+  hdf5::Group compare = root.OpenGroup("compare");
+  const int steps = static_cast<int>(compare.ReadInt64Attribute("steps"));
+  std::vector<HistoryStep> out;
+  for (int i = 0; i < steps; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "step_%03d", i);
+    hdf5::Group s = compare.OpenGroup(name);
+    HistoryStep h;
+    h.index = i;
+    h.terms = s.ReadStringArrayAttribute("terms");
+    h.error = s.ReadDoubleAttribute("error");
+    h.consistent = s.ReadInt64Attribute("consistent") != 0;
+    h.first_suggestion = s.ReadStringAttribute("first_suggestion");
+    h.recording = s.ReadStringAttribute("recording");
+    const auto text = s.OpenDataset("model_json").ReadStrings();
+    h.model_json = text.empty() ? "" : text[0];
+    out.push_back(h);
+  }
+  return out;
+}
+
+}  // namespace fogpipe::io

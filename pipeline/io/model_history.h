@@ -1,0 +1,57 @@
+// Files of the model loop (issue 4): the model file (JSON, `fogpipe compare --save-model FILE`,
+// read by `compare --model FILE` and `run --model FILE`) and the model history in a RESULTS HDF5
+// file (`compare -o RESULTS` appends a step; `compare --history RESULTS` prints it). Layouts:
+// schemas/model-file.md and schemas/model-history.md.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "algorithms/model/compare.h"
+
+namespace fogpipe::io {
+
+/// The JSON object `compare --json` prints: exactly error, consistent, failures, suggestions,
+/// model.
+nlohmann::json CompareJson(const model::CompareResult& result);
+
+/// The "model" object: {"terms": [...], "fitted": [{"term", "parameters": {name: {value,
+/// standard_error, units}}}]}.
+nlohmann::json ModelJson(const model::Evaluation& evaluation);
+
+/// A model file: the terms, the SI deterministic model (enough to compensate) and the fitted
+/// parameters for people.
+struct ModelFile {
+  std::vector<model::Term> terms;
+  model::DeterministicModel deterministic;
+};
+
+/// Writes the model file of an evaluation (atomically: temporary name then rename). Throws
+/// std::runtime_error on I/O errors.
+void WriteModelFile(const std::string& path, const model::Evaluation& evaluation);
+/// Reads a model file. Throws std::runtime_error naming the file and the problem.
+ModelFile ReadModelFile(const std::string& path);
+
+/// One step of the history as stored.
+struct HistoryStep {
+  int index = 0;
+  std::vector<std::string> terms;
+  double error = 0;
+  bool consistent = false;
+  std::string first_suggestion;  ///< "" when none
+  std::string recording;
+  std::string model_json;  ///< the "model" object
+};
+
+/// Appends the comparison as the next step under /compare in `results` (created if missing),
+/// with the views' arrays for the report (scripts/report.py). Atomic: the new file is written
+/// under a temporary name in the same folder and renamed over `results`. Takes the HDF5 lock.
+/// Returns the new step's index. Throws hdf5::Error / std::runtime_error.
+int AppendHistory(const std::string& results, const std::string& recording, const std::string& axis,
+                  const model::CompareResult& result);
+
+/// Reads every step (takes the HDF5 lock). Throws on a file without /compare.
+std::vector<HistoryStep> ReadHistory(const std::string& results);
+
+}  // namespace fogpipe::io

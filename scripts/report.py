@@ -1,0 +1,193 @@
+#!/usr/bin/python3
+"""Picture report of `fogpipe compare` (issue 4), from a RESULTS file's /compare history.
+
+    /usr/bin/python3 scripts/report.py RESULTS.h5 -o DIR [--step N]
+
+Writes DIR/allan.png, psd.png, time.png, aux.png and history.png (Debian python3-matplotlib,
+python3-h5py, numpy only). Each picture shows where the model fails: failing tau ranges, lines,
+time windows and aux channels are shaded or marked in red. Layout: schemas/model-history.md.
+"""
+import argparse
+import json
+import os
+
+import h5py
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+RAD_S_TO_DEG_H = 180.0 / np.pi * 3600.0
+
+
+def load_step(f, step):
+    g = f["compare"]
+    steps = int(g.attrs["steps"])
+    index = steps - 1 if step is None else step
+    s = g["step_%03d" % index]
+    cj = s["compare_json"][()]
+    cj = json.loads(cj.decode() if isinstance(cj, bytes) else cj)
+    return index, s, cj
+
+
+def title(s, cj, what):
+    terms = [t.decode() if isinstance(t, bytes) else t for t in s.attrs["terms"]]
+    state = "consistent" if cj["consistent"] else "NOT consistent"
+    return "%s  |  error %.3g (%s)\nmodel: bias + %s" % (what, cj["error"], state, " + ".join(terms))
+
+
+def allan_view(s, cj, out):
+    a = s["allan"]
+    tau = a["tau_s"][()]
+    meas = np.sqrt(a["avar_meas"][()]) * RAD_S_TO_DEG_H
+    model = np.sqrt(a["avar_model"][()]) * RAD_S_TO_DEG_H
+    lo, hi = a["ci_low"][()] * RAD_S_TO_DEG_H, a["ci_high"][()] * RAD_S_TO_DEG_H
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    for f in cj["failures"]:
+        if f["domain"] == "tau":
+            ax.axvspan(f["from"], f["to"], color="red", alpha=0.15)
+        if f["domain"] == "frequency":  # where the line shows in the Allan view: 0.371 / f
+            t0 = 0.371 / (0.5 * (f["from"] + f["to"]))
+            ax.axvspan(t0 / 1.15, t0 * 1.15, color="orange", alpha=0.35)
+    ax.fill_between(tau, lo, hi, color="C0", alpha=0.25, label="measured, 68 % CI")
+    ax.loglog(tau, meas, "o-", color="C0", label="measured (residual)")
+    ax.loglog(tau, model, "-", color="k", lw=2, label="model")
+    for name in a["terms"]:
+        v = np.sqrt(np.maximum(a["terms"][name][()], 0)) * RAD_S_TO_DEG_H
+        if np.any(v > 0):
+            ax.loglog(tau, np.where(v > 0, v, np.nan), "--", lw=1, label=name)
+    ax.set_xlabel("tau [s]")
+    ax.set_ylabel("Allan deviation [deg/h]")
+    ax.set_title(title(s, cj, "Allan view (red: failing tau; orange: a line's tau)"), fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "allan.png"), dpi=110)
+    plt.close(fig)
+
+
+def psd_view(s, cj, out):
+    g = s["frequency"]
+    f = g["frequency_hz"][()]
+    scale = RAD_S_TO_DEG_H ** 2
+    fig, ax = plt.subplots(figsize=(8, 5))
+    ax.loglog(f, g["psd"][()] * scale, color="C0", lw=0.8, label="residual PSD (Welch)")
+    ax.loglog(f, g["model_psd"][()] * scale, color="k", lw=2, label="model PSD")
+    for fl in cj["failures"]:
+        if fl["domain"] == "frequency":
+            ax.axvspan(fl["from"], fl["to"], color="red", alpha=0.3)
+    for fl in g["line_frequency_hz"][()]:
+        ax.axvline(fl, color="red", ls=":", lw=1)
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("PSD [(deg/h)^2/Hz]")
+    ax.set_title(title(s, cj, "Frequency view (red: significant lines)"), fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "psd.png"), dpi=110)
+    plt.close(fig)
+
+
+def time_view(s, cj, out):
+    g = s["time"]
+    c = g["center_s"][()] / 3600.0
+    fig, (a1, a2, a3) = plt.subplots(3, 1, figsize=(8, 7), sharex=True)
+    a1.plot(c, g["mean"][()] * RAD_S_TO_DEG_H, "o-", ms=3)
+    a1.set_ylabel("window mean\n[deg/h]")
+    a2.plot(c, np.sqrt(g["variance"][()]) * RAD_S_TO_DEG_H, "o-", ms=3, color="C1")
+    a2.set_ylabel("window sd\n[deg/h]")
+    b = g["boundary_s"][()] / 3600.0
+    z = g["z_mean"][()]
+    w = g["boundary_window_s"][()]
+    for win in np.unique(w):
+        m = w == win
+        a3.plot(b[m], z[m], ".-", ms=2, lw=0.8, label="window %.0f s" % win)
+    crit = g.attrs["critical"]
+    a3.axhline(crit, color="red", ls="--", lw=1)
+    a3.axhline(-crit, color="red", ls="--", lw=1)
+    a3.set_ylabel("jump z")
+    a3.legend(fontsize=6, ncol=4)
+    for ax in (a1, a2, a3):
+        for fl in cj["failures"]:
+            if fl["domain"] == "time":
+                ax.axvspan(fl["from"] / 3600.0, fl["to"] / 3600.0, color="red", alpha=0.15)
+        for cp in g["change_point_s"][()]:
+            ax.axvline(cp / 3600.0, color="red", lw=1)
+        ax.grid(True, alpha=0.3)
+    a3.set_xlabel("time [h]")
+    a1.set_title(title(s, cj, "Time view (red: failing windows, change points)"), fontsize=9)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "time.png"), dpi=110)
+    plt.close(fig)
+
+
+def aux_view(s, cj, out):
+    g = s["aux"]
+    names = [n for n in g.keys() if isinstance(g[n], h5py.Group)]
+    if not names:
+        return
+    t = g["block_center_s"][()] / 3600.0
+    r = g["residual_lowpass"][()] * RAD_S_TO_DEG_H
+    failing = {fl["channel"] for fl in cj["failures"] if fl["domain"] == "aux"}
+    fig, axes = plt.subplots(len(names), 1, figsize=(8, 3.2 * len(names)), squeeze=False)
+    for ax, name in zip(axes[:, 0], names):
+        ch = g[name]
+        ax.plot(t, r, color="C0", lw=0.8, label="low-frequency residual [deg/h]")
+        ax.set_ylabel("residual [deg/h]")
+        ax2 = ax.twinx()
+        bad = name in failing or ("d(%s)/dt" % name) in failing
+        ax2.plot(t[: len(ch["lowpass"])], ch["lowpass"][()], color="red" if bad else "C1", lw=1.5)
+        ax2.set_ylabel("%s [%s]" % (name, ch["lowpass"].attrs.get("units", "")))
+        ax.set_title("%s: r = %.2f (z %.1f), with d/dt: r = %.2f (z %.1f), critical |z| %.2f%s" % (
+            name, ch.attrs["r"], ch.attrs["z"], ch.attrs["r_derivative"], ch.attrs["z_derivative"],
+            g.attrs["critical"], "  FAILS" if bad else ""), fontsize=9)
+        ax.set_xlabel("time [h]")
+    fig.suptitle(title(s, cj, "Aux view"), fontsize=9)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "aux.png"), dpi=110)
+    plt.close(fig)
+
+
+def history_view(f, out):
+    g = f["compare"]
+    steps = int(g.attrs["steps"])
+    err, labels = [], []
+    for i in range(steps):
+        s = g["step_%03d" % i]
+        err.append(s.attrs["error"])
+        terms = [t.decode() if isinstance(t, bytes) else t for t in s.attrs["terms"]]
+        labels.append(terms[-1] if i > 0 else "default")
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.semilogy(range(steps), err, "o-", lw=2)
+    ax.axhline(1.0, color="green", ls="--", label="consistent below 1")
+    ax.set_xticks(range(steps))
+    ax.set_xticklabels(["%d: +%s" % (i, l) if i else "0: default" for i, l in enumerate(labels)],
+                       fontsize=8, rotation=15)
+    ax.set_ylabel("error")
+    ax.set_title("Model history: how the error fell")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "history.png"), dpi=110)
+    plt.close(fig)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("results")
+    p.add_argument("-o", "--output", required=True)
+    p.add_argument("--step", type=int, default=None, help="history step (default: the last)")
+    a = p.parse_args()
+    os.makedirs(a.output, exist_ok=True)
+    with h5py.File(a.results, "r") as f:
+        _, s, cj = load_step(f, a.step)
+        allan_view(s, cj, a.output)
+        psd_view(s, cj, a.output)
+        time_view(s, cj, a.output)
+        aux_view(s, cj, a.output)
+        history_view(f, a.output)
+
+
+if __name__ == "__main__":
+    main()

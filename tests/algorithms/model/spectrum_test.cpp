@@ -1,0 +1,68 @@
+#include "algorithms/model/spectrum.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace fogpipe::model {
+namespace {
+
+Eigen::VectorXd WhiteNoise(long n, double sigma, std::uint64_t seed) {
+  std::mt19937_64 g(seed);
+  Eigen::VectorXd x(n);
+  for (long i = 0; i < n; i += 2) {  // Box-Muller
+    const double u1 = (static_cast<double>(g() >> 11) + 0.5) * 0x1.0p-53;
+    const double u2 = static_cast<double>(g() >> 11) * 0x1.0p-53;
+    const double r = std::sqrt(-2.0 * std::log(u1));
+    x[i] = sigma * r * std::cos(2 * M_PI * u2);
+    if (i + 1 < n) x[i + 1] = sigma * r * std::sin(2 * M_PI * u2);
+  }
+  return x;
+}
+
+TEST(Spectrum, WelchPsdOfWhiteNoiseIsTwiceTheVarianceOverTheSampleRate) {
+  const double fs = 10.0, sigma = 2.0;
+  const Spectrum s = WelchPsd(WhiteNoise(1 << 17, sigma, 1), fs, 1024);
+  double mean = 0;
+  int count = 0;
+  for (size_t k = 1; k + 1 < s.psd.size(); ++k, ++count) mean += s.psd[k];
+  mean /= count;
+  // One-sided level 2 sigma^2 / fs = 0.8. The average of 511 bins, each with dof ~ 2 * 255 * 0.95,
+  // has a relative sd ~ 1 / sqrt(511 * 240) = 0.3 %; 2 % covers it and correlated bins.
+  EXPECT_NEAR(mean, 2 * sigma * sigma / fs, 0.02 * 0.8);
+  EXPECT_GT(s.dof, 400.0);  // Welch (1967): ~1.9 K for Hann / 50 %
+}
+
+TEST(Spectrum, PeriodogramPeaksAtTheLineFrequency) {
+  const double fs = 10.0, f0 = 0.123;
+  Eigen::VectorXd x = WhiteNoise(20000, 1.0, 2);
+  for (long i = 0; i < x.size(); ++i) x[i] += 0.5 * std::sin(2 * M_PI * f0 * i / fs);
+  const Spectrum s = Periodogram(x, fs, 2);
+  size_t best = 1;
+  for (size_t k = 1; k < s.psd.size(); ++k)
+    if (s.psd[k] > s.psd[best]) best = k;
+  // The padded grid spacing is fs / 65536; the peak is within one spacing of f0.
+  EXPECT_NEAR(s.frequency_hz[best], f0, s.frequency_hz[1]);
+}
+
+TEST(Spectrum, WilsonHilfertyAndNormalTailsMatchKnownQuantiles) {
+  EXPECT_NEAR(UpperTailZ(0.025), 1.959964, 1e-5);
+  EXPECT_NEAR(UpperTailZ(1e-10), 6.361341, 1e-4);
+  EXPECT_NEAR(BonferroniCriticalZ(1, 0.05), 1.959964, 1e-5);
+  // chi2(10)/10 upper 5 % point is 1.8307: Wilson-Hilferty gives z ~ 1.645 there (to ~0.01).
+  EXPECT_NEAR(WilsonHilfertyZ(1.8307, 10), 1.645, 0.02);
+  EXPECT_NEAR(WilsonHilfertyZ(ChiSquareMedianOverNu(20), 20), 0.0, 1e-12);
+}
+
+TEST(Spectrum, BandMedianBackgroundOfWhiteNoiseIsItsMeanLevel) {
+  const Spectrum s = Periodogram(WhiteNoise(1 << 16, 1.0, 3), 1.0, 1);
+  const std::vector<double> bg = BandMedianBackground(s, 1.25, 33);
+  // Level 2. From bin 2000 on the band holds >= 900 values; the sample median of m Exp values has
+  // relative sd 1 / (ln 2 sqrt(m)) = 4.8 %, so 15 % is 3 sd (plus 1.3 % for Wilson-Hilferty's
+  // median of chi2(2)/2, 0.702, against the exact ln 2).
+  for (size_t k = 2000; k < bg.size(); k += 997) EXPECT_NEAR(bg[k], 2.0, 0.3) << k;
+}
+
+}  // namespace
+}  // namespace fogpipe::model
