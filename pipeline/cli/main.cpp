@@ -26,6 +26,13 @@ int main(int argc, char** argv) {
   fogpipe::cli::AddPlanCommand(app, &exit_code);
   fogpipe::cli::AddMergeCommand(app, &exit_code);
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version are "errors" with exit code 0; every other parse error is a usage
+    // error, which fogpipe documents as exit code 2 (not CLI11's own codes).
+    const int cli_code = app.exit(e);
+    return cli_code == 0 ? 0 : 2;
+  }
   return exit_code;
 }
