@@ -11,10 +11,13 @@
 namespace fogpipe::allan {
 namespace {
 
-// White FM (alpha 0), white PM (alpha 2, differenced white angle), random-walk FM (alpha -2) and
-// flicker FM (alpha -1), 2^16 samples, at m with >= 1024 averages: there the lag-1 estimate of
-// rho has a standard error ~1/sqrt(1024) = 0.03 against the +-0.25 rounding margin (flicker's
-// long memory biases r1 of short series, which is why fewer averages are not asserted).
+// White FM (alpha 0), white PM (alpha 2, differenced white angle) and random-walk FM (alpha -2),
+// 2^16 samples, at m with >= 1024 averages: there the lag-1 estimate of rho has a standard error
+// ~1/sqrt(1024) = 0.03 against the +-0.25 rounding margin. Flicker FM (alpha -1) is asserted at
+// m = 1 only: for m-averaged flicker the lag-1 statistic itself sits near the -1 / -2 boundary
+// (estimates -1.35 .. -1.76 at m = 4..256 over seeds 7..10, -1.02 .. -0.98 at m = 1), a property
+// of the method that Stable32 shares: its report on simulated flicker FM (pink/, checked in
+// allan_test) says alpha -2 at m = 2..32 and -1 at m = 1, and we reproduce those rows.
 TEST(IdentifyNoise, RecognizesPowerLawTypesOfSimulatedNoiseByLag1Autocorrelation) {
   const long long n = 1 << 16;
   struct Case {
@@ -33,6 +36,7 @@ TEST(IdentifyNoise, RecognizesPowerLawTypesOfSimulatedNoiseByLag1Autocorrelation
   for (const Case& c : cases) {
     const Eigen::VectorXd phase = MeanRemovedPhase(testing::SimulateGyro(c.truth, n, 1.0, 7));
     for (long long m : {1LL, 4LL, 16LL, 64LL}) {
+      if (c.alpha == -1 && m > 1) continue;
       const NoiseId id = IdentifyNoise(phase, m, 2);
       EXPECT_EQ(id.method, NoiseIdMethod::kLag1Autocorrelation);
       EXPECT_EQ(id.alpha, c.alpha)
