@@ -11,6 +11,7 @@ namespace {
 constexpr std::uint64_t kLevelStream = 0x4C45'5645'4C53ULL;        // base levels
 constexpr std::uint64_t kTemperatureStream = 0x5445'4D50'0000ULL;  // chamber cycle
 constexpr std::uint64_t kTermStream = 0x4144'4400'0000ULL;         // added terms
+constexpr std::uint64_t kPaperDriftStream = 0x5441'4235'0000ULL;   // Table 5 ratios
 
 double LogUniform(RandomSource* rng, double lo, double hi) {
   return std::exp(rng->Uniform(std::log(lo), std::log(hi)));
@@ -75,6 +76,17 @@ GyroSimulatorOptions NavigationGradeOptions(std::uint64_t seed) {
   o.sample_rate_hz = 10.0;
   o.duration_s = 6.0 * 3600.0;
   o.temperature = NavigationGradeTemperature(seed);
+  return o;
+}
+
+GyroSimulatorOptions PaperDriftOptions(std::uint64_t seed) {
+  GyroSimulatorOptions o = PaperOptions(seed);
+  RandomSource rng(DeriveSeed(seed, kPaperDriftStream));
+  // Ratios to N in the units Table 5 prints (deg/sqrt(h), deg/h, deg/h/sqrt(h)); see the header.
+  const double n_deg_sqrt_h = units::ArwToDegPerSqrtHour(o.errors.n_rad_sqrt_s);
+  o.errors.k_rad_s_sqrt_s =
+      units::DegPerHourSqrtHourToRrw(rng.Uniform(350.0, 411.0) * n_deg_sqrt_h);
+  o.errors.b_rad_s = units::DegPerHourToBias(rng.Uniform(4.99, 7.07) * n_deg_sqrt_h);
   return o;
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "algorithms/common/units.h"
+#include "algorithms/simulation/gyro_simulator.h"
 
 namespace fogpipe::simulation {
 namespace {
@@ -51,6 +52,63 @@ TEST(NavigationGrade, PaperProfileIsOneHourAtOneHertzWithTheSameLevels) {
   EXPECT_EQ(paper.sample_rate_hz, 1.0);
   EXPECT_FALSE(paper.temperature.has_value());
   EXPECT_EQ(paper.errors.b_rad_s, NavigationGradeOptions(3).errors.b_rad_s);
+}
+
+// PaperDriftOptions: PaperOptions plus B and K at the paper's Table 5 raw ratios to N.
+TEST(NavigationGrade, PaperDriftProfileSetsBAndKAtTheTable5RatiosToN) {
+  for (std::uint64_t seed = 0; seed < kSeeds; ++seed) {
+    SCOPED_TRACE(seed);
+    const GyroSimulatorOptions paper = PaperOptions(seed);
+    const GyroSimulatorOptions o = PaperDriftOptions(seed);
+    EXPECT_EQ(o.duration_s, 3600.0);
+    EXPECT_EQ(o.sample_rate_hz, 1.0);
+    EXPECT_EQ(o.seed, seed);
+    EXPECT_FALSE(o.temperature.has_value());
+    EXPECT_EQ(o.errors.n_rad_sqrt_s, paper.errors.n_rad_sqrt_s);
+    EXPECT_EQ(o.errors.q_rad, paper.errors.q_rad);
+    EXPECT_EQ(o.errors.bias_rad_s, paper.errors.bias_rad_s);
+    EXPECT_EQ(o.errors.r_rad_s2, 0.0);
+    const double n = ArwToDegPerSqrtHour(o.errors.n_rad_sqrt_s);
+    const double k_over_n = RrwToDegPerHourSqrtHour(o.errors.k_rad_s_sqrt_s) / n;
+    const double b_over_n = BiasToDegPerHour(o.errors.b_rad_s) / n;
+    // Table 5 raw rows: K/N = 350.1 (VG941) .. 410.6 (VG951), B/N = 4.99 .. 7.07.
+    EXPECT_TRUE(k_over_n >= 350.0 && k_over_n <= 411.0) << k_over_n;
+    EXPECT_TRUE(b_over_n >= 4.99 && b_over_n <= 7.07) << b_over_n;
+    std::string error;
+    EXPECT_TRUE(o.IsValid(&error)) << error;
+  }
+  EXPECT_NE(PaperDriftOptions(1).errors.k_rad_s_sqrt_s, PaperDriftOptions(2).errors.k_rad_s_sqrt_s);
+}
+
+// With K/N ~ 380 per hour the Allan terms cross at tau = sqrt(3) N / K ~ 15 s (IEEE Std 952-1997
+// C.1, C.4: N^2 / tau = K^2 tau / 3), so the white floor rules at 1 s and the rate random walk
+// rules the long taus: check it on the simulated record with non-overlapping cluster averages.
+TEST(NavigationGrade, PaperDriftRecordIsWhiteAtOneSecondAndRandomWalkAtLongTau) {
+  const GyroSimulatorOptions o = PaperDriftOptions(7);
+  const SimulatedRecording rec = SimulateGyro(o);
+  ASSERT_EQ(rec.summary.termination, Termination::kSuccess) << rec.summary.message;
+  const Eigen::VectorXd& x = rec.rate_rad_s;
+  auto avar = [&x](int m) {  // non-overlapped Allan variance at tau = m s (1 Hz)
+    const int clusters = static_cast<int>(x.size()) / m;
+    double sum = 0.0;
+    for (int c = 0; c + 1 < clusters; ++c) {
+      const double d = x.segment((c + 1) * m, m).mean() - x.segment(c * m, m).mean();
+      sum += d * d;
+    }
+    return sum / (2.0 * (clusters - 1));
+  };
+  const double n2 = o.errors.n_rad_sqrt_s * o.errors.n_rad_sqrt_s;
+  const double k2 = o.errors.k_rad_s_sqrt_s * o.errors.k_rad_s_sqrt_s;
+  const double q2 = o.errors.q_rad * o.errors.q_rad;
+  // tau = 1 s: white + quantization (3 Q^2 / tau^2, comparable to N^2 at this grade) + K^2 / 3.
+  // 3599 clusters: relative sd of the estimate ~ sqrt(2 / 3598) = 2.4 %; the bias-instability
+  // floor (2 ln 2 / pi) B^2 adds < 1 % (B = 5..7 N deg/h vs N 60 deg/h per sqrt(Hz)); 10 % covers
+  // 4 sigma plus that.
+  EXPECT_NEAR(avar(1) / (n2 + 3.0 * q2 + k2 / 3.0), 1.0, 0.10);
+  // tau = 300 s: 11 clusters, about 6 degrees of freedom for random walk (NIST SP 1065 Table 5),
+  // so a 95 % interval of x0.21..x2.4 (chi-square / 6); the white and quantization terms are ~1 %.
+  const double ratio = avar(300) / (n2 / 300.0 + 3.0 * q2 / 9e4 + k2 * 300.0 / 3.0);
+  EXPECT_TRUE(ratio > 0.2 && ratio < 3.0) << ratio;
 }
 
 TEST(NavigationGrade, BiasInstabilityFloorIsPoint664B) {
