@@ -1,0 +1,39 @@
+#include "algorithms/method/component.h"
+
+namespace fogpipe::method {
+
+bool ComponentModel::ok() const {
+  return HasResult(fit.summary.termination) && HasResult(kalman.summary.termination);
+}
+
+std::string ComponentModel::message() const {
+  if (!HasResult(fit.summary.termination)) return "AR fit: " + fit.summary.message;
+  if (!HasResult(kalman.summary.termination)) return "Kalman filter: " + kalman.summary.message;
+  return "";
+}
+
+ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_variance,
+                              const ComponentOptions& options) {
+  ComponentModel out;
+  out.white_noise_variance = white_noise_variance;
+  if (x.size() > 0 && (x.array() == x[0]).all()) {
+    // A constant component (e.g. a residue that is exactly flat) has no dynamics to model and
+    // nothing to filter: it passes through unchanged, recorded as order 0.
+    out.fit.model.mean = x[0];
+    out.fit.summary.termination = Termination::kSuccess;
+    out.fit.summary.message = "constant component: passed through without a model";
+    out.kalman.filtered = x;
+    out.kalman.summary.termination = Termination::kSuccess;
+    out.kalman.summary.message = out.fit.summary.message;
+    return out;
+  }
+  out.fit = ar::FitAr(x, options.ar);
+  if (!HasResult(out.fit.summary.termination)) return out;
+  kalman::ArKalmanOptions kalman_options = options.kalman;
+  kalman_options.mean = out.fit.model.mean;
+  out.kalman = kalman::FilterAr(x, out.fit.model.phi, out.fit.model.innovation_variance,
+                                white_noise_variance, kalman_options);
+  return out;
+}
+
+}  // namespace fogpipe::method

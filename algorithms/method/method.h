@@ -1,0 +1,89 @@
+// The paper's whole method on one axis (Liu, Liu & Shen 2018; method.md steps 1-4), as plain
+// functions without threads. The flow graph (pipeline/graph) runs the same stages in its nodes,
+// the per-component stage in parallel; RunMethod() chains them serially (tests, small tools).
+//
+//   x --Preprocess--> s --EMD--> imf_1..imf_n, residue
+//     method 1: per component AR(p by BIC) + Kalman -> x1 = sum filtered IMFs + filtered residue
+//               (eq. 12, summed in component order so the result never depends on scheduling)
+//     method 2: one AR (order by BIC, or fixed: the paper's AR(6)) + one Kalman filter on s
+//   Allan tables and Q, N, B, K, R for s (raw), x1 (method 1) and x2 (method 2).
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "algorithms/allan/allan.h"
+#include "algorithms/allan/noise_fit.h"
+#include "algorithms/common/status.h"
+#include "algorithms/emd/emd.h"
+#include "algorithms/method/component.h"
+#include "algorithms/method/preprocess.h"
+
+namespace fogpipe::method {
+
+struct MethodOptions {
+  PreprocessOptions preprocess;
+  emd::EmdOptions emd;
+  /// AR and Kalman options of every IMF and of the residue (method 1).
+  ComponentOptions component;
+  /// Method 2's AR order: 0 = by BIC up to component.ar.max_order; the paper used 6.
+  int direct_ar_order = 0;
+  allan::AllanOptions allan;
+  allan::NoiseFitOptions noise_fit;
+
+  bool IsValid(std::string* error) const;
+};
+
+/// An Allan table with the five noise terms fitted to it.
+struct AllanEvaluation {
+  allan::AllanResult allan;
+  allan::NoiseFitResult noise;
+};
+
+struct MethodSummary {
+  Termination termination = Termination::kInvalidOptions;
+  std::string message;
+  int num_imfs = 0;
+};
+
+struct MethodResult {
+  Preprocessed preprocessed;
+  emd::EmdResult decomposition;
+  /// One per IMF, then the residue (index num_imfs).
+  std::vector<ComponentModel> components;
+  /// Method 1: sum of the filtered components (eq. 12), units of the input, mean removed.
+  Eigen::VectorXd method1;
+  /// Method 2: the direct AR + Kalman on the preprocessed signal.
+  ComponentModel direct;
+  AllanEvaluation raw_allan, method1_allan, method2_allan;
+  MethodSummary summary;
+};
+
+/// Runs body(i) for i in [0, n). The flow graph passes a tbb::parallel_for; every body writes
+/// only its own slot, so the results are the same for any schedule.
+using ForEach = std::function<void(int n, const std::function<void(int)>& body)>;
+/// The serial ForEach.
+void SerialForEach(int n, const std::function<void(int)>& body);
+
+// ---- Stages (the flow graph's node bodies call these) ----
+
+/// Preprocess + EMD. On failure the summary says why and the rest is left empty.
+void PreprocessAndDecompose(const Eigen::VectorXd& x, double sample_rate_hz,
+                            const MethodOptions& options, MethodResult* result);
+/// Method 1's per-component models (IMFs then residue, through for_each) and method 2's model,
+/// then the reconstruction x1. Needs PreprocessAndDecompose first.
+void ModelComponents(const MethodOptions& options, const ForEach& for_each, MethodResult* result);
+/// The three Allan tables + noise fits (through for_each, one slot per signal).
+void EvaluateAllan(double sample_rate_hz, const MethodOptions& options, const ForEach& for_each,
+                   MethodResult* result);
+
+/// All stages, serially or through for_each.
+MethodResult RunMethod(const Eigen::VectorXd& x, double sample_rate_hz,
+                       const MethodOptions& options, const ForEach& for_each = SerialForEach);
+
+/// Component names as stored and printed: "imf1".."imfN", "residue".
+std::string ComponentName(int index, int num_imfs);
+
+}  // namespace fogpipe::method

@@ -1,0 +1,141 @@
+#include "algorithms/method/preprocess.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace fogpipe::method {
+namespace {
+
+// 1 / Phi^-1(3/4): scales the MAD to the standard deviation of Gaussian noise.
+constexpr double kMadToSigma = 1.482602218505602;
+
+double MedianInPlace(std::vector<double>* values) {
+  const std::size_t n = values->size();
+  auto mid = values->begin() + static_cast<std::ptrdiff_t>(n / 2);
+  std::nth_element(values->begin(), mid, values->end());
+  const double upper = *mid;
+  if (n % 2 == 1) return upper;
+  const double lower = *std::max_element(values->begin(), mid);
+  return 0.5 * (lower + upper);
+}
+
+void ReplaceOutliers(const PreprocessOptions& options, long long offset, Eigen::VectorXd* x,
+                     std::vector<long long>* indices) {
+  const Eigen::Index n = x->size();
+  const Eigen::Index h = options.hampel_half_window;
+  // Local medians of the original values (replacements are written afterwards, so the result does
+  // not depend on the scan order).
+  Eigen::VectorXd median(n);
+  std::vector<double> window;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Eigen::Index lo = std::max<Eigen::Index>(0, k - h);
+    const Eigen::Index hi = std::min<Eigen::Index>(n - 1, k + h);
+    window.assign(x->data() + lo, x->data() + hi + 1);
+    median[k] = MedianInPlace(&window);
+  }
+  const Eigen::Index block = options.hampel_scale_block;
+  std::vector<double> deviation;
+  for (Eigen::Index start = 0; start < n; start += block) {
+    // The last block absorbs a short tail so that no scale rests on a handful of samples.
+    Eigen::Index end = std::min(n, start + block);
+    if (n - end < block / 2) end = n;
+    deviation.resize(static_cast<std::size_t>(end - start));
+    for (Eigen::Index k = start; k < end; ++k) deviation[k - start] = std::abs((*x)[k] - median[k]);
+    const double limit = options.hampel_threshold * kMadToSigma * MedianInPlace(&deviation);
+    for (Eigen::Index k = start; k < end; ++k) {
+      if (limit > 0.0 && std::abs((*x)[k] - median[k]) > limit) {
+        (*x)[k] = median[k];
+        indices->push_back(k + offset);
+      }
+    }
+    start = end - block;  // continue after `end`
+  }
+}
+
+}  // namespace
+
+bool PreprocessOptions::IsValid(std::string* error) const {
+  auto fail = [error](const char* text) {
+    if (error) *error = text;
+    return false;
+  };
+  if (!(drop_start_s >= 0.0)) return fail("drop_start_s must be >= 0");
+  if (hampel_half_window < 1) return fail("hampel_half_window must be >= 1");
+  if (hampel_scale_block < 10) return fail("hampel_scale_block must be >= 10");
+  if (!(hampel_threshold > 0.0)) return fail("hampel_threshold must be > 0");
+  if (!std::isfinite(window_s)) return fail("window_s must be finite");
+  if (min_samples < 8) return fail("min_samples must be >= 8");
+  return true;
+}
+
+Preprocessed Preprocess(const Eigen::VectorXd& x, double sample_rate_hz,
+                        const PreprocessOptions& options) {
+  Preprocessed out;
+  std::string error;
+  if (!options.IsValid(&error)) {
+    out.summary.message = error;
+    return out;
+  }
+  if (!(sample_rate_hz > 0.0) || !std::isfinite(sample_rate_hz)) {
+    out.summary.message = "sample rate must be finite and > 0";
+    return out;
+  }
+  const long long drop = std::llround(options.drop_start_s * sample_rate_hz);
+  const long long kept = static_cast<long long>(x.size()) - drop;
+  if (kept < options.min_samples) {
+    std::ostringstream message;
+    message << "too few samples: " << x.size() << " recorded, " << drop << " dropped at the start, "
+            << std::max(0LL, kept) << " left, at least " << options.min_samples << " needed";
+    out.summary.termination = Termination::kInsufficientData;
+    out.summary.message = message.str();
+    return out;
+  }
+  out.summary.dropped_samples = drop;
+  Eigen::VectorXd y = x.tail(kept);
+  if (!y.allFinite()) {
+    out.summary.termination = Termination::kNumericalFailure;
+    Eigen::Index k = 0;
+    while (std::isfinite(y[k])) ++k;
+    out.summary.message = "non-finite sample (NaN or Inf) at index " + std::to_string(k + drop);
+    return out;
+  }
+  {
+    std::ostringstream rule;
+    rule << "hampel: |x - median of " << (2 * options.hampel_half_window + 1)
+         << " centred samples| > " << options.hampel_threshold << " * 1.4826 * median |x - median| "
+         << "over blocks of " << options.hampel_scale_block << " samples; replaced by the median";
+    out.outlier_rule = options.remove_outliers ? rule.str() : "none";
+  }
+  if (options.remove_outliers) ReplaceOutliers(options, drop, &y, &out.outlier_indices);
+  out.summary.outliers = static_cast<long long>(out.outlier_indices.size());
+
+  // Stationarity check on non-overlapping windows (Fig. 2 of the paper).
+  long long window =
+      options.window_s > 0.0 ? std::llround(options.window_s * sample_rate_hz) : kept / 20;
+  window = std::clamp<long long>(window, 1, kept);
+  const long long windows = kept / window;
+  out.window_samples = window;
+  out.window_mean.resize(windows);
+  out.window_variance.resize(windows);
+  for (long long w = 0; w < windows; ++w) {
+    const auto segment = y.segment(w * window, window);
+    const double mean = segment.mean();
+    out.window_mean[w] = mean;
+    out.window_variance[w] = (segment.array() - mean).square().mean();
+  }
+
+  out.mean_removed = y.mean();
+  y.array() -= out.mean_removed;
+  const double variance = y.squaredNorm() / static_cast<double>(kept);
+  if (!(variance > 0.0)) {
+    out.summary.termination = Termination::kNumericalFailure;
+    out.summary.message = "constant signal: zero variance after preprocessing, nothing to analyse";
+    return out;
+  }
+  out.signal = std::move(y);
+  out.summary.termination = Termination::kSuccess;
+  return out;
+}
+
+}  // namespace fogpipe::method

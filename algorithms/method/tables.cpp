@@ -1,0 +1,81 @@
+#include "algorithms/method/tables.h"
+
+#include <cstdio>
+
+#include "algorithms/common/units.h"
+#include "algorithms/method/method.h"
+
+namespace fogpipe::method {
+namespace {
+
+FitRow MakeFitRow(const std::string& name, const ComponentModel& c) {
+  FitRow row;
+  row.component = name;
+  row.order = c.fit.model.order;
+  row.fit_one_step_percent = c.fit.diagnostics.fit_one_step_percent;
+  row.fit_simulation_percent = c.fit.diagnostics.fit_simulation_percent;
+  return row;
+}
+
+NoiseRow MakeNoiseRow(const std::string& name, const AllanEvaluation& e) {
+  NoiseRow row;
+  row.signal = name;
+  const allan::NoiseTermsEngineering t = allan::ToEngineeringUnits(e.noise.terms);
+  row.q_arcsec = t.q_arcsec;
+  row.n_deg_sqrt_h = t.n_deg_sqrt_h;
+  row.b_deg_h = t.b_deg_h;
+  row.k_deg_h_sqrt_h = t.k_deg_h_sqrt_h;
+  row.r_deg_h2 = t.r_deg_h2;
+  return row;
+}
+
+}  // namespace
+
+std::vector<FitRow> Table3(const MethodResult& result) {
+  std::vector<FitRow> rows;
+  rows.push_back(MakeFitRow("raw (method 2)", result.direct));
+  const int n = static_cast<int>(result.components.size()) - 1;
+  for (int k = 0; k <= n; ++k)
+    rows.push_back(MakeFitRow(ComponentName(k, n), result.components[k]));
+  return rows;
+}
+
+std::vector<NoiseRow> Table5(const MethodResult& result) {
+  return {MakeNoiseRow("raw", result.raw_allan), MakeNoiseRow("method 1", result.method1_allan),
+          MakeNoiseRow("method 2", result.method2_allan)};
+}
+
+std::string FormatTable3(const std::vector<FitRow>& rows) {
+  std::string out;
+  char line[160];
+  std::snprintf(line, sizeof(line), "%-16s %5s %14s %14s\n", "component", "AR(p)", "fit 1-step %",
+                "fit sim %");
+  out += line;
+  for (const FitRow& r : rows) {
+    std::snprintf(line, sizeof(line), "%-16s %5d %14.2f %14.2f\n", r.component.c_str(), r.order,
+                  r.fit_one_step_percent, r.fit_simulation_percent);
+    out += line;
+  }
+  return out;
+}
+
+std::string FormatTable5(const std::vector<NoiseRow>& rows) {
+  std::string out;
+  char line[200];
+  std::snprintf(line, sizeof(line), "%-10s %12s %12s %12s %14s %12s\n", "signal", "Q", "N", "B",
+                "K", "R");
+  out += line;
+  std::snprintf(line, sizeof(line), "%-10s %12s %12s %12s %14s %12s\n", "",
+                units::kQuantizationUnit, units::kArwUnit, units::kBiasUnit, units::kRrwUnit,
+                units::kRampUnit);
+  out += line;
+  for (const NoiseRow& r : rows) {
+    std::snprintf(line, sizeof(line), "%-10s %12.4e %12.4e %12.4e %14.4e %12.4e\n",
+                  r.signal.c_str(), r.q_arcsec, r.n_deg_sqrt_h, r.b_deg_h, r.k_deg_h_sqrt_h,
+                  r.r_deg_h2);
+    out += line;
+  }
+  return out;
+}
+
+}  // namespace fogpipe::method

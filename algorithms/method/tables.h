@@ -1,0 +1,36 @@
+// The paper's Tables 3 (fit % per component) and 5 (Allan noise terms per signal) as plain rows,
+// and their text rendering. `fogpipe run` fills them from a MethodResult, `fogpipe info` from a
+// results file; both print them with the same functions.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace fogpipe::method {
+
+struct MethodResult;
+
+/// One row of Table 3.
+struct FitRow {
+  std::string component;                ///< "raw (method 2)", "imf1", ..., "residue"
+  int order = 0;                        ///< AR order p
+  double fit_one_step_percent = 0.0;    ///< 100 (1 - ||y - yhat|| / ||y - mean y||), one step ahead
+  double fit_simulation_percent = 0.0;  ///< the same with yhat simulated from the model
+};
+
+/// One row of Table 5, in engineer's units (algorithms/common/units.h); NaN where not fitted.
+struct NoiseRow {
+  std::string signal;  ///< "raw", "method 1", "method 2"
+  double q_arcsec = 0.0, n_deg_sqrt_h = 0.0, b_deg_h = 0.0, k_deg_h_sqrt_h = 0.0, r_deg_h2 = 0.0;
+};
+
+/// Table 3 rows: method 2's direct model first, then every IMF and the residue.
+std::vector<FitRow> Table3(const MethodResult& result);
+/// Table 5 rows: raw, method 1, method 2.
+std::vector<NoiseRow> Table5(const MethodResult& result);
+
+/// Fixed-width text, one header line and one line per row, units in the header.
+std::string FormatTable3(const std::vector<FitRow>& rows);
+std::string FormatTable5(const std::vector<NoiseRow>& rows);
+
+}  // namespace fogpipe::method

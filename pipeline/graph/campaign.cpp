@@ -1,0 +1,399 @@
+#include "pipeline/graph/campaign.h"
+
+#include <oneapi/tbb/flow_graph.h>
+#include <oneapi/tbb/global_control.h>
+#include <oneapi/tbb/parallel_for.h>
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+
+#include "algorithms/method/tables.h"
+#include "pipeline/cli/version.h"
+#include "pipeline/graph/interrupt.h"
+#include "pipeline/graph/memory_budget.h"
+#include "pipeline/graph/progress.h"
+#include "pipeline/hdf5/atomic_output_file.h"
+#include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/results_reader.h"
+#include "pipeline/io/sha256.h"
+
+namespace fogpipe::graph {
+namespace fs = std::filesystem;
+namespace flow = tbb::flow;
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Stages timed per axis and stored (summed over the file's axes) in /provenance. The write itself
+// cannot time itself into the file it writes; its time is in status.jsonl's seconds.
+enum Stage { kRead, kDecompose, kModels, kAllan, kNumStages };
+const char* const kStageNames[kNumStages] = {"read", "preprocess_emd", "models", "allan"};
+
+double Seconds(Clock::time_point since) {
+  return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+/// One admitted recording.
+struct FileJob {
+  std::size_t outcome_index = 0;  ///< into CampaignReport::outcomes
+  InputFile input;
+  io::RecordingInfo info;
+  // Written by the reader before it sends the first axis (the message passing orders it before
+  // the writer's reads).
+  std::string sha256;
+  std::string start_time_utc;
+  Clock::time_point start;
+  // Writer only.
+  std::vector<std::shared_ptr<struct AxisWork>> arrived;
+};
+
+/// One axis travelling through the graph.
+struct AxisWork {
+  FileJob* job = nullptr;
+  int axis = 0;
+  Eigen::VectorXd rate_rad_s;
+  method::MethodResult result;
+  std::string error;  ///< empty while all is well
+  bool interrupted = false;
+  double stage_seconds[kNumStages] = {0, 0, 0, 0};
+
+  bool failed() const { return interrupted || !error.empty(); }
+};
+using AxisPtr = std::shared_ptr<AxisWork>;
+
+/// Runs `body` on `work` unless it already failed or a stop was requested; converts every
+/// exception into a failure of this axis.
+template <typename Body>
+void Guarded(AxisWork& work, Stage stage, Body&& body) {
+  if (work.failed()) return;
+  if (StopRequested()) {
+    work.interrupted = true;
+    return;
+  }
+  const auto start = Clock::now();
+  try {
+    body();
+  } catch (const std::exception& e) {
+    work.error = e.what();
+  } catch (...) {
+    work.error = "unknown error";
+  }
+  work.stage_seconds[stage] += Seconds(start);
+}
+
+void TbbForEach(int n, const std::function<void(int)>& body) {
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, n, 1),
+      [&](const tbb::blocked_range<int>& r) {
+        for (int i = r.begin(); i != r.end(); ++i) body(i);
+      },
+      tbb::simple_partitioner());
+}
+
+std::string AxisError(const FileJob& job, int axis, const std::string& what) {
+  return job.input.path + ": axis " + job.info.axis_names[axis] + ": " + what;
+}
+
+class CampaignRunner {
+ public:
+  CampaignRunner(const CampaignOptions& options, CampaignReport* report, StatusLog* log,
+                 Progress* progress)
+      : options_(options), report_(report), log_(log), progress_(progress) {}
+
+  void Record(FileOutcome outcome, std::size_t index) {
+    if (outcome.status == FileStatus::kOk) ++report_->ok;
+    if (outcome.status == FileStatus::kFailed) ++report_->failed;
+    if (outcome.status == FileStatus::kSkipped) ++report_->skipped;
+    log_->Append(outcome);
+    progress_->FileDone(outcome.file, ToString(outcome.status),
+                        outcome.status == FileStatus::kFailed ? outcome.message : "");
+    report_->outcomes[index] = std::move(outcome);
+  }
+
+  void Finish(FileJob* job);
+
+  const CampaignOptions& options_;
+  CampaignReport* report_;
+  StatusLog* log_;
+  Progress* progress_;
+  std::string tables_text_;
+};
+
+void CampaignRunner::Finish(FileJob* job) {
+  FileOutcome outcome;
+  outcome.file = job->input.path;
+  outcome.axes = job->info.axis_count;
+  std::string failure;
+  bool interrupted = false;
+  for (const AxisPtr& w : job->arrived) {
+    interrupted = interrupted || w->interrupted;
+    if (!w->error.empty() && failure.empty()) failure = w->error;
+  }
+  const fs::path final_path = fs::path(options_.output_dir) / job->input.output_name;
+  if (failure.empty() && !interrupted) {
+    try {
+      io::Provenance p;
+      p.fogpipe_version = Version();
+      p.git_commit = GitCommit();
+      p.config_toml = options_.config_toml;
+      p.config_sha256 = options_.config_sha256;
+      p.input_path = fs::absolute(job->input.path).lexically_normal().string();
+      std::error_code size_ec;
+      p.input_size_bytes = static_cast<long long>(fs::file_size(job->input.path, size_ec));
+      p.input_sha256 = job->sha256;
+      p.start_time_utc = job->start_time_utc;
+      p.end_time_utc = io::UtcNowIso8601();
+      p.threads = options_.threads;
+      std::vector<io::AxisResults> axes;
+      for (int s = 0; s < kNumStages; ++s) {
+        p.stage_names.push_back(kStageNames[s]);
+        double total = 0.0;
+        for (const AxisPtr& w : job->arrived) total += w->stage_seconds[s];
+        p.stage_seconds.push_back(total);
+      }
+      for (const AxisPtr& w : job->arrived) {
+        io::AxisResults a;
+        a.name = job->info.axis_names[w->axis];
+        a.index = w->axis;
+        a.sample_rate_hz = job->info.sample_rate_hz;
+        a.input_units = job->info.rate_units;
+        a.result = &w->result;
+        axes.push_back(a);
+      }
+      io::WriteResultsFile(final_path, p, axes, options_.results);
+      outcome.status = FileStatus::kOk;
+      outcome.output = final_path.string();
+      if (options_.tables_stream != nullptr) {
+        for (const AxisPtr& w : job->arrived) {
+          tables_text_ += "\n" + job->input.path + "  axis " + job->info.axis_names[w->axis] +
+                          "\n" + method::FormatTable3(method::Table3(w->result)) +
+                          method::FormatTable5(method::Table5(w->result));
+        }
+      }
+    } catch (const std::exception& e) {
+      failure = job->input.path + ": writing " + final_path.string() + ": " + e.what();
+    }
+  }
+  if (outcome.status != FileStatus::kOk) {
+    outcome.status = FileStatus::kFailed;
+    outcome.message = !failure.empty() ? failure
+                                       : job->input.path + ": interrupted (signal " +
+                                             std::to_string(StopSignal()) + ") before completion";
+  }
+  outcome.seconds = Seconds(job->start);
+  job->arrived.clear();  // frees the axes' memory before the limiter admits the next file
+  Record(std::move(outcome), job->outcome_index);
+}
+
+}  // namespace
+
+int CampaignReport::ExitCode() const {
+  if (interrupted) return 128 + (StopSignal() != 0 ? StopSignal() : 2);
+  return failed > 0 ? 1 : 0;
+}
+
+int RemoveStaleTempFiles(const std::string& output_dir, const std::string& output_name) {
+  int removed = 0;
+  std::error_code ec;
+  for (fs::directory_iterator it(output_dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.rfind(output_name, 0) == 0 && hdf5::IsAtomicTempName(it->path())) {
+      std::error_code remove_ec;
+      if (fs::remove(it->path(), remove_ec)) ++removed;
+    }
+  }
+  return removed;
+}
+
+CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignOptions& options) {
+  CampaignReport report;
+  report.outcomes.resize(inputs.size());
+  std::error_code ec;
+  if (!options.dry_run) {
+    fs::create_directories(options.output_dir, ec);
+    if (ec) {
+      throw std::runtime_error(options.output_dir +
+                               ": cannot create output folder: " + ec.message());
+    }
+  }
+  const std::string status_path = (fs::path(options.output_dir) / "status.jsonl").string();
+  StatusLog log(options.dry_run ? std::string("/dev/null") : status_path);
+  if (!log.ok()) throw std::runtime_error(status_path + ": cannot open for appending");
+  Progress progress(static_cast<int>(inputs.size()), options.progress_stream,
+                    options.redraw_progress);
+  CampaignReport* report_ptr = &report;
+  CampaignRunner runner(options, report_ptr, &log, &progress);
+  hdf5::SilenceHdf5ErrorPrinter();
+
+  // Preflight (main thread): skip what is done, inspect the rest (metadata only).
+  std::vector<std::unique_ptr<FileJob>> jobs;
+  std::uint64_t bytes_per_file = 0;
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    const InputFile& input = inputs[i];
+    const auto start = Clock::now();
+    const std::string output = (fs::path(options.output_dir) / input.output_name).string();
+    if (!options.dry_run) RemoveStaleTempFiles(options.output_dir, input.output_name);
+    if (!options.force) {
+      const auto hash = io::ReadConfigHash(output);
+      if (hash && *hash == options.config_sha256) {
+        FileOutcome outcome{
+            input.path,           output,         0,
+            FileStatus::kSkipped, Seconds(start), "output exists with the same configuration hash"};
+        runner.Record(outcome, i);
+        continue;
+      }
+    }
+    auto job = std::make_unique<FileJob>();
+    job->outcome_index = i;
+    job->input = input;
+    try {
+      job->info = io::InspectRecording(input.path);
+    } catch (const std::exception& e) {
+      FileOutcome outcome{input.path, "", 0, FileStatus::kFailed, Seconds(start), e.what()};
+      runner.Record(outcome, i);
+      continue;
+    }
+    bytes_per_file =
+        std::max(bytes_per_file, static_cast<std::uint64_t>(job->info.axis_count) *
+                                     BytesPerAxis(static_cast<std::uint64_t>(job->info.samples),
+                                                  options.method.emd.max_imfs));
+    jobs.push_back(std::move(job));
+  }
+  report.bytes_per_file = bytes_per_file;
+  report.files_in_flight = AxesInFlight(options.memory_budget_bytes, bytes_per_file);
+  if (options.dry_run) {
+    for (const auto& job : jobs) {
+      FileOutcome outcome{job->input.path,
+                          (fs::path(options.output_dir) / job->input.output_name).string(),
+                          job->info.axis_count,
+                          FileStatus::kOk,
+                          0.0,
+                          "dry run: would analyse"};
+      report.outcomes[job->outcome_index] = outcome;
+    }
+    return report;
+  }
+
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
+                              static_cast<std::size_t>(std::max(1, options.threads)));
+  flow::graph g;
+  std::size_t next = 0;
+  flow::input_node<FileJob*> source(g, [&](tbb::flow_control& control) -> FileJob* {
+    if (next >= jobs.size() || StopRequested()) {
+      control.stop();
+      return nullptr;
+    }
+    return jobs[next++].get();
+  });
+  flow::limiter_node<FileJob*> limiter(g, static_cast<std::size_t>(report.files_in_flight));
+
+  using ReaderNode = flow::multifunction_node<FileJob*, std::tuple<AxisPtr>>;
+  ReaderNode reader(g, flow::serial, [&](FileJob* job, ReaderNode::output_ports_type& ports) {
+    job->start = Clock::now();
+    job->start_time_utc = io::UtcNowIso8601();
+    hdf5::SilenceHdf5ErrorPrinter();
+    std::string file_error;
+    const auto hash_start = Clock::now();
+    try {
+      std::string error;
+      const auto digest = io::Sha256FileHex(job->input.path, &error);
+      if (!digest) file_error = error;
+      job->sha256 = digest.value_or("");
+    } catch (const std::exception& e) {
+      file_error = job->input.path + ": " + e.what();
+    }
+    const double hash_seconds = Seconds(hash_start);
+    for (int a = 0; a < job->info.axis_count; ++a) {
+      auto work = std::make_shared<AxisWork>();
+      work->job = job;
+      work->axis = a;
+      work->error = file_error;
+      if (a == 0) work->stage_seconds[kRead] += hash_seconds;
+      Guarded(*work, kRead, [&] {
+        work->rate_rad_s =
+            io::ReadAxisRadPerSecond(job->input.path, std::to_string(a), options.read);
+      });
+      std::get<0>(ports).try_put(work);
+    }
+  });
+  using AxisNode = flow::function_node<AxisPtr, AxisPtr>;
+  AxisNode decompose(g, flow::unlimited, [&](AxisPtr w) {
+    Guarded(*w, kDecompose, [&] {
+      method::PreprocessAndDecompose(w->rate_rad_s, w->job->info.sample_rate_hz, options.method,
+                                     &w->result);
+      w->rate_rad_s = Eigen::VectorXd();  // the preprocessed copy is what is kept
+      if (!HasResult(w->result.summary.termination)) {
+        w->error = AxisError(*w->job, w->axis, w->result.summary.message);
+      }
+    });
+    return w;
+  });
+  AxisNode models(g, flow::unlimited, [&](AxisPtr w) {
+    Guarded(*w, kModels, [&] {
+      method::ModelComponents(options.method, TbbForEach, &w->result);
+      if (!HasResult(w->result.summary.termination)) {
+        w->error = AxisError(*w->job, w->axis, w->result.summary.message);
+      }
+    });
+    return w;
+  });
+  AxisNode allan(g, flow::unlimited, [&](AxisPtr w) {
+    Guarded(*w, kAllan, [&] {
+      method::EvaluateAllan(w->job->info.sample_rate_hz, options.method, TbbForEach, &w->result);
+      if (!HasResult(w->result.summary.termination)) {
+        w->error = AxisError(*w->job, w->axis, w->result.summary.message);
+      }
+    });
+    return w;
+  });
+  using WriterNode = flow::multifunction_node<AxisPtr, std::tuple<flow::continue_msg>>;
+  WriterNode writer(g, flow::serial, [&](AxisPtr w, WriterNode::output_ports_type& ports) {
+    FileJob* job = w->job;
+    try {
+      hdf5::SilenceHdf5ErrorPrinter();
+      job->arrived.push_back(std::move(w));
+      if (static_cast<int>(job->arrived.size()) < job->info.axis_count) return;
+      // Axes in column order, whatever order they finished in.
+      std::sort(job->arrived.begin(), job->arrived.end(),
+                [](const AxisPtr& a, const AxisPtr& b) { return a->axis < b->axis; });
+      runner.Finish(job);
+    } catch (...) {
+      // Finish() reports its own errors; this only guards the graph against the unexpected.
+    }
+    std::get<0>(ports).try_put(flow::continue_msg());
+  });
+
+  flow::make_edge(source, limiter);
+  flow::make_edge(limiter, reader);
+  flow::make_edge(std::get<0>(reader.output_ports()), decompose);
+  flow::make_edge(decompose, models);
+  flow::make_edge(models, allan);
+  flow::make_edge(allan, writer);
+  flow::make_edge(std::get<0>(writer.output_ports()), limiter.decrementer());
+  source.activate();
+  g.wait_for_all();
+  progress.Finish();
+
+  report.interrupted = StopRequested();
+  if (report.interrupted) {
+    // Files never admitted: reported so that every input has a line.
+    for (std::size_t j = next; j < jobs.size(); ++j) {
+      FileOutcome outcome{jobs[j]->input.path,
+                          "",
+                          0,
+                          FileStatus::kFailed,
+                          0.0,
+                          "not started: interrupted (signal " + std::to_string(StopSignal()) + ")"};
+      runner.Record(outcome, jobs[j]->outcome_index);
+    }
+  }
+  if (options.tables_stream != nullptr && !runner.tables_text_.empty()) {
+    std::fputs(runner.tables_text_.c_str(), options.tables_stream);
+    std::fflush(options.tables_stream);
+  }
+  return report;
+}
+
+}  // namespace fogpipe::graph

@@ -1,0 +1,70 @@
+// The campaign flow graph (oneTBB 2021.8): one results file per recording.
+//
+//   source (input_node: next admitted recording; stops on SIGINT/SIGTERM)
+//     -> limiter (limiter_node: at most `files_in_flight` recordings in memory, from
+//                 --memory-budget; released by the writer through decrementer())
+//     -> reader  (serial: SHA-256 of the file, then one axis at a time by hyperslabs, each axis
+//                 sent on as soon as it is read)
+//     -> decompose (unlimited: preprocessing + EMD, one axis per task)
+//     -> models    (unlimited: per-component AR + Kalman and method 2, tbb::parallel_for inside)
+//     -> allan     (unlimited: three Allan tables + noise fits, tbb::parallel_for inside)
+//     -> writer  (serial: gathers a file's axes, writes temp file + rename, status.jsonl line,
+//                 progress line; then one decrement of the limiter per file)
+//
+// Every node body catches every exception: a bad file is reported and marked failed, and the graph
+// goes on. HDF5 is touched only by the preflight (main thread), the reader and the writer, each
+// call under the io helper's global lock (pipeline/hdf5/hdf5_lock.h), and no HDF5 object outlives
+// the call that opened it. Numeric results do not depend on the thread count: every parallel
+// loop writes its own slot and every sum runs in a fixed order.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "algorithms/method/method.h"
+#include "pipeline/graph/inputs.h"
+#include "pipeline/graph/status_log.h"
+#include "pipeline/io/recording_reader.h"
+#include "pipeline/io/results_writer.h"
+
+namespace fogpipe::graph {
+
+struct CampaignOptions {
+  method::MethodOptions method;
+  io::ResultsOptions results;
+  io::ReadOptions read;
+  std::string output_dir;
+  int threads = 1;
+  std::uint64_t memory_budget_bytes = 2ull << 30;
+  bool force = false;
+  bool dry_run = false;
+  std::string config_toml;    ///< The effective configuration (stored in provenance).
+  std::string config_sha256;  ///< Its hash: the rerun key.
+  std::FILE* progress_stream = stderr;
+  bool redraw_progress = false;
+  /// Print Tables 3 and 5 of every finished file to this stream at the end (nullptr: don't).
+  std::FILE* tables_stream = stdout;
+};
+
+struct CampaignReport {
+  std::vector<FileOutcome> outcomes;  ///< In input order.
+  int ok = 0, failed = 0, skipped = 0;
+  bool interrupted = false;
+  int files_in_flight = 0;  ///< The limiter's capacity.
+  std::uint64_t bytes_per_file = 0;
+  /// 0 all ok or skipped, 1 some file failed, 128 + signal when interrupted.
+  int ExitCode() const;
+};
+
+/// Runs the campaign (or, with dry_run, only reports what would be done). Never throws for
+/// problems of individual files; throws std::runtime_error when OUTDIR cannot be created or
+/// status.jsonl cannot be opened.
+CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignOptions& options);
+
+/// Removes temporary files that a killed run left for `output_name` in `output_dir`
+/// (hdf5::IsAtomicTempName). Returns how many were removed.
+int RemoveStaleTempFiles(const std::string& output_dir, const std::string& output_name);
+
+}  // namespace fogpipe::graph

@@ -1,0 +1,146 @@
+#include "pipeline/graph/inputs.h"
+
+#include <glob.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "pipeline/io/sha256.h"
+
+namespace fogpipe::graph {
+namespace fs = std::filesystem;
+namespace {
+
+void AddFile(const fs::path& path, std::uintmax_t fallback_size, std::vector<InputFile>* out) {
+  InputFile input;
+  input.path = path.lexically_normal().string();
+  std::error_code ec;
+  const auto size = fs::file_size(path, ec);
+  input.size_bytes = ec ? fallback_size : size;
+  out->push_back(std::move(input));
+}
+
+void AddFolder(const fs::path& folder, std::vector<InputFile>* out,
+               std::vector<std::string>* errors) {
+  std::error_code ec;
+  const std::size_t before = out->size();
+  for (fs::recursive_directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    if (it->is_regular_file() && it->path().extension() == ".h5") AddFile(it->path(), 0, out);
+  }
+  if (ec) errors->push_back(folder.string() + ": cannot list folder: " + ec.message());
+  if (out->size() == before) errors->push_back(folder.string() + ": folder holds no *.h5 file");
+}
+
+void AddGlob(const std::string& pattern, std::vector<InputFile>* out,
+             std::vector<std::string>* errors) {
+  glob_t matches{};
+  const int rc = ::glob(pattern.c_str(), 0, nullptr, &matches);
+  if (rc != 0) {
+    errors->push_back(pattern + ": no such file, folder or matching pattern");
+  } else {
+    for (std::size_t i = 0; i < matches.gl_pathc; ++i) {
+      const fs::path match(matches.gl_pathv[i]);
+      if (fs::is_directory(match)) {
+        AddFolder(match, out, errors);
+      } else {
+        AddFile(match, 0, out);
+      }
+    }
+  }
+  ::globfree(&matches);
+}
+
+void AddManifest(const std::string& manifest, std::vector<InputFile>* out,
+                 std::vector<std::string>* errors) {
+  std::ifstream in(manifest);
+  if (!in) {
+    errors->push_back(manifest + ": cannot read manifest");
+    return;
+  }
+  const fs::path base = fs::path(manifest).parent_path();
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    line = line.substr(0, line.find('#'));
+    std::istringstream fields(line);
+    std::string path_text, size_text, extra;
+    if (!(fields >> path_text)) continue;
+    std::uintmax_t size = 0;
+    if (fields >> size_text) {
+      try {
+        std::size_t used = 0;
+        size = std::stoull(size_text, &used);
+        if (used != size_text.size()) throw std::invalid_argument(size_text);
+      } catch (const std::exception&) {
+        errors->push_back(manifest + ":" + std::to_string(line_number) +
+                          ": second column must be a size in bytes, got '" + size_text + "'");
+        continue;
+      }
+    }
+    if (fields >> extra) {
+      errors->push_back(manifest + ":" + std::to_string(line_number) +
+                        ": expected 'PATH [SIZE]', got extra text '" + extra + "'");
+      continue;
+    }
+    fs::path path(path_text);
+    if (path.is_relative()) path = base / path;
+    AddFile(path, size, out);
+  }
+}
+
+}  // namespace
+
+std::vector<InputFile> ListInputs(const std::vector<std::string>& arguments,
+                                  const std::string& manifest, std::vector<std::string>* errors) {
+  std::vector<InputFile> inputs;
+  for (const std::string& argument : arguments) {
+    std::error_code ec;
+    const fs::path path(argument);
+    if (fs::is_directory(path, ec)) {
+      AddFolder(path, &inputs, errors);
+    } else if (fs::exists(path, ec)) {
+      AddFile(path, 0, &inputs);
+    } else if (argument.find_first_of("*?[") != std::string::npos) {
+      AddGlob(argument, &inputs, errors);
+    } else {
+      // Kept so that the missing file is reported in status.jsonl like any other bad input.
+      AddFile(path, 0, &inputs);
+    }
+  }
+  if (!manifest.empty()) AddManifest(manifest, &inputs, errors);
+  std::sort(inputs.begin(), inputs.end(),
+            [](const InputFile& a, const InputFile& b) { return a.path < b.path; });
+  inputs.erase(std::unique(inputs.begin(), inputs.end(),
+                           [](const InputFile& a, const InputFile& b) { return a.path == b.path; }),
+               inputs.end());
+  AssignOutputNames(&inputs);
+  return inputs;
+}
+
+void AssignOutputNames(std::vector<InputFile>* inputs) {
+  std::map<std::string, int> stem_count;
+  for (const InputFile& input : *inputs) ++stem_count[fs::path(input.path).stem().string()];
+  for (InputFile& input : *inputs) {
+    const std::string stem = fs::path(input.path).stem().string();
+    input.output_name = stem_count[stem] > 1
+                            ? stem + "-" + io::Sha256Hex(input.path).substr(0, 8) + ".fogpipe.h5"
+                            : stem + ".fogpipe.h5";
+  }
+}
+
+std::vector<InputFile> SelectShard(const std::vector<InputFile>& inputs, int shard,
+                                   int num_shards) {
+  if (num_shards <= 1) return inputs;
+  std::vector<InputFile> selected;
+  for (std::size_t i = static_cast<std::size_t>(shard); i < inputs.size();
+       i += static_cast<std::size_t>(num_shards)) {
+    selected.push_back(inputs[i]);
+  }
+  return selected;
+}
+
+}  // namespace fogpipe::graph

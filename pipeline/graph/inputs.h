@@ -1,0 +1,47 @@
+// The campaign's input list: what `fogpipe run INPUT... [--manifest FILE]` processes.
+//
+// The list is built once, sorted and de-duplicated, before anything is read, so that every process
+// of a sharded campaign (`--shard I --num-shards N`, see SelectShard) sees the same list and the
+// same output names.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace fogpipe::graph {
+
+struct InputFile {
+  /// Path as given (files, manifest entries) or as found (folders, globs), made lexically normal.
+  std::string path;
+  /// Size in bytes from the file system; from the manifest's second column if it has one and the
+  /// file cannot be stat'ed (then the reader reports the file as missing).
+  std::uintmax_t size_bytes = 0;
+  /// File name of the results file inside OUTDIR, e.g. "run1.fogpipe.h5" (see AssignOutputNames).
+  std::string output_name;
+};
+
+/// Expands the command-line inputs:
+///  - a file is taken as is (any extension);
+///  - a folder contributes every regular file named *.h5 below it (recursively);
+///  - anything else is a glob(3) pattern (quote it so the shell leaves it alone);
+///  - `manifest` (may be empty): one path per line; `#` starts a comment; blank lines are skipped;
+///    an optional second whitespace-separated column holds the size in bytes (ignored except as a
+///    fallback). Relative paths are relative to the manifest's folder.
+/// Problems (a pattern or folder matching nothing, an unreadable manifest, a missing file) are
+/// appended to *errors, one message each naming the input; the rest is still listed. Missing files
+/// named explicitly are kept in the list so that they are reported per file (status "failed").
+/// The result is sorted by path without duplicates, and has output names assigned.
+std::vector<InputFile> ListInputs(const std::vector<std::string>& arguments,
+                                  const std::string& manifest, std::vector<std::string>* errors);
+
+/// Names the results file of each input "<stem>.fogpipe.h5". When several inputs share a stem
+/// (a/x.h5 and b/x.h5), every one of them becomes "<stem>-<first 8 hex of SHA-256 of its path>
+/// .fogpipe.h5", which depends only on that input's path, so it is stable across reruns and shards.
+void AssignOutputNames(std::vector<InputFile>* inputs);
+
+/// The inputs of shard `shard` (0-based) out of `num_shards`: every num_shards-th input of the
+/// sorted list, starting at `shard`. num_shards <= 1 returns everything.
+std::vector<InputFile> SelectShard(const std::vector<InputFile>& inputs, int shard, int num_shards);
+
+}  // namespace fogpipe::graph

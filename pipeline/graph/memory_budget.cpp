@@ -1,0 +1,56 @@
+#include "pipeline/graph/memory_budget.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+namespace fogpipe::graph {
+
+std::optional<std::uint64_t> ParseByteSize(const std::string& text) {
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  std::string suffix = text.substr(used);
+  for (char& c : suffix) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  if (suffix.size() >= 2 && suffix.compare(suffix.size() - 2, 2, "IB") == 0) {
+    suffix.resize(suffix.size() - 2);
+  } else if (suffix.size() >= 2 && suffix.back() == 'B') {
+    suffix.pop_back();
+  } else if (suffix == "B") {
+    suffix.clear();
+  }
+  double scale = 1.0;
+  if (suffix == "K") {
+    scale = 1024.0;
+  } else if (suffix == "M") {
+    scale = 1024.0 * 1024.0;
+  } else if (suffix == "G") {
+    scale = 1024.0 * 1024.0 * 1024.0;
+  } else if (suffix == "T") {
+    scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
+  } else if (!suffix.empty()) {
+    return std::nullopt;
+  }
+  const double bytes = value * scale;
+  if (!std::isfinite(bytes) || bytes < 1.0 || bytes > 1.8e19) return std::nullopt;
+  return static_cast<std::uint64_t>(bytes);
+}
+
+std::uint64_t BytesPerAxis(std::uint64_t num_samples, int max_imfs) {
+  const double log2n = std::log2(std::max<double>(2.0, static_cast<double>(num_samples)));
+  int imfs = static_cast<int>(std::ceil(log2n)) + 1;
+  if (max_imfs > 0) imfs = std::min(imfs, max_imfs + 1);
+  const std::uint64_t expected_imfs = 2 * static_cast<std::uint64_t>(imfs);
+  return (expected_imfs + 8) * std::max<std::uint64_t>(num_samples, 1) * 8;
+}
+
+int AxesInFlight(std::uint64_t budget_bytes, std::uint64_t bytes_per_axis) {
+  const std::uint64_t n = budget_bytes / std::max<std::uint64_t>(bytes_per_axis, 1);
+  return static_cast<int>(std::clamp<std::uint64_t>(n, 1, 1 << 20));
+}
+
+}  // namespace fogpipe::graph

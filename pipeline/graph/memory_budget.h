@@ -1,0 +1,24 @@
+// --memory-budget: how many recording axes may be in memory at once.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace fogpipe::graph {
+
+/// Parses "2G", "512M", "64k", "1.5G", "1000000" (bytes; binary multiples K=2^10, M=2^20, G=2^30,
+/// T=2^40; an optional trailing "B" or "iB" is accepted). nullopt for anything else or <= 0.
+std::optional<std::uint64_t> ParseByteSize(const std::string& text);
+
+/// Bytes one axis of `num_samples` samples needs while it is analysed: the raw and preprocessed
+/// signals, every IMF and the residue, their filtered versions, the method-1 and method-2 outputs
+/// and work space. Estimated as (expected_imfs + 8) x N x 8 bytes with expected_imfs =
+/// 2 log2(N) (+1 for the residue): EMD of noise yields about log2(N) IMFs (Flandrin, Rilling &
+/// Goncalves 2004, "EMD as a filter bank"), and every IMF is held twice (raw and filtered).
+std::uint64_t BytesPerAxis(std::uint64_t num_samples, int max_imfs);
+
+/// floor(budget / bytes_per_axis), at least 1.
+int AxesInFlight(std::uint64_t budget_bytes, std::uint64_t bytes_per_axis);
+
+}  // namespace fogpipe::graph

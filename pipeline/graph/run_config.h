@@ -1,0 +1,65 @@
+// `fogpipe run` options: the command-line/TOML surface, its translation into the method's
+// options, and the effective configuration text whose SHA-256 is the rerun key.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "pipeline/graph/campaign.h"
+
+namespace CLI {
+class App;
+}
+
+namespace fogpipe::graph {
+
+/// Everything `fogpipe run` accepts. Option names (and TOML keys) are the member names with '-'.
+struct RunConfig {
+  std::vector<std::string> inputs;
+  std::string manifest;
+  std::string output_dir;
+  std::string config_file;
+  int threads = 0;  ///< 0: SLURM_CPUS_PER_TASK if set, else the hardware's
+  std::string memory_budget = "2G";
+  bool dry_run = false;
+  bool force = false;
+  // Method (these enter the configuration hash).
+  double drop_start_s = 0.0;
+  int max_nan_gap = 10;
+  int max_ar_order = 20;
+  int ar_order = 0;
+  std::string ar_estimator = "burg";
+  int emd_sifts = 10;
+  std::string emd_stop_rule = "fixed_sifts";
+  int max_imfs = 0;
+  double q = -1.0;
+  double r = -1.0;
+  double q_scale = 1.0;
+  double r_scale = 1.0;
+  bool smooth = false;
+  std::string imf_storage = "float64";
+  bool store_filtered_imfs = false;
+  int direct_ar_order = 0;
+  std::string taus = "octave";
+  std::string model;
+};
+
+/// Registers every option of `run` on `cmd`, bound to `config`.
+void AddRunOptions(CLI::App* cmd, RunConfig* config);
+
+/// Applies a TOML file (keys = long option names, no sections) to the options of `cmd` that were
+/// not given on the command line. Returns false with *error for an unreadable file, an unknown key
+/// or a value an option rejects.
+bool ApplyConfigFile(CLI::App* cmd, const std::string& path, std::string* error);
+
+/// The options that change numbers, as TOML in a fixed order (itself a valid --config file).
+std::string EffectiveConfigToml(const RunConfig& config);
+
+/// Translates the configuration into campaign options (method, storage, threads, budget, hash).
+/// Returns false with *error for a value out of its domain.
+bool ToCampaignOptions(const RunConfig& config, CampaignOptions* options, std::string* error);
+
+/// --threads 0: SLURM_CPUS_PER_TASK when set and positive, else the hardware concurrency.
+int ResolveThreads(int requested);
+
+}  // namespace fogpipe::graph

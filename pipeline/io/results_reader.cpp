@@ -1,0 +1,146 @@
+#include "pipeline/io/results_reader.h"
+
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+#include "pipeline/hdf5/file.h"
+#include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/results_layout.h"
+
+namespace fogpipe::io {
+namespace {
+
+using hdf5::Group;
+
+void CheckFormat(const Group& root, const std::string& path) {
+  if (!root.HasAttribute(results::kFormatAttribute) ||
+      root.ReadStringAttribute(results::kFormatAttribute) != results::kFormat) {
+    throw std::runtime_error(path + ": not a " + std::string(results::kFormat) +
+                             " file (root attribute fogpipe_format missing or different)");
+  }
+}
+
+double Scalar(const Group& g, const std::string& name) {
+  const std::vector<double> v = g.OpenDataset(name).ReadDoubles();
+  return v.empty() ? 0.0 : v[0];
+}
+
+method::NoiseRow ReadNoiseRow(const Group& allan, const std::string& signal,
+                              const std::string& label) {
+  const Group noise = allan.OpenGroup(signal + "/noise");
+  method::NoiseRow row;
+  row.signal = label;
+  row.q_arcsec = Scalar(noise, "Q");
+  row.n_deg_sqrt_h = Scalar(noise, "N");
+  row.b_deg_h = Scalar(noise, "B");
+  row.k_deg_h_sqrt_h = Scalar(noise, "K");
+  row.r_deg_h2 = Scalar(noise, "R");
+  return row;
+}
+
+void ReadFitRows(const Group& models, const std::string& label_override,
+                 std::vector<method::FitRow>* rows) {
+  const std::vector<std::string> names = models.OpenDataset("component").ReadStrings();
+  const std::vector<long long> order = models.OpenDataset("order").ReadInt64s();
+  const std::vector<double> one = models.OpenDataset("fit_one_step_percent").ReadDoubles();
+  const std::vector<double> sim = models.OpenDataset("fit_simulation_percent").ReadDoubles();
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    method::FitRow row;
+    row.component = label_override.empty() ? names[i] : label_override;
+    row.order = static_cast<int>(order[i]);
+    row.fit_one_step_percent = one[i];
+    row.fit_simulation_percent = sim[i];
+    rows->push_back(row);
+  }
+}
+
+}  // namespace
+
+ResultsSummary ReadResultsSummary(const std::string& path) {
+  auto lock = hdf5::LockHdf5();
+  hdf5::File file = hdf5::File::OpenReadOnly(path);
+  const Group root = file.Root();
+  CheckFormat(root, path);
+  ResultsSummary out;
+  out.path = path;
+  const Group p = root.OpenGroup("provenance");
+  Provenance& prov = out.provenance;
+  prov.fogpipe_version = p.ReadStringAttribute("fogpipe_version");
+  prov.git_commit = p.ReadStringAttribute("git_commit");
+  prov.config_sha256 = p.ReadStringAttribute(results::kConfigHashAttribute);
+  prov.input_path = p.ReadStringAttribute("input_path");
+  prov.input_size_bytes = p.ReadInt64Attribute("input_size_bytes");
+  prov.input_sha256 = p.ReadStringAttribute("input_sha256");
+  prov.start_time_utc = p.ReadStringAttribute("start_time_utc");
+  prov.end_time_utc = p.ReadStringAttribute("end_time_utc");
+  prov.threads = static_cast<int>(p.ReadInt64Attribute("threads"));
+  prov.config_toml = p.OpenDataset("config_toml").ReadStrings().at(0);
+  prov.stage_names = p.OpenDataset("stage_names").ReadStrings();
+  prov.stage_seconds = p.OpenDataset("stage_seconds").ReadDoubles();
+
+  const Group axes = root.OpenGroup("axes");
+  for (const std::string& name : axes.ChildNames()) {
+    const Group g = axes.OpenGroup(name);
+    AxisSummary axis;
+    axis.name = name;
+    axis.samples = g.ReadInt64Attribute("samples");
+    axis.sample_rate_hz = g.ReadDoubleAttribute("sample_rate_hz");
+    axis.input_units = g.ReadStringAttribute("input_units");
+    axis.num_imfs = static_cast<int>(g.OpenGroup("decomposition").ReadInt64Attribute("num_imfs"));
+    const Group pre = g.OpenGroup("preprocessing");
+    axis.dropped_samples = static_cast<long long>(Scalar(pre, "dropped_samples"));
+    axis.outliers = static_cast<long long>(pre.OpenDataset("outlier_indices").size());
+    axis.mean_removed_rad_s = Scalar(pre, "mean_removed");
+    ReadFitRows(g.OpenGroup("signals/method2_model"), "raw (method 2)", &axis.table3);
+    ReadFitRows(g.OpenGroup("models"), "", &axis.table3);
+    const Group allan = g.OpenGroup("allan");
+    axis.table5 = {ReadNoiseRow(allan, "raw", "raw"), ReadNoiseRow(allan, "method1", "method 1"),
+                   ReadNoiseRow(allan, "method2", "method 2")};
+    out.axes.push_back(std::move(axis));
+  }
+  return out;
+}
+
+std::optional<std::string> ReadConfigHash(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
+  try {
+    auto lock = hdf5::LockHdf5();
+    hdf5::File file = hdf5::File::OpenReadOnly(path);
+    const Group root = file.Root();
+    CheckFormat(root, path);
+    return root.OpenGroup("provenance").ReadStringAttribute(results::kConfigHashAttribute);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+std::string FormatSummary(const ResultsSummary& summary) {
+  std::ostringstream out;
+  const Provenance& p = summary.provenance;
+  out << summary.path << "\n"
+      << "  input      " << p.input_path << " (" << p.input_size_bytes << " bytes, sha256 "
+      << p.input_sha256.substr(0, 16) << "...)\n"
+      << "  fogpipe    " << p.fogpipe_version << " (" << p.git_commit.substr(0, 12) << "), "
+      << p.threads << " threads, " << p.start_time_utc << " .. " << p.end_time_utc << "\n"
+      << "  config     sha256 " << p.config_sha256.substr(0, 16) << "...\n"
+      << "  stages    ";
+  for (std::size_t i = 0; i < p.stage_names.size(); ++i) {
+    char text[64];
+    std::snprintf(text, sizeof(text), " %s %.2f s", p.stage_names[i].c_str(), p.stage_seconds[i]);
+    out << text << (i + 1 < p.stage_names.size() ? "," : "\n");
+  }
+  for (const AxisSummary& axis : summary.axes) {
+    out << "\naxis " << axis.name << ": " << axis.samples << " samples at " << axis.sample_rate_hz
+        << " Hz (input " << axis.input_units << "), " << axis.dropped_samples
+        << " dropped at the start, " << axis.outliers << " outliers replaced, " << axis.num_imfs
+        << " IMFs + residue\n"
+        << "Table 3: AR order and fit per component\n"
+        << method::FormatTable3(axis.table3) << "Table 5: Allan noise terms\n"
+        << method::FormatTable5(axis.table5);
+  }
+  return out.str();
+}
+
+}  // namespace fogpipe::io

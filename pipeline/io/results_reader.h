@@ -1,0 +1,43 @@
+// Reads back what `fogpipe info` prints and what a rerun needs to decide whether to skip a file.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "algorithms/method/tables.h"
+#include "pipeline/io/results_writer.h"
+
+namespace fogpipe::io {
+
+struct AxisSummary {
+  std::string name;
+  long long samples = 0;
+  double sample_rate_hz = 0.0;
+  std::string input_units;
+  int num_imfs = 0;
+  long long dropped_samples = 0;
+  long long outliers = 0;
+  double mean_removed_rad_s = 0.0;
+  std::vector<method::FitRow> table3;    ///< method 2's model first, then IMFs and residue
+  std::vector<method::NoiseRow> table5;  ///< raw, method 1, method 2
+};
+
+struct ResultsSummary {
+  std::string path;
+  Provenance provenance;
+  std::vector<AxisSummary> axes;
+};
+
+/// Reads the summary of a results file (takes the HDF5 lock). Throws hdf5::Error, or
+/// std::runtime_error naming the file when it is not a fogpipe-results-v1 file.
+ResultsSummary ReadResultsSummary(const std::string& path);
+
+/// The configuration hash of a complete results file, or nullopt when the file does not exist,
+/// cannot be read or is not a fogpipe-results-v1 file (takes the HDF5 lock; never throws).
+std::optional<std::string> ReadConfigHash(const std::string& path);
+
+/// Human-readable summary: provenance, then per axis Table 3 and Table 5 with units.
+std::string FormatSummary(const ResultsSummary& summary);
+
+}  // namespace fogpipe::io

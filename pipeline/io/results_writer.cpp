@@ -1,0 +1,304 @@
+#include "pipeline/io/results_writer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <limits>
+
+#include "algorithms/common/units.h"
+#include "pipeline/hdf5/atomic_output_file.h"
+#include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/results_layout.h"
+
+namespace fogpipe::io {
+namespace {
+
+using hdf5::DatasetOptions;
+using hdf5::Group;
+using method::ComponentModel;
+using method::MethodResult;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+DatasetOptions Storage(ImfStorage storage, int deflate_level) {
+  DatasetOptions options;
+  options.storage =
+      storage == ImfStorage::kFloat32 ? hdf5::StorageType::kFloat32 : hdf5::StorageType::kFloat64;
+  options.deflate_level = deflate_level;
+  options.shuffle = true;
+  return options;
+}
+
+void WriteScalar(Group& group, const std::string& name, double value, const std::string& units) {
+  group.WriteDataset(name, &value, {}, units);
+}
+
+void WriteCount(Group& group, const std::string& name, long long value, const std::string& units) {
+  group.WriteDataset(name, std::vector<long long>{value}, units);
+}
+
+/// Columns [N, columns.size()] written block by block, so that no N x K copy is ever made.
+void WriteColumns(Group& group, const std::string& name,
+                  const std::vector<const Eigen::VectorXd*>& columns, const std::string& units,
+                  const DatasetOptions& options) {
+  const hsize_t n = columns.empty() ? 0 : static_cast<hsize_t>(columns[0]->size());
+  const hsize_t k = columns.size();
+  hdf5::Dataset dataset = group.CreateDataset(name, {n, k}, units, options);
+  const hsize_t block = 1 << 14;
+  std::vector<double> buffer;
+  for (hsize_t row0 = 0; row0 < n; row0 += block) {
+    const hsize_t rows = std::min(block, n - row0);
+    buffer.resize(rows * k);
+    for (hsize_t r = 0; r < rows; ++r) {
+      for (hsize_t c = 0; c < k; ++c) buffer[r * k + c] = (*columns[c])[row0 + r];
+    }
+    dataset.WriteRows(row0, rows, buffer.data());
+  }
+}
+
+/// A [rows, width] matrix of per-component vectors, NaN-padded on the right.
+void WritePadded(Group& group, const std::string& name, const std::vector<Eigen::VectorXd>& rows,
+                 const std::string& units) {
+  std::size_t width = 1;
+  for (const auto& r : rows) width = std::max<std::size_t>(width, r.size());
+  std::vector<double> data(rows.size() * width, kNaN);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    for (Eigen::Index j = 0; j < rows[i].size(); ++j) data[i * width + j] = rows[i][j];
+  }
+  group.WriteDataset(name, data.data(), {rows.size(), width}, units);
+}
+
+/// The models table (one row per component): what Table 3 is read from.
+void WriteModelTable(Group group, const std::vector<std::string>& names,
+                     const std::vector<const ComponentModel*>& components) {
+  group.WriteStringDataset("component", names);
+  std::vector<long long> order, stationary;
+  std::vector<double> innovation, mean, one_step, simulation, q10, p10, q20, p20, residual;
+  std::vector<Eigen::VectorXd> phi, phi_se, bic;
+  for (const ComponentModel* c : components) {
+    const auto& m = c->fit.model;
+    const auto& d = c->fit.diagnostics;
+    order.push_back(m.order);
+    stationary.push_back(m.stationary ? 1 : 0);
+    innovation.push_back(m.innovation_variance);
+    mean.push_back(m.mean);
+    one_step.push_back(d.fit_one_step_percent);
+    simulation.push_back(d.fit_simulation_percent);
+    residual.push_back(d.residual_variance);
+    q10.push_back(d.ljung_box_q10);
+    p10.push_back(d.ljung_box_p10);
+    q20.push_back(d.ljung_box_q20);
+    p20.push_back(d.ljung_box_p20);
+    phi.push_back(m.phi);
+    phi_se.push_back(m.phi_std_error);
+    bic.push_back(c->fit.bic);
+  }
+  group.WriteDataset("order", order, "1");
+  group.WriteDataset("stationary", stationary, "1");
+  WritePadded(group, "coefficients", phi, "1");
+  group.OpenDataset("coefficients")
+      .WriteStringAttribute("sign_convention", results::kSignConvention);
+  WritePadded(group, "coefficient_std_error", phi_se, "1");
+  group.WriteDataset("innovation_variance", innovation, results::kRateVarianceUnits);
+  group.WriteDataset("mean", mean, results::kRateUnits);
+  WritePadded(group, "bic", bic, "1");
+  group.OpenDataset("bic").WriteStringAttribute(
+      "definition", "bic[i, p-1] = N ln(sigma_p^2) + p ln(N) for order p (Schwarz 1978)");
+  group.WriteDataset("fit_one_step_percent", one_step, "%");
+  group.WriteDataset("fit_simulation_percent", simulation, "%");
+  group.WriteDataset("residual_variance", residual, results::kRateVarianceUnits);
+  group.WriteDataset("ljung_box_q10", q10, "1");
+  group.WriteDataset("ljung_box_p10", p10, "1");
+  group.WriteDataset("ljung_box_q20", q20, "1");
+  group.WriteDataset("ljung_box_p20", p20, "1");
+}
+
+/// The Kalman table (one row per component).
+void WriteKalmanTable(Group group, const std::vector<std::string>& names,
+                      const std::vector<const ComponentModel*>& components) {
+  group.WriteStringDataset("component", names);
+  std::vector<double> q, r, white, error_variance;
+  std::vector<long long> switched;
+  std::vector<Eigen::VectorXd> gain;
+  for (const ComponentModel* c : components) {
+    q.push_back(c->kalman.q);
+    r.push_back(c->kalman.r);
+    white.push_back(c->white_noise_variance);
+    error_variance.push_back(c->kalman.steady_state_error_variance);
+    switched.push_back(c->kalman.summary.switched_at_sample);
+    gain.push_back(c->kalman.steady_state_gain);
+  }
+  group.WriteDataset("q", q, results::kRateVarianceUnits);
+  group.WriteDataset("r", r, results::kRateVarianceUnits);
+  group.WriteDataset("white_noise_variance", white, results::kRateVarianceUnits);
+  WritePadded(group, "steady_state_gain", gain, "1");
+  group.WriteDataset("steady_state_error_variance", error_variance, results::kRateVarianceUnits);
+  group.WriteDataset("switched_at_sample", switched, "samples");
+}
+
+void WriteAllan(Group group, const method::AllanEvaluation& evaluation) {
+  const allan::AllanTable& t = evaluation.allan.table;
+  group.WriteStringAttribute("deviation", allan::ToString(t.deviation));
+  group.WriteDataset("tau_s", t.tau_s, "s");
+  group.WriteDataset("m", t.m, "1");
+  group.WriteDataset("sigma", t.sigma, results::kRateUnits);
+  group.WriteDataset("ci_low", t.ci_low, results::kRateUnits);
+  group.WriteDataset("ci_high", t.ci_high, results::kRateUnits);
+  group.WriteDataset("edf", t.edf, "1");
+  group.WriteDataset("count", t.count, "1");
+
+  Group noise = group.CreateGroup("noise");
+  noise.WriteStringAttribute("termination", ToString(evaluation.noise.summary.termination));
+  noise.WriteStringAttribute("message", evaluation.noise.summary.message);
+  noise.WriteStringAttribute(
+      "model",
+      "sigma^2 = 3Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2 + K^2 tau/3 + R^2 tau^2/2, "
+      "weighted NNLS (IEEE Std 952-1997 Annex C)");
+  const allan::NoiseTermsEngineering e = allan::ToEngineeringUnits(evaluation.noise.terms);
+  const struct {
+    const char* name;
+    double value, se;
+    const char* units;
+  } terms[] = {{"Q", e.q_arcsec, e.q_se, units::kQuantizationUnit},
+               {"N", e.n_deg_sqrt_h, e.n_se, units::kArwUnit},
+               {"B", e.b_deg_h, e.b_se, units::kBiasUnit},
+               {"K", e.k_deg_h_sqrt_h, e.k_se, units::kRrwUnit},
+               {"R", e.r_deg_h2, e.r_se, units::kRampUnit}};
+  for (const auto& term : terms) {
+    WriteScalar(noise, term.name, term.value, term.units);
+    WriteScalar(noise, std::string(term.name) + "_std_error", term.se, term.units);
+  }
+}
+
+void WriteAxis(Group axes, const AxisResults& axis, const ResultsOptions& options) {
+  const MethodResult& r = *axis.result;
+  Group g = axes.CreateGroup(axis.name);
+  g.WriteInt64Attribute("column", axis.index);
+  g.WriteDoubleAttribute("sample_rate_hz", axis.sample_rate_hz);
+  g.WriteStringAttribute("input_units", axis.input_units);
+  g.WriteInt64Attribute("samples", static_cast<long long>(r.preprocessed.signal.size()));
+
+  const method::Preprocessed& pre = r.preprocessed;
+  Group p = g.CreateGroup("preprocessing");
+  WriteCount(p, "dropped_samples", pre.summary.dropped_samples, "samples");
+  WriteScalar(p, "mean_removed", pre.mean_removed, results::kRateUnits);
+  p.WriteDataset("outlier_indices", pre.outlier_indices, "samples");
+  p.OpenDataset("outlier_indices").WriteStringAttribute("rule", pre.outlier_rule);
+  WriteCount(p, "window_samples", pre.window_samples, "samples");
+  p.WriteDataset("window_mean", pre.window_mean, results::kRateUnits);
+  p.WriteDataset("window_variance", pre.window_variance, results::kRateVarianceUnits);
+
+  const emd::EmdResult& e = r.decomposition;
+  const int num_imfs = static_cast<int>(e.imfs.size());
+  Group d = g.CreateGroup("decomposition");
+  d.WriteStringAttribute("storage", ToString(options.imf_storage));
+  d.WriteInt64Attribute("num_imfs", num_imfs);
+  d.WriteStringAttribute("termination", ToString(e.summary.termination));
+  const DatasetOptions big = Storage(options.imf_storage, options.deflate_level);
+  if (options.imf_storage != ImfStorage::kNone) {
+    std::vector<const Eigen::VectorXd*> columns;
+    for (const auto& imf : e.imfs) columns.push_back(&imf);
+    WriteColumns(d, "imfs", columns, results::kRateUnits, big);
+    d.WriteDataset("residue", e.residue, results::kRateUnits, big);
+  }
+  std::vector<long long> sifts;
+  std::vector<std::string> stop_reason;
+  std::vector<double> period, energy;
+  for (const emd::ImfInfo& info : e.imf_info) {
+    sifts.push_back(info.sifts);
+    stop_reason.push_back(emd::ToString(info.stop_reason));
+    period.push_back(info.mean_period_samples);
+    energy.push_back(info.energy);
+  }
+  d.WriteDataset("sifts", sifts, "1");
+  d.WriteStringDataset("stop_reason", stop_reason);
+  d.WriteDataset("mean_period_samples", period, "samples");
+  d.WriteDataset("energy", energy, results::kRateVarianceUnits);
+
+  std::vector<std::string> names;
+  std::vector<const ComponentModel*> components;
+  for (int k = 0; k <= num_imfs; ++k) {
+    names.push_back(method::ComponentName(k, num_imfs));
+    components.push_back(&r.components[k]);
+  }
+  WriteModelTable(g.CreateGroup("models"), names, components);
+  Group kalman = g.CreateGroup("kalman");
+  WriteKalmanTable(kalman, names, components);
+  if (options.store_filtered_imfs && options.imf_storage != ImfStorage::kNone) {
+    std::vector<const Eigen::VectorXd*> columns;
+    for (const ComponentModel* c : components) columns.push_back(&c->Output());
+    WriteColumns(kalman, "filtered", columns, results::kRateUnits, big);
+  }
+
+  Group s = g.CreateGroup("signals");
+  s.WriteDataset("method1", r.method1, results::kRateUnits, Storage(ImfStorage::kFloat64, 4));
+  s.WriteDataset("method2", r.direct.Output(), results::kRateUnits,
+                 Storage(ImfStorage::kFloat64, options.deflate_level));
+  WriteModelTable(s.CreateGroup("method2_model"), {"raw"}, {&r.direct});
+  WriteKalmanTable(s.CreateGroup("method2_kalman"), {"raw"}, {&r.direct});
+
+  Group a = g.CreateGroup("allan");
+  WriteAllan(a.CreateGroup("raw"), r.raw_allan);
+  WriteAllan(a.CreateGroup("method1"), r.method1_allan);
+  WriteAllan(a.CreateGroup("method2"), r.method2_allan);
+}
+
+}  // namespace
+
+const char* ToString(ImfStorage storage) {
+  switch (storage) {
+    case ImfStorage::kFloat64:
+      return "float64";
+    case ImfStorage::kFloat32:
+      return "float32";
+    case ImfStorage::kNone:
+      return "none";
+  }
+  return "float64";
+}
+
+bool ParseImfStorage(const std::string& text, ImfStorage* storage) {
+  for (ImfStorage s : {ImfStorage::kFloat64, ImfStorage::kFloat32, ImfStorage::kNone}) {
+    if (text == ToString(s)) {
+      *storage = s;
+      return true;
+    }
+  }
+  return false;
+}
+
+std::string UtcNowIso8601() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
+}
+
+void WriteResultsFile(const std::filesystem::path& final_path, const Provenance& provenance,
+                      const std::vector<AxisResults>& axes, const ResultsOptions& options) {
+  auto lock = hdf5::LockHdf5();
+  hdf5::AtomicOutputFile out(final_path);
+  {
+    Group root = out.Root();
+    root.WriteStringAttribute(results::kFormatAttribute, results::kFormat);
+    Group p = root.CreateGroup("provenance");
+    p.WriteStringAttribute("fogpipe_version", provenance.fogpipe_version);
+    p.WriteStringAttribute("git_commit", provenance.git_commit);
+    p.WriteStringAttribute(results::kConfigHashAttribute, provenance.config_sha256);
+    p.WriteStringAttribute("input_path", provenance.input_path);
+    p.WriteInt64Attribute("input_size_bytes", provenance.input_size_bytes);
+    p.WriteStringAttribute("input_sha256", provenance.input_sha256);
+    p.WriteStringAttribute("start_time_utc", provenance.start_time_utc);
+    p.WriteStringAttribute("end_time_utc", provenance.end_time_utc);
+    p.WriteInt64Attribute("threads", provenance.threads);
+    p.WriteTextDataset("config_toml", provenance.config_toml);
+    p.WriteStringDataset("stage_names", provenance.stage_names);
+    p.WriteDataset("stage_seconds", provenance.stage_seconds, "s");
+    Group axes_group = root.CreateGroup("axes");
+    for (const AxisResults& axis : axes) WriteAxis(axes_group, axis, options);
+  }
+  out.Commit();
+}
+
+}  // namespace fogpipe::io

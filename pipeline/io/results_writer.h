@@ -1,0 +1,63 @@
+// Writes one results file (fogpipe-results-v1, schemas/results-v1.md) per recording: provenance,
+// then per axis preprocessing, decomposition, models, kalman, signals and allan groups.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "algorithms/method/method.h"
+
+namespace fogpipe::io {
+
+/// How IMF-sized arrays (IMFs, residue, filtered components) are stored.
+enum class ImfStorage { kFloat64, kFloat32, kNone };
+/// "float64", "float32", "none".
+const char* ToString(ImfStorage storage);
+bool ParseImfStorage(const std::string& text, ImfStorage* storage);
+
+struct ResultsOptions {
+  /// IMFs and residue: float64 (default, exact), float32 (half the size; relative rounding 6e-8)
+  /// or none (per-IMF metadata, models and the reconstruction are still stored).
+  ImfStorage imf_storage = ImfStorage::kFloat64;
+  /// Also store each component's Kalman output ([N, K+1], same storage as the IMFs).
+  bool store_filtered_imfs = false;
+  /// zlib level of chunked datasets (shuffle is always on).
+  int deflate_level = 4;
+};
+
+/// Where the numbers came from. Stored in /provenance.
+struct Provenance {
+  std::string fogpipe_version;
+  std::string git_commit;
+  std::string config_toml;    ///< The effective configuration, TOML.
+  std::string config_sha256;  ///< SHA-256 of config_toml: the rerun key.
+  std::string input_path;
+  long long input_size_bytes = 0;
+  std::string input_sha256;
+  std::string start_time_utc;  ///< ISO 8601, e.g. 2026-11-21T06:30:00Z
+  std::string end_time_utc;
+  int threads = 0;
+  std::vector<std::string> stage_names;  ///< e.g. read, preprocess_emd, models, allan, write
+  std::vector<double> stage_seconds;     ///< Summed over the file's axes, s.
+};
+
+/// One analysed axis.
+struct AxisResults {
+  std::string name;  ///< group name under /axes
+  int index = 0;     ///< column in /rate
+  double sample_rate_hz = 0.0;
+  std::string input_units;  ///< units of /rate in the recording
+  const method::MethodResult* result = nullptr;
+};
+
+/// Writes `final_path` through a temporary file in the same folder renamed when complete
+/// (hdf5::AtomicOutputFile). Takes the HDF5 lock itself. Throws hdf5::Error or
+/// std::runtime_error; nothing is left under final_path on failure.
+void WriteResultsFile(const std::filesystem::path& final_path, const Provenance& provenance,
+                      const std::vector<AxisResults>& axes, const ResultsOptions& options);
+
+/// Current UTC time, ISO 8601 with seconds ("2026-11-21T06:30:00Z").
+std::string UtcNowIso8601();
+
+}  // namespace fogpipe::io

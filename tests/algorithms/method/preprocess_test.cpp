@@ -1,0 +1,96 @@
+// Tests algorithms/method/preprocess.cpp on signals whose truth is known by construction.
+#include "algorithms/method/preprocess.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace fogpipe::method {
+namespace {
+
+// Gaussian samples by Box-Muller from an explicitly seeded mt19937_64 (portable, deterministic).
+Eigen::VectorXd Gaussian(int n, double sigma, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  auto uniform = [&rng]() { return (static_cast<double>(rng() >> 11) + 0.5) * 0x1.0p-53; };
+  Eigen::VectorXd x(n);
+  for (int i = 0; i < n; i += 2) {
+    const double r = std::sqrt(-2.0 * std::log(uniform())), t = 2.0 * M_PI * uniform();
+    x[i] = sigma * r * std::cos(t);
+    if (i + 1 < n) x[i + 1] = sigma * r * std::sin(t);
+  }
+  return x;
+}
+
+TEST(Preprocess, DropsTheStartAndRemovesTheMean) {
+  Eigen::VectorXd x = Gaussian(1000, 1.0, 1);
+  x.head(100).array() += 50.0;  // start-up transient
+  x.array() += 3.0;
+  PreprocessOptions options;
+  options.drop_start_s = 10.0;  // 100 samples at 10 Hz
+  const Preprocessed p = Preprocess(x, 10.0, options);
+  ASSERT_EQ(p.summary.termination, Termination::kSuccess) << p.summary.message;
+  EXPECT_EQ(p.summary.dropped_samples, 100);
+  EXPECT_EQ(p.signal.size(), 900);
+  EXPECT_NEAR(p.signal.mean(), 0.0, 1e-14);
+  // Kept samples are N(3, 1): the removed mean is within 4 standard errors of 3.
+  EXPECT_NEAR(p.mean_removed, 3.0, 4.0 / std::sqrt(900.0));
+}
+
+TEST(Preprocess, ReplacesPlantedOutliersAndOnlyThem) {
+  Eigen::VectorXd x = Gaussian(20000, 1.0, 2);
+  const std::vector<long long> planted = {17, 5000, 12345, 19990};
+  for (long long i : planted) x[i] += 40.0;  // 40 sigma gross errors
+  const Preprocessed p = Preprocess(x, 1.0, PreprocessOptions());
+  ASSERT_EQ(p.summary.termination, Termination::kSuccess);
+  // A Gaussian sample exceeds 5 (local, estimated) sigma with probability ~1e-6 per sample, so at
+  // most a couple of false alarms are expected in 2e4 samples; the planted ones must all be found.
+  for (long long i : planted) {
+    EXPECT_NE(std::find(p.outlier_indices.begin(), p.outlier_indices.end(), i),
+              p.outlier_indices.end())
+        << i;
+  }
+  EXPECT_LE(p.outlier_indices.size(), planted.size() + 2);
+  EXPECT_LT(p.signal.cwiseAbs().maxCoeff(), 8.0);
+}
+
+TEST(Preprocess, RejectsANonFiniteSampleNamingItsIndex) {
+  Eigen::VectorXd x = Gaussian(200, 1.0, 5);
+  x[150] = std::nan("");
+  PreprocessOptions options;
+  options.drop_start_s = 10.0;
+  const Preprocessed p = Preprocess(x, 1.0, options);
+  EXPECT_EQ(p.summary.termination, Termination::kNumericalFailure);
+  EXPECT_NE(p.summary.message.find("index 150"), std::string::npos) << p.summary.message;
+}
+
+TEST(Preprocess, RejectsAConstantSignalAndTooFewSamples) {
+  Preprocessed p = Preprocess(Eigen::VectorXd::Constant(500, 2.5), 1.0, PreprocessOptions());
+  EXPECT_EQ(p.summary.termination, Termination::kNumericalFailure);
+  EXPECT_NE(p.summary.message.find("constant"), std::string::npos);
+  PreprocessOptions options;
+  options.drop_start_s = 480.0;
+  p = Preprocess(Gaussian(500, 1.0, 3), 1.0, options);
+  EXPECT_EQ(p.summary.termination, Termination::kInsufficientData);
+  EXPECT_NE(p.summary.message.find("too few samples"), std::string::npos);
+}
+
+TEST(Preprocess, WindowedMeanAndVarianceFollowAStepInLevelAndSpread) {
+  Eigen::VectorXd x = Gaussian(4000, 1.0, 4);
+  x.tail(2000) = 3.0 * x.tail(2000).array() + 10.0;
+  PreprocessOptions options;
+  options.window_s = 100.0;
+  options.remove_outliers = false;
+  const Preprocessed p = Preprocess(x, 1.0, options);
+  ASSERT_EQ(p.window_mean.size(), 40);
+  // Window means of 100 N(0,1) / N(10,9) samples: standard errors 0.1 and 0.3; 6 of them bound all
+  // 40 windows with overwhelming probability. Variances: relative standard error sqrt(2/99).
+  for (int w = 0; w < 40; ++w) {
+    const bool second = w >= 20;
+    EXPECT_NEAR(p.window_mean[w], second ? 10.0 : 0.0, second ? 1.8 : 0.6);
+    EXPECT_NEAR(p.window_variance[w] / (second ? 9.0 : 1.0), 1.0, 6.0 * std::sqrt(2.0 / 99.0));
+  }
+}
+
+}  // namespace
+}  // namespace fogpipe::method

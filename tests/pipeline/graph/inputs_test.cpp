@@ -1,0 +1,108 @@
+// Tests pipeline/graph/inputs.cpp and memory_budget.cpp.
+#include "pipeline/graph/inputs.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "pipeline/graph/memory_budget.h"
+
+namespace fogpipe::graph {
+namespace {
+namespace fs = std::filesystem;
+
+class InputsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::path(::testing::TempDir()) / "fogpipe_inputs_test";
+    fs::remove_all(root_);
+    fs::create_directories(root_ / "a" / "deep");
+    fs::create_directories(root_ / "b");
+    for (const char* f : {"a/x.h5", "a/deep/y.h5", "a/notes.txt", "b/x.h5", "b/z.h5"}) {
+      std::ofstream(root_ / f) << "0123456789";
+    }
+  }
+  void TearDown() override { fs::remove_all(root_); }
+  std::string P(const char* relative) const { return (root_ / relative).string(); }
+  fs::path root_;
+};
+
+TEST_F(InputsTest, ExpandsFoldersRecursivelyGlobsAndFilesSortedWithoutDuplicates) {
+  std::vector<std::string> errors;
+  const auto inputs = ListInputs({P("a"), P("b/*.h5"), P("b/z.h5")}, "", &errors);
+  EXPECT_TRUE(errors.empty());
+  ASSERT_EQ(inputs.size(), 4u);
+  EXPECT_EQ(inputs[0].path, P("a/deep/y.h5"));
+  EXPECT_EQ(inputs[1].path, P("a/x.h5"));
+  EXPECT_EQ(inputs[3].path, P("b/z.h5"));
+  EXPECT_EQ(inputs[3].size_bytes, 10u);
+}
+
+TEST_F(InputsTest, GivesCollidingStemsDistinctStableOutputNames) {
+  std::vector<std::string> errors;
+  const auto inputs = ListInputs({P("a/x.h5"), P("b/x.h5"), P("b/z.h5")}, "", &errors);
+  ASSERT_EQ(inputs.size(), 3u);
+  EXPECT_NE(inputs[0].output_name, inputs[1].output_name);
+  EXPECT_EQ(inputs[0].output_name.rfind("x-", 0), 0u);
+  EXPECT_EQ(inputs[2].output_name, "z.fogpipe.h5");
+  // Stable: the same input gets the same name whatever else is listed with it.
+  const auto again = ListInputs({P("b/x.h5"), P("a/x.h5")}, "", &errors);
+  EXPECT_EQ(again[0].output_name, inputs[0].output_name);
+}
+
+TEST_F(InputsTest, ReadsAManifestWithCommentsSizesAndRelativePaths) {
+  std::ofstream(root_ / "list.txt") << "# campaign\n\na/x.h5 10\n"
+                                    << P("b/z.h5") << "  # abs\n"
+                                    << "missing.h5 123\n"
+                                    << "b/x.h5 notasize\n";
+  std::vector<std::string> errors;
+  const auto inputs = ListInputs({}, P("list.txt"), &errors);
+  ASSERT_EQ(inputs.size(), 3u);
+  EXPECT_EQ(inputs[2].path, P("missing.h5"));
+  EXPECT_EQ(inputs[2].size_bytes, 123u);  // the manifest's size when the file cannot be stat'ed
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_NE(errors[0].find("list.txt:6"), std::string::npos) << errors[0];
+}
+
+TEST_F(InputsTest, ReportsPatternsAndFoldersThatMatchNothing) {
+  std::vector<std::string> errors;
+  fs::create_directories(root_ / "empty");
+  const auto inputs = ListInputs({P("empty"), P("nothing*.h5")}, "", &errors);
+  EXPECT_TRUE(inputs.empty());
+  ASSERT_EQ(errors.size(), 2u);
+  EXPECT_NE(errors[0].find("empty"), std::string::npos);
+}
+
+TEST(Shards, PartitionTheListWithoutOverlapOrLoss) {
+  std::vector<InputFile> inputs(10);
+  for (int i = 0; i < 10; ++i) inputs[i].path = std::to_string(i);
+  std::vector<std::string> seen;
+  for (int shard = 0; shard < 3; ++shard) {
+    for (const auto& f : SelectShard(inputs, shard, 3)) seen.push_back(f.path);
+  }
+  std::sort(seen.begin(), seen.end());
+  EXPECT_EQ(seen.size(), 10u);
+  EXPECT_EQ(std::unique(seen.begin(), seen.end()), seen.end());
+}
+
+TEST(MemoryBudget, ParsesBinaryMultiplesAndRejectsNonsense) {
+  EXPECT_EQ(ParseByteSize("2G"), 2ull << 30);
+  EXPECT_EQ(ParseByteSize("512M"), 512ull << 20);
+  EXPECT_EQ(ParseByteSize("512MiB"), 512ull << 20);
+  EXPECT_EQ(ParseByteSize("1.5k"), 1536u);
+  EXPECT_EQ(ParseByteSize("1000"), 1000u);
+  EXPECT_FALSE(ParseByteSize("12X"));
+  EXPECT_FALSE(ParseByteSize("-1G"));
+  EXPECT_FALSE(ParseByteSize("G"));
+}
+
+TEST(MemoryBudget, AllowsAtLeastOneAxisAndFloorOfBudgetOverEstimate) {
+  // N = 3600: ceil(log2 3600) = 12, +1 residue = 13, doubled = 26 series, + 8 work series.
+  EXPECT_EQ(BytesPerAxis(3600, 0), (26u + 8u) * 3600u * 8u);
+  EXPECT_EQ(AxesInFlight(10 * BytesPerAxis(3600, 0) + 1, BytesPerAxis(3600, 0)), 10);
+  EXPECT_EQ(AxesInFlight(1, BytesPerAxis(3600, 0)), 1);
+}
+
+}  // namespace
+}  // namespace fogpipe::graph
