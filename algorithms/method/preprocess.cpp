@@ -125,14 +125,15 @@ Preprocessed Preprocess(const Eigen::VectorXd& x, double sample_rate_hz,
     out.window_variance[w] = (segment.array() - mean).square().mean();
   }
 
-  out.mean_removed = y.mean();
-  y.array() -= out.mean_removed;
-  const double variance = y.squaredNorm() / static_cast<double>(kept);
-  if (!(variance > 0.0)) {
+  // Constant before the mean is removed: the test is exact (a mean-removed constant can keep
+  // rounding-level values that look like noise).
+  if (y.maxCoeff() == y.minCoeff()) {
     out.summary.termination = Termination::kNumericalFailure;
-    out.summary.message = "constant signal: zero variance after preprocessing, nothing to analyse";
+    out.summary.message = "constant signal: every kept sample is the same, nothing to analyse";
     return out;
   }
+  out.mean_removed = y.mean();
+  y.array() -= out.mean_removed;
   out.signal = std::move(y);
   out.summary.termination = Termination::kSuccess;
   return out;

@@ -1,8 +1,5 @@
 # Results file layout (schemas/results-v1.*) and provenance hashing; owned by the graph part.
 target_sources(fogpipe_pipeline PRIVATE
+  ${CMAKE_CURRENT_LIST_DIR}/results_reader.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/results_writer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/sha256.cpp)
-if(EXISTS ${PROJECT_SOURCE_DIR}/algorithms/emd/emd.h)  # transitional, see algorithms/method
-  target_sources(fogpipe_pipeline PRIVATE
-    ${CMAKE_CURRENT_LIST_DIR}/results_reader.cpp
-    ${CMAKE_CURRENT_LIST_DIR}/results_writer.cpp)
-endif()

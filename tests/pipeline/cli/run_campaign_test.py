@@ -119,11 +119,17 @@ def case_campaign(tmp):
                     chunks=(500, 2), units="deg/s")
     write_recording(os.path.join(rec, "good3.h5"), 13, units="rad/s", n=7200, rate_hz=2.0)
     bad = write_bad(rec)
+    # The paper's setting through the CLI: `fogpipe simulate --profile paper` (1 h at 1 Hz).
+    sim = run(["simulate", "--profile", "paper", "--files", "2", "--seed", "1", "-o",
+               os.path.join(rec, "paper")])
+    check(sim.returncode == 0, f"simulate --profile paper wrote 2 recordings {sim.stderr}")
     out = os.path.join(tmp, "out1")
     r = run(["run", rec, "-o", out, "--threads", "1"])
     check(r.returncode == 1, f"a campaign with bad files exits 1 (got {r.returncode})")
     lines = {l["file"]: l for l in status_lines(out)}
-    for name in ("good1.h5", "sub/good2.h5", "good3.h5"):
+    paper = sorted(os.path.relpath(os.path.join(rec, "paper", n), rec)
+                   for n in os.listdir(os.path.join(rec, "paper")) if n.endswith(".h5"))
+    for name in ["good1.h5", "sub/good2.h5", "good3.h5"] + paper:
         l = lines.get(os.path.join(rec, name))
         check(l is not None and l["status"] == "ok", f"good file {name} finished ok")
     for path, word in bad.items():
@@ -133,7 +139,14 @@ def case_campaign(tmp):
         check(ok, f"bad file {os.path.basename(path)} failed with a message naming it: "
                   f"{l['message'] if l else None}")
         check(path in r.stderr, f"stderr names {os.path.basename(path)}")
-    check(len(outputs(out)) == 3, f"3 results files written: {outputs(out)}")
+    check(len(outputs(out)) == 5, f"5 results files written: {outputs(out)}")
+    for name in outputs(out):
+        with h5py.File(os.path.join(out, name), "r") as f:
+            for axis, g in f["axes"].items():
+                raw = g["signals/method2_model/fit_one_step_percent"][0]
+                comp = g["models/fit_one_step_percent"][:]
+                check(bool(np.all(comp >= raw)), f"Table 3 shape in {name}/{axis}: every component "
+                      f"fits >= raw ({np.min(comp):.2f} >= {raw:.2f} %)")
     check("Table" in r.stdout or "fit 1-step" in r.stdout, "run prints Tables 3 and 5")
     c = subprocess.run(["/usr/bin/python3", CHECKER] + [os.path.join(out, o) for o in outputs(out)],
                        capture_output=True, text=True)
@@ -202,7 +215,7 @@ def case_resume(tmp, rec, out1):
     r = run(["run", rec, "-o", out1])
     new = status_lines(out1)[n_before:]
     skipped = [l for l in new if l["status"] == "skipped"]
-    check(len(skipped) == 3, f"a rerun skips the 3 done files ({len(skipped)} skipped)")
+    check(len(skipped) == 5, f"a rerun skips the 5 done files ({len(skipped)} skipped)")
     check(mtimes == {n: os.path.getmtime(os.path.join(out1, n)) for n in outputs(out1)},
           "skipped outputs are untouched")
     r = run(["run", os.path.join(rec, "good1.h5"), "-o", out1, "--force"])
