@@ -20,6 +20,7 @@ OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x, int max_
   OrderSequence out;
   out.num_effective = n;
   out.innovation_variance.setZero(max_order);
+  out.reflection.setZero(max_order);
   if (n < 2 || max_order < 1) return out;
 
   // Layout after Collomb (2009): forward error of order m at time t is f[t] (t = m..N-1); backward
@@ -45,6 +46,7 @@ OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x, int max_
     StepUpOnce(kappa, &phi);
     out.phi.push_back(phi);
     out.innovation_variance(m) = sigma2;
+    out.reflection(m) = kappa;
     out.orders_completed = m + 1;
     if (m + 1 == max_order) break;
 
@@ -75,6 +77,7 @@ OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x, int max_
     den = next_den;
   }
   out.innovation_variance.conservativeResize(out.orders_completed);
+  out.reflection.conservativeResize(out.orders_completed);
   return out;
 }
 
@@ -118,6 +121,8 @@ OrderSequence BurgAllOrdersFromAutocorrelation(const Eigen::Ref<const Eigen::Vec
     a = alpha - kappa * beta;  // A_{k+1}(z) = A_k(z) - kappa z^{k+1} A_k(1/z)
     out.phi.push_back(-a.tail(k + 1));
     out.innovation_variance(k) = sigma2;
+    out.reflection.conservativeResize(k + 1);
+    out.reflection(k) = kappa;
     out.orders_completed = k + 1;
   }
   out.innovation_variance.conservativeResize(out.orders_completed);

@@ -105,7 +105,8 @@ ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options
     MaximumLikelihoodOptions ml_options;
     ml_options.max_iterations = options.ml_max_iterations;
     xc = x.array() - mean;
-    const MaximumLikelihoodResult ml = FitMaximumLikelihood(xc, phi, ml_options);
+    const MaximumLikelihoodResult ml =
+        FitMaximumLikelihood(xc, seq.reflection.head(order), ml_options);
     fit.summary.ml_iterations = ml.iterations;
     if (!ml.valid) {
       fit.summary.termination = Termination::kNumericalFailure;

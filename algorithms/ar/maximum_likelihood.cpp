@@ -46,9 +46,8 @@ struct SumOfSquares {
     w(phi.size()) = 1.0;
     return r.triangularView<Eigen::Upper>() * w;
   }
-  double Value(const Eigen::VectorXd& phi) const {
-    return Residual(phi).squaredNorm() + (u0 + u * phi).squaredNorm() - (v * phi).squaredNorm();
-  }
+  // The value uses the stable form below; this difference-of-squares form of the start term is
+  // used for the derivatives only (it cancels badly when roots approach the unit circle).
   Eigen::VectorXd Gradient(const Eigen::VectorXd& phi) const {
     const Eigen::Index p = phi.size();
     return -2.0 * r.leftCols(p).transpose() * Residual(phi) + 2.0 * u.transpose() * (u0 + u * phi) -
@@ -59,6 +58,27 @@ struct SumOfSquares {
     return 2.0 * (rp.transpose() * rp + u.transpose() * u - v.transpose() * v);
   }
 };
+
+// x_p' V_p^{-1} x_p = sum_{j<p} eps_j^2 prod_{k=j+1}^{p} (1 - kappa_k^2), eps_j the error of the
+// order-j predictor of x_j from x_0..x_{j-1} (Durbin-Levinson innovations; Brockwell & Davis 1991,
+// sec. 5.2). Every term is >= 0, so unlike ||L1' x_p||^2 - ||L2' x_p||^2 nothing cancels even with
+// kappa_m -> +-1 (trends, the slowest IMFs). sech^2(theta) = 1 - kappa^2 without cancellation.
+double StartQuadratic(const Eigen::Ref<const Eigen::VectorXd>& x, const Eigen::VectorXd& theta) {
+  const Eigen::Index p = theta.size();
+  Eigen::VectorXd sech2(p);
+  for (Eigen::Index m = 0; m < p; ++m) sech2(m) = 1.0 / std::pow(std::cosh(theta(m)), 2);
+  double total = 0.0;
+  Eigen::VectorXd phi(0);  // order-j model
+  for (Eigen::Index j = 0; j < p; ++j) {
+    double eps = x(j);
+    for (Eigen::Index i = 1; i <= j; ++i) eps -= phi(i - 1) * x(j - i);
+    double weight = 1.0;
+    for (Eigen::Index k = j; k < p; ++k) weight *= sech2(k);  // kappa_{j+1}..kappa_p
+    total += weight * eps * eps;
+    StepUpOnce(std::tanh(theta(j)), &phi);
+  }
+  return total;
+}
 
 // phi(theta) and J = d phi / d theta through kappa = tanh(theta) and the Durbin step-up.
 void PhiAndJacobian(const Eigen::VectorXd& theta, Eigen::VectorXd* phi, Eigen::MatrixXd* jac) {
@@ -90,14 +110,13 @@ void PhiAndJacobian(const Eigen::VectorXd& theta, Eigen::VectorXd* phi, Eigen::M
 }  // namespace
 
 MaximumLikelihoodResult FitMaximumLikelihood(const Eigen::Ref<const Eigen::VectorXd>& x,
-                                             const Eigen::VectorXd& phi_start,
+                                             const Eigen::VectorXd& kappa,
                                              const MaximumLikelihoodOptions& options) {
   MaximumLikelihoodResult out;
-  const int p = static_cast<int>(phi_start.size());
+  const int p = static_cast<int>(kappa.size());
   const double n = static_cast<double>(x.size());
-  out.phi = phi_start;
-  Eigen::VectorXd kappa;
-  if (p < 1 || x.size() <= 2 * p || !StepDown(phi_start, &kappa)) return out;
+  if (p < 1 || x.size() <= 2 * p || !(kappa.array().abs() < 1.0).all()) return out;
+  out.phi = StepUp(kappa);
 
   const SumOfSquares ss(x, p);
   const Eigen::MatrixXd hess_s = ss.Hessian(p);
@@ -108,7 +127,7 @@ MaximumLikelihoodResult FitMaximumLikelihood(const Eigen::Ref<const Eigen::Vecto
     Eigen::VectorXd phi;
     Eigen::MatrixXd jac;
     PhiAndJacobian(theta, &phi, &jac);
-    const double s = ss.Value(phi);
+    const double s = ss.Residual(phi).squaredNorm() + StartQuadratic(x, theta);
     double logdet = 0.0;
     for (int m = 0; m < p; ++m) logdet += 2.0 * weight(m) * LogCosh(theta(m));
     if (phi_out) *phi_out = phi;
@@ -156,7 +175,7 @@ MaximumLikelihoodResult FitMaximumLikelihood(const Eigen::Ref<const Eigen::Vecto
       Eigen::VectorXd phi_trial;
       double s_trial = 0.0;
       const double f_trial = objective(trial, &phi_trial, &s_trial);
-      if (f_trial <= f - 1e-4 * alpha * 2.0 * decrement) {
+      if (f_trial < f - 1e-4 * alpha * 2.0 * decrement) {  // strict: equal F is no progress
         theta = trial;
         phi = phi_trial;
         s = s_trial;

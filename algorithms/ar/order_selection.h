@@ -22,6 +22,9 @@ struct OrderSequence {
   std::vector<Eigen::VectorXd> phi;
   /// innovation_variance(p - 1): the estimator's sigma_p^2, p = 1..orders_completed.
   Eigen::VectorXd innovation_variance;
+  /// reflection(m - 1) = kappa_m, m = 1..orders_completed, for the lattice estimators (Burg,
+  /// Yule-Walker), where |kappa_m| < 1 holds exactly; empty for least squares.
+  Eigen::VectorXd reflection;
   /// N in the BIC (see the file comment).
   Eigen::Index num_effective = 0;
   /// Orders actually produced. Fewer than asked when the prediction error vanished (a noise-free

@@ -23,6 +23,8 @@ OrderSequence LevinsonDurbin(const Eigen::VectorXd& r) {
     if (!(v > 0.0)) break;
     out.phi.push_back(phi);
     out.innovation_variance(m - 1) = v;
+    out.reflection.conservativeResize(m);
+    out.reflection(m - 1) = kappa;
     out.orders_completed = m;
   }
   out.innovation_variance.conservativeResize(out.orders_completed);

@@ -12,8 +12,6 @@
 namespace fogpipe::kalman {
 namespace {
 
-bool FiniteNonNegativeOrDefault(double v) { return std::isfinite(v); }
-
 ArKalmanResult Fail(ArKalmanResult result, Termination termination, std::string message) {
   result.filtered.resize(0);
   result.smoothed.resize(0);
@@ -52,7 +50,7 @@ bool ArKalmanOptions::IsValid(std::string* error) const {
     if (error) *error = m;
     return false;
   };
-  if (!FiniteNonNegativeOrDefault(q) || !FiniteNonNegativeOrDefault(r))
+  if (!std::isfinite(q) || !std::isfinite(r))
     return fail("ArKalmanOptions: q and r must be finite (negative selects the default)");
   if (!(q_scale >= 0.0) || !std::isfinite(q_scale))
     return fail("ArKalmanOptions::q_scale must be finite and >= 0");

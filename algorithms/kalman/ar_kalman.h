@@ -49,7 +49,9 @@ struct ArKalmanOptions {
   /// switch, so 1e-9 keeps the switch far inside the 1e-9 relative output budget; models whose
   /// gain stalls above it (imf6, imf7 at q/R = 1e-10) run time-varying to the end.
   double stall_tolerance = 1e-9;
-  /// Also run the RTS smoother; ArKalmanResult::smoothed is filled.
+  /// Also run the RTS smoother; ArKalmanResult::smoothed is filled. Memory: one more vector of n
+  /// doubles (innovations, overwritten by the smoothed values) plus p + 1 doubles per
+  /// time-varying step (all n steps if the filter never switches).
   bool smooth = false;
   /// Options of the DARE solver.
   DareOptions dare;

@@ -1,89 +1,19 @@
 #include "pipeline/io/recording_writer.h"
 
-#include <H5Cpp.h>
-#include <unistd.h>
-
-#include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
 #include "algorithms/simulation/navigation_grade.h"
+#include "pipeline/hdf5/atomic_output_file.h"
+#include "pipeline/hdf5/hdf5_lock.h"
 
 namespace fogpipe::io {
 namespace {
 
 namespace fs = std::filesystem;
 namespace sim = fogpipe::simulation;
-
-std::string TemporaryPath(const std::string& path) {
-  return path + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
-}
-
-// Renames the finished temporary onto the target; both live in the same folder, so rename(2) is
-// atomic on POSIX file systems.
-void Commit(const std::string& temporary, const std::string& path) {
-  std::error_code ec;
-  fs::rename(temporary, path, ec);
-  if (ec) {
-    fs::remove(temporary, ec);
-    throw std::runtime_error(path +
-                             ": cannot rename the temporary file into place: " + ec.message());
-  }
-}
-
-// Scalar variable-length UTF-8 strings, the layout h5py writes (it reads them back as str).
-void WriteStringAttribute(H5::H5Object& object, const std::string& name, const std::string& value) {
-  H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
-  type.setCset(H5T_CSET_UTF8);
-  H5::Attribute attribute = object.createAttribute(name, type, H5::DataSpace(H5S_SCALAR));
-  attribute.write(type, value);
-}
-
-void WriteDoubleAttribute(H5::H5Object& object, const std::string& name, double value) {
-  H5::Attribute attribute =
-      object.createAttribute(name, H5::PredType::IEEE_F64LE, H5::DataSpace(H5S_SCALAR));
-  attribute.write(H5::PredType::NATIVE_DOUBLE, &value);
-}
-
-// A 1-D array of variable-length strings (h5py reads it as an array of str).
-void WriteStringArrayAttribute(H5::H5Object& object, const std::string& name,
-                               const std::vector<std::string>& values) {
-  H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
-  type.setCset(H5T_CSET_UTF8);
-  const hsize_t size = values.size();
-  H5::Attribute attribute = object.createAttribute(name, type, H5::DataSpace(1, &size));
-  std::vector<const char*> pointers;
-  for (const std::string& v : values) pointers.push_back(v.c_str());
-  attribute.write(type, pointers.data());
-}
-
-H5::DSetCreatPropList ChunkedDeflate(int rank, const hsize_t* dims,
-                                     const RecordingWriterOptions& options) {
-  H5::DSetCreatPropList properties;
-  hsize_t chunk[2] = {std::min<hsize_t>(dims[0], options.chunk_samples), rank == 2 ? dims[1] : 1};
-  chunk[0] = std::max<hsize_t>(chunk[0], 1);
-  properties.setChunk(rank, chunk);
-  if (options.deflate_level > 0) {
-    properties.setShuffle();
-    properties.setDeflate(options.deflate_level);
-  }
-  return properties;
-}
-
-void WriteDataset(H5::Group& parent, const std::string& name, int rank, const hsize_t* dims,
-                  const double* row_major, SampleType type, const RecordingWriterOptions& options,
-                  const std::string& units) {
-  const H5::PredType& file_type =
-      type == SampleType::kFloat32 ? H5::PredType::IEEE_F32LE : H5::PredType::IEEE_F64LE;
-  H5::DataSet dataset = parent.createDataSet(name, file_type, H5::DataSpace(rank, dims),
-                                             ChunkedDeflate(rank, dims, options));
-  // HDF5 converts float64 -> float32 on writing (round to nearest).
-  dataset.write(row_major, H5::PredType::NATIVE_DOUBLE);
-  WriteStringAttribute(dataset, "units", units);
-}
 
 void Validate(const RecordingData& data, const RecordingWriterOptions& options) {
   std::string error;
@@ -107,6 +37,17 @@ void Validate(const RecordingData& data, const RecordingWriterOptions& options) 
   }
 }
 
+hdf5::DatasetOptions Layout(const RecordingWriterOptions& options, SampleType type) {
+  hdf5::DatasetOptions layout;
+  layout.storage =
+      type == SampleType::kFloat32 ? hdf5::StorageType::kFloat32 : hdf5::StorageType::kFloat64;
+  layout.chunk_rows = options.chunk_samples;
+  layout.deflate_level = options.deflate_level;
+  layout.shuffle = options.deflate_level > 0;
+  layout.min_chunked_elements = 0;  // always chunked, whatever the length
+  return layout;
+}
+
 }  // namespace
 
 const char* ToString(SampleType type) {
@@ -128,47 +69,46 @@ bool RecordingWriterOptions::IsValid(std::string* error) const {
 void WriteRecording(const std::string& path, const RecordingData& data,
                     const RecordingWriterOptions& options) {
   Validate(data, options);
-  const std::string temporary = TemporaryPath(path);
-  try {
-    H5::Exception::dontPrint();
-    {
-      H5::H5File file(temporary, H5F_ACC_TRUNC);
-      WriteDoubleAttribute(file, "sample_rate_hz", data.sample_rate_hz);
-      if (!data.start_time_utc.empty()) {
-        WriteStringAttribute(file, "start_time_utc", data.start_time_utc);
-      }
-      if (!data.instrument.empty()) WriteStringAttribute(file, "instrument", data.instrument);
-      if (!data.serial.empty()) WriteStringAttribute(file, "serial", data.serial);
-      if (data.latitude_deg) WriteDoubleAttribute(file, "latitude_deg", *data.latitude_deg);
+  const Eigen::Index n = data.rate_rad_s.rows();
+  const Eigen::Index axes = data.rate_rad_s.cols();
+  // Row-major [N, A] in the declared unit (HDF5 converts to float32 on writing when asked).
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const RowMajor rate = data.rate_rad_s / units::ToRadPerSecond(options.rate_unit);
+  const bool one_d = axes == 1 && options.squeeze_single_axis;
+  std::vector<hsize_t> dims = {static_cast<hsize_t>(n)};
+  if (!one_d) dims.push_back(static_cast<hsize_t>(axes));
 
-      const Eigen::Index n = data.rate_rad_s.rows();
-      const Eigen::Index axes = data.rate_rad_s.cols();
-      // Row-major [N, A] in the declared unit.
-      using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-      const RowMajor rate = data.rate_rad_s / units::ToRadPerSecond(options.rate_unit);
-      const bool one_d = axes == 1 && options.squeeze_single_axis;
-      const hsize_t dims[2] = {static_cast<hsize_t>(n), static_cast<hsize_t>(axes)};
-      WriteDataset(file, "rate", one_d ? 1 : 2, dims, rate.data(), options.sample_type, options,
-                   units::ToString(options.rate_unit));
-      if (!data.axes.empty()) {
-        H5::DataSet dataset = file.openDataSet("rate");
-        WriteStringArrayAttribute(dataset, "axes", data.axes);
+  hdf5::SilenceHdf5ErrorPrinter();
+  auto lock = hdf5::LockHdf5();  // declared first, released last (pipeline/hdf5/hdf5_lock.h)
+  try {
+    hdf5::AtomicOutputFile output(path);
+    {
+      hdf5::Group root = output.Root();
+      root.WriteDoubleAttribute("sample_rate_hz", data.sample_rate_hz);
+      if (!data.start_time_utc.empty()) {
+        root.WriteStringAttribute("start_time_utc", data.start_time_utc);
       }
+      if (!data.instrument.empty()) root.WriteStringAttribute("instrument", data.instrument);
+      if (!data.serial.empty()) root.WriteStringAttribute("serial", data.serial);
+      if (data.latitude_deg) root.WriteDoubleAttribute("latitude_deg", *data.latitude_deg);
+      hdf5::Dataset dataset =
+          root.WriteDataset("rate", rate.data(), dims, units::ToString(options.rate_unit),
+                            Layout(options, options.sample_type));
+      if (!data.axes.empty()) dataset.WriteStringArrayAttribute("axes", data.axes);
       if (!data.aux.empty()) {
-        H5::Group aux = file.createGroup("aux");
+        hdf5::Group aux = root.CreateGroup("aux");
         for (const auto& [name, channel] : data.aux) {
-          const hsize_t aux_dims[1] = {static_cast<hsize_t>(n)};
-          WriteDataset(aux, name, 1, aux_dims, channel.samples.data(), SampleType::kFloat64,
-                       options, channel.units);
+          aux.WriteDataset(name, channel.samples, channel.units,
+                           Layout(options, SampleType::kFloat64));
         }
       }
-    }  // the file is closed (and flushed) here, before the rename
-  } catch (const H5::Exception& e) {
-    std::error_code ec;
-    fs::remove(temporary, ec);
-    throw std::runtime_error(path + ": HDF5 error in " + e.getFuncName() + ": " + e.getDetailMsg());
+    }  // every wrapper is released before the commit closes the file
+    output.Commit();
+  } catch (const hdf5::Error& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  } catch (const fs::filesystem_error& e) {
+    throw std::runtime_error(path + ": " + e.what());
   }
-  Commit(temporary, path);
 }
 
 std::string TruthSidecarPath(const std::string& recording_path) {
@@ -176,18 +116,23 @@ std::string TruthSidecarPath(const std::string& recording_path) {
 }
 
 void WriteJsonFile(const std::string& path, const nlohmann::json& json) {
-  const std::string temporary = TemporaryPath(path);
+  // Same temporary naming as the HDF5 outputs, so a rerun recognises leftovers after SIGKILL.
+  const fs::path temporary = hdf5::MakeAtomicTempPath(path);
+  std::error_code ec;
   {
     std::ofstream out(temporary, std::ios::trunc);
     out << json.dump(2) << '\n';
     out.close();
     if (!out) {
-      std::error_code ec;
       fs::remove(temporary, ec);
       throw std::runtime_error(path + ": cannot write the JSON file");
     }
   }
-  Commit(temporary, path);
+  fs::rename(temporary, path, ec);  // same folder: atomic on POSIX
+  if (ec) {
+    fs::remove(temporary, ec);
+    throw std::runtime_error(path + ": cannot rename the temporary file into place");
+  }
 }
 
 nlohmann::json SimulationTruthToJson(const std::vector<sim::SimulationTruth>& axes,

@@ -1,8 +1,10 @@
 // Writes gyro recordings in the input contract v1 (docs/input-v1.md) and the simulator's truth
 // sidecar. Used by `fogpipe simulate`; any tool that produces recordings may use it.
 //
-// Files are written atomically: to "<name>.tmp-<pid>" in the target folder, then renamed, so a
-// reader never sees a partial recording. HDF5 errors become std::runtime_error naming the file.
+// Files are written atomically through pipeline/hdf5 (AtomicOutputFile: "<name>.tmp-<pid>-<n>" in
+// the target folder, then renamed), so a reader never sees a partial recording. HDF5 errors become
+// std::runtime_error naming the file. WriteRecording takes the process-wide HDF5 lock itself: do
+// not call it while holding hdf5::LockHdf5().
 #pragma once
 
 #include <Eigen/Core>
@@ -45,7 +47,8 @@ struct RecordingWriterOptions {
   SampleType sample_type = SampleType::kFloat64;
   /// A single axis is written as a 1-D [N] dataset (the common case); false writes [N, 1].
   bool squeeze_single_axis = true;
-  /// Chunk length in samples (clamped to N). 65536 x 8 B = 512 KiB per chunk for one axis.
+  /// Chunk length in samples (clamped to N); recordings are always chunked.
+  /// 65536 x 8 B = 512 KiB per chunk for one axis.
   std::size_t chunk_samples = 65536;
   /// gzip level 0-9 (0: no compression); the byte shuffle filter is applied before it.
   int deflate_level = 4;

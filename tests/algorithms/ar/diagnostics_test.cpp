@@ -57,6 +57,29 @@ TEST(Diagnostics, AnExplodingSimulationGivesMinusInfinity) {
   EXPECT_LT(d.fit_simulation_percent, 0.0);
 }
 
+// The p-value is the chi-square tail (the incomplete gamma itself, both of its branches, is tested
+// with its owner in tests/algorithms/allan/chi_square_test.cpp). Closed forms: dof = 2, exp(-x/2);
+// dof = 1, erfc(sqrt(x/2)). Computed as 1 - CDF, so the accuracy is absolute (~1e-15), not
+// relative.
+TEST(Diagnostics, LjungBoxPValueIsTheChiSquareTailInClosedForm) {
+  for (double x : {0.01, 0.5, 1.0, 2.9, 3.1, 10.0, 50.0, 200.0}) {
+    EXPECT_NEAR(LjungBoxPValue(x, 2.0), std::exp(-x / 2.0), 1e-14) << x;
+    EXPECT_NEAR(LjungBoxPValue(x, 1.0), std::erfc(std::sqrt(x / 2.0)), 1e-14) << x;
+  }
+}
+
+// Upper critical values from the NIST/SEMATECH e-Handbook, table 1.3.6.7.4, printed to 3 decimals;
+// the density there is <= 0.03, so the rounding moves the tail by <= 1.5e-5.
+TEST(Diagnostics, LjungBoxPValueReproducesPublishedCriticalValues) {
+  EXPECT_NEAR(LjungBoxPValue(3.841, 1), 0.05, 5e-5);
+  EXPECT_NEAR(LjungBoxPValue(6.635, 1), 0.01, 1e-5);
+  EXPECT_NEAR(LjungBoxPValue(11.070, 5), 0.05, 5e-5);
+  EXPECT_NEAR(LjungBoxPValue(15.086, 5), 0.01, 1e-5);
+  EXPECT_NEAR(LjungBoxPValue(18.307, 10), 0.05, 5e-5);
+  EXPECT_NEAR(LjungBoxPValue(23.209, 10), 0.01, 1e-5);
+  EXPECT_NEAR(LjungBoxPValue(31.410, 20), 0.05, 5e-5);
+}
+
 // Hand computation: e = (1, -1, ..., 1, -1), n = 10: r_1 = -9/10, Q = 10 * 12 * 0.81 / 9 = 10.8,
 // one degree of freedom: p = erfc(sqrt(10.8 / 2)).
 TEST(Diagnostics, LjungBoxMatchesAHandComputedStatistic) {

@@ -8,6 +8,7 @@
 
 #include "algorithms/ar/burg.h"
 #include "algorithms/ar/fit_ar.h"
+#include "algorithms/ar/reflection.h"
 #include "tests/algorithms/ar/ar_test_support.h"
 
 namespace fogpipe::ar {
@@ -37,7 +38,9 @@ TEST(MaximumLikelihood, ObjectiveEqualsTheBruteForceGaussianLikelihood) {
   phi << 0.85, -0.35;
   MaximumLikelihoodOptions options;
   options.max_iterations = 1;
-  const MaximumLikelihoodResult r = FitMaximumLikelihood(x, phi, options);
+  Eigen::VectorXd kappa;
+  ASSERT_TRUE(StepDown(phi, &kappa));
+  const MaximumLikelihoodResult r = FitMaximumLikelihood(x, kappa, options);
   ASSERT_TRUE(r.valid);
   // Both sides are O(100); the N x N Cholesky loses ~1e-13 relative.
   EXPECT_NEAR(r.objective_start, DirectObjective(x, phi), 1e-9);
@@ -49,7 +52,7 @@ TEST(MaximumLikelihood, ReturnsAStationaryMaximumOfTheBruteForceLikelihood) {
   const Eigen::VectorXd x = testing::SimulateAr(truth, 1.0, 300, 72);
   const Eigen::VectorXd xc = x.array() - x.mean();
   const OrderSequence burg = BurgAllOrders(xc, 3);
-  const MaximumLikelihoodResult ml = FitMaximumLikelihood(xc, burg.phi[2], {});
+  const MaximumLikelihoodResult ml = FitMaximumLikelihood(xc, burg.reflection.head(3), {});
   ASSERT_TRUE(ml.valid);
   ASSERT_TRUE(ml.converged);
   const double f_ml = DirectObjective(xc, ml.phi);
@@ -109,10 +112,10 @@ TEST(MaximumLikelihood, RecoversThePaperImf6ModelAndStaysWithinATenthOfAStandard
 }
 
 TEST(MaximumLikelihood, RejectsANonStationaryStart) {
-  Eigen::VectorXd phi(2);
-  phi << 2.0004, -1.0005;
+  Eigen::VectorXd kappa(2);
+  kappa << 0.5, -1.0;
   const MaximumLikelihoodResult r =
-      FitMaximumLikelihood(testing::WhiteNoise(500, 1.0, 76), phi, {});
+      FitMaximumLikelihood(testing::WhiteNoise(500, 1.0, 76), kappa, {});
   EXPECT_FALSE(r.valid);
 }
 

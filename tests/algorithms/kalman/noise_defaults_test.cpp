@@ -5,6 +5,7 @@
 #include <Eigen/QR>
 #include <cmath>
 
+#include "algorithms/simulation/random.h"
 #include "tests/algorithms/kalman/paper_models.h"
 #include "tests/algorithms/kalman/simulate_ar.h"
 
@@ -117,11 +118,11 @@ TEST(DefaultNoise, WhiteNoiseVarianceFromArwIsTheAllanVarianceAtTau0) {
   const double sigma = 3e-5, fs = 100.0;
   const double arw = sigma / std::sqrt(fs);
   EXPECT_NEAR(WhiteNoiseVarianceFromArw(arw, fs), sigma * sigma, 1e-15 * sigma * sigma);
-  testing::Normal normal(5);
+  simulation::RandomSource source(5);
   const int n = 200000;
-  double sum = 0.0, prev = sigma * normal();
+  double sum = 0.0, prev = sigma * source.Normal();
   for (int k = 1; k < n; ++k) {
-    const double y = sigma * normal();
+    const double y = sigma * source.Normal();
     sum += (y - prev) * (y - prev);
     prev = y;
   }

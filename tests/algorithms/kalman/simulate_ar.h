@@ -1,40 +1,16 @@
 // Test support: seeded simulation of an AR(p) signal observed in white noise, z = x + v,
-// x(k) = sum_i phi_i x(k-i) + w(k), w ~ N(0, q), v ~ N(0, r). Deterministic across platforms:
-// std::mt19937_64 and our own Box-Muller transform (std::normal_distribution is
-// implementation-defined).
+// x(k) = sum_i phi_i x(k-i) + w(k), w ~ N(0, q), v ~ N(0, r). Normals from
+// fogpipe::simulation::RandomSource (seeded std::mt19937_64 + Marsaglia's polar method), so the
+// realisations are the same on every platform.
 #pragma once
 
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
-#include <random>
+
+#include "algorithms/simulation/random.h"
 
 namespace fogpipe::kalman::testing {
-
-class Normal {
- public:
-  explicit Normal(std::uint64_t seed) : engine_(seed) {}
-  double operator()() {
-    if (has_spare_) {
-      has_spare_ = false;
-      return spare_;
-    }
-    // Box-Muller on (0, 1]: u1 = 1 - U[0, 1) avoids log(0).
-    const double u1 = 1.0 - Uniform();
-    const double u2 = Uniform();
-    const double radius = std::sqrt(-2.0 * std::log(u1));
-    const double angle = 2.0 * 3.14159265358979323846 * u2;
-    spare_ = radius * std::sin(angle);
-    has_spare_ = true;
-    return radius * std::cos(angle);
-  }
-
- private:
-  double Uniform() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
-  std::mt19937_64 engine_;
-  double spare_ = 0.0;
-  bool has_spare_ = false;
-};
 
 struct ArSimulation {
   Eigen::VectorXd x;  ///< The true AR signal.
@@ -44,7 +20,7 @@ struct ArSimulation {
 /// n samples after a burn-in of `burn_in` samples (so the AR signal is stationary).
 inline ArSimulation SimulateArPlusNoise(const Eigen::VectorXd& phi, double q, double r, long long n,
                                         std::uint64_t seed, long long burn_in = 10000) {
-  Normal normal(seed);
+  simulation::RandomSource source(seed);
   const Eigen::Index p = phi.size();
   Eigen::VectorXd hist = Eigen::VectorXd::Zero(p);  // x(k-1), ..., x(k-p)
   ArSimulation sim;
@@ -52,10 +28,10 @@ inline ArSimulation SimulateArPlusNoise(const Eigen::VectorXd& phi, double q, do
   sim.z.resize(n);
   const double sq = std::sqrt(q), sr = std::sqrt(r);
   for (long long k = -burn_in; k < n; ++k) {
-    const double xk = phi.dot(hist) + sq * normal();
+    const double xk = phi.dot(hist) + sq * source.Normal();
     for (Eigen::Index i = p - 1; i >= 1; --i) hist[i] = hist[i - 1];
     hist[0] = xk;
-    const double zk = xk + sr * normal();
+    const double zk = xk + sr * source.Normal();
     if (k >= 0) {
       sim.x[k] = xk;
       sim.z[k] = zk;

@@ -97,6 +97,54 @@ TEST(SimulateCommand, ExplicitEffectsAndRateProfileHaveTheirExactShapeInTheFile)
   EXPECT_EQ(truth["input_rate"][0]["kind"], "step");
 }
 
+TEST(SimulateCommand, SineAndThermalOptionsAreInEngineerUnits) {
+  // --sine F:AMP:PHASE_DEG and --temperature-coef DEG_H_PER_DEGC with no noise: the file holds
+  // 2 sin(2 pi 0.05 t + 90 deg) + 0.3 (T_true - 25) deg/h, T_true from the sidecar's profile.
+  ScratchDir dir("simulate9");
+  ASSERT_EQ(Simulate("--duration-s 600 --sample-rate-hz 2 --sine 0.05:2:90 --gm 0.01:30 "
+                     "--temperature-coef 0.3 --temperature-pp-degc 10 --temperature-period-s 400 "
+                     "-o " +
+                     dir / "s.h5"),
+            0);
+  const nlohmann::json truth = ReadJson(dir / "s.h5.truth.json");
+  const nlohmann::json& axis = truth["axes"][0];
+  EXPECT_NEAR(axis["sinusoid"][0]["amplitude_deg_h"].get<double>(), 2.0, 1e-14);
+  EXPECT_NEAR(axis["sinusoid"][0]["phase_rad"].get<double>(), units::kPi / 2.0, 1e-15);
+  EXPECT_NEAR(axis["gauss_markov"][0]["sigma_deg_h"].get<double>(), 0.01, 1e-16);
+  EXPECT_EQ(axis["gauss_markov"][0]["correlation_time_s"].get<double>(), 30.0);
+  EXPECT_NEAR(axis["temperature"]["coefficient_deg_h_per_degC"].get<double>(), 0.3, 1e-15);
+  EXPECT_EQ(axis["temperature"]["reference_degC"].get<double>(), 25.0);
+  EXPECT_EQ(truth["aux_temperature"]["peak_to_peak_degC"].get<double>(), 10.0);
+
+  // Rebuild the deterministic part independently of the simulator, from the sidecar alone, and
+  // check that what is left is the Gauss-Markov term with its stationary spread.
+  const nlohmann::json& t = truth["aux_temperature"];
+  H5::H5File file(dir / "s.h5", H5F_ACC_RDONLY);
+  const Eigen::VectorXd x = ReadAll(file.openDataSet("rate"));
+  const Eigen::VectorXd temperature = ReadAll(file.openDataSet("aux/temperature"));
+  ASSERT_EQ(x.size(), 1200);
+  Eigen::VectorXd residual(x.size());
+  double worst_temperature = 0.0;
+  for (Eigen::Index k = 0; k < x.size(); ++k) {
+    const double time = k / 2.0;
+    const double theta = 2.0 * units::kPi * time / 400.0 + t["phase_rad"].get<double>();
+    const double s = t["sharpness"].get<double>();
+    const double t_true = 25.0 + 5.0 * std::tanh(s * std::sin(theta)) / std::tanh(s);
+    worst_temperature = std::max(worst_temperature, std::abs(temperature[k] - t_true));
+    residual[k] = x[k] - 2.0 * std::sin(2.0 * units::kPi * 0.05 * time + units::kPi / 2) -
+                  0.3 * (t_true - 25);
+  }
+  // Sensor noise 0.005 degC: 1200 samples stay within 6 sigma.
+  EXPECT_LT(worst_temperature, 0.03);
+  // What is left is the Gauss-Markov term alone, Gaussian with sigma = 0.01 deg/h: every sample
+  // lies within 6 sigma (P(exceed) < 1200 x 2e-9), and with n (1 - phi^2) / (1 + phi^2) ~ 20
+  // effective samples (phi = exp(-0.5 / 30)) its mean square is ~ sigma^2 chi^2_20 / 20, so
+  // P(RMS < 0.2 sigma) = P(chi^2_20 < 0.8) < 1e-10. A wrong deterministic part (a 2 deg/h sine or
+  // 1.5 deg/h of thermal bias) would break the first bound by far.
+  EXPECT_LT(residual.cwiseAbs().maxCoeff(), 0.06);
+  EXPECT_GT(std::sqrt(residual.squaredNorm() / residual.size()), 0.002);
+}
+
 TEST(SimulateCommand, TheTrueRateRebuiltFromTheSidecarIsWhatAPerfectGyroReads) {
   ScratchDir dir("simulate8");
   ASSERT_EQ(Simulate("--duration-s 300 --latitude-deg 30 "
