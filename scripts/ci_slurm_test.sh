@@ -63,7 +63,8 @@ wait_jobs() {
 }
 
 data="$work/recordings"
-"$FOGPIPE" simulate -o "$data" --files "$NUM_RECORDINGS" --duration-s 600 --sample-rate-hz 10 \
+"$FOGPIPE" simulate -o "$data" --files "$NUM_RECORDINGS" --profile paper --duration-s 600 \
+  --sample-rate-hz 10 \
   --seed 11 --instrument "SIM-FOG" >/dev/null
 
 # ---- 1. The campaign: 4 shards + afterany merge --------------------------------------------------
@@ -108,7 +109,9 @@ until [ "$(victim_done)" -ge 1 ]; do
   [ "$SECONDS" -lt "$deadline" ] || { echo "ci_slurm_test: shard $victim never finished a file" >&2; exit 1; }
   sleep 0.05
 done
-scancel -s KILL "${array_b}_${victim}"
+# --batch: SIGKILL straight to the batch step (fogpipe, by exec); without it Slurm cancels the
+# job with SIGTERM first and fogpipe would stop cleanly, which is not the scenario here.
+scancel --batch -s KILL "${array_b}_${victim}"
 wait_jobs "$array_b" "$merge_b"
 done_at_kill="$(victim_done)"
 echo "ci_slurm_test: shard $victim killed with $done_at_kill of ${#victim_files[@]} files done"

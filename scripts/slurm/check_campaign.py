@@ -76,6 +76,8 @@ def main():
                 if not np.all(np.isfinite(values)) or not np.all(values > 0):
                     errors.append(f"{col} not finite and positive: {values}")
             for path, name in zip(inputs, files):
+                if not name:
+                    continue  # no results file: already reported as not ok
                 link = name[: -len(".fogpipe.h5")]
                 try:
                     linked = h5["results"][link]["provenance"].attrs["input_path"]
