@@ -18,8 +18,8 @@ median() { sort -g | awk '{v[NR]=$1} END {print (NR % 2) ? v[(NR+1)/2] : (v[NR/2
 seconds() { local t0 t1; t0=$(date +%s.%N); "$@" >/dev/null 2>&1 || { echo "failed: $*" >&2; return 1; }; t1=$(date +%s.%N); calc "$t1 - $t0"; }
 
 rec="$work/hour100hz.h5"
-[ -f "$rec" ] || "$FOGPIPE" simulate -o "$rec" --duration-s 3600 --sample-rate-hz 100 --seed 5 \
-  --rate-profile "step:600:20,ramp:1200:1800:0.05,sine:0.005:10" >/dev/null
+[ -f "$rec" ] || "$FOGPIPE" simulate -o "$rec" --profile paper --duration-s 3600 --sample-rate-hz 100 --seed 5 \
+  --rate-profile "step:600:20,ramp:1200:1800:0.05,sine:0.005:10" >/dev/null 2>&1
 run_times=(); sweep_times=()
 for i in $(seq 1 "$REPS"); do
   rm -rf "$work/run"
@@ -36,7 +36,7 @@ echo "sweep / run = $(calc "$sweep_med / $run_med" | cut -c1-5)  (target <= 2)"
 n=16
 camp="$work/campaign"
 [ -d "$camp/data" ] || "$FOGPIPE" simulate -o "$camp/data" --files "$n" --duration-s 600 \
-  --sample-rate-hz 10 --seed 9 >/dev/null
+  --sample-rate-hz 10 --seed 9 --profile paper >/dev/null 2>&1
 "$FOGPIPE" plan "$camp/data" -o "$camp/manifest.txt" 2>/dev/null
 "$FOGPIPE" run --manifest "$camp/manifest.txt" -o "$camp/out" --threads "$THREADS" >/dev/null 2>&1
 plan_t=(); start_t=(); merge_t=()
