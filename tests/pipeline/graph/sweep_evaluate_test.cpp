@@ -17,6 +17,16 @@ namespace {
 
 namespace sim = fogpipe::simulation;
 
+/// A 10 Hz gyro with angle random walk N = 0.05 deg/sqrt(h) (per-sample sigma 9.5 deg/h).
+sim::GyroSimulatorOptions TenHertzWhiteNoise(double duration_s, std::uint64_t seed) {
+  sim::GyroSimulatorOptions o;
+  o.sample_rate_hz = 10.0;
+  o.duration_s = duration_s;
+  o.seed = seed;
+  o.errors.n_rad_sqrt_s = units::DegPerSqrtHourToArw(0.05);
+  return o;
+}
+
 TEST(SweepGrid, ParsesRangesListsAndLogSpacedScales) {
   std::vector<int> orders;
   std::string error;
@@ -65,11 +75,7 @@ TEST(SweepGrid, ListsSettingsOrderMajorAndRejectsBadValues) {
 // recursion run to P equals a recursion run only to p (Levinson structure, Kay & Marple 1981).
 // The sweep relies on this to fit each component once.
 TEST(SweepEvaluate, OneBurgRecursionGivesEveryLowerOrderModel) {
-  sim::GyroSimulatorOptions o;
-  o.sample_rate_hz = 10.0;
-  o.duration_s = 300.0;
-  o.seed = 3;
-  o.errors.n_rad_sqrt_s = units::DegPerSqrtHourToArw(0.05);
+  sim::GyroSimulatorOptions o = TenHertzWhiteNoise(300.0, 3);
   o.errors.gauss_markov.push_back({units::DegPerHourToRadPerSecond(1.0), 5.0});
   const Eigen::VectorXd x = sim::SimulateGyro(o).rate_rad_s;
   const ar::OrderSequence all = ar::BurgAllOrders(x, 12, x.mean());
@@ -85,11 +91,7 @@ TEST(SweepEvaluate, OneBurgRecursionGivesEveryLowerOrderModel) {
 // truth than `fogpipe run`'s rule (at every order) and than the hardest filtering (the smallest
 // q / R, at every order): over-smoothing costs, so the optimum is a real trade-off.
 TEST(SweepEvaluate, BestSettingBeatsDefaultAndHardestFilteringOnAMovingRate) {
-  sim::GyroSimulatorOptions o;
-  o.sample_rate_hz = 10.0;
-  o.duration_s = 1800.0;
-  o.seed = 20261121;
-  o.errors.n_rad_sqrt_s = units::DegPerSqrtHourToArw(0.05);
+  sim::GyroSimulatorOptions o = TenHertzWhiteNoise(1800.0, 20261121);
   o.errors.b_rad_s = units::DegPerHourToRadPerSecond(0.05);
   std::string error;
   ASSERT_TRUE(sim::ParseRateProfile(SWEEP_TEST_RATE_PROFILE, &o.input_rate, &error)) << error;
