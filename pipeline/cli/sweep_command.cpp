@@ -1,18 +1,102 @@
-// fogpipe sweep: not yet implemented (placeholder registered so the CLI links; see the open issue).
+// fogpipe sweep RECORDING... --ar-order 2:12 --q-scale 0.1,1,10 --r-scale 0.1,1,10
+//               [--emd-sifts 10] [--rank-by rms_error] [--config grid.toml] -o OUT
+// The parameter sweep (pipeline/graph/sweep_runner.h): per recording OUT/<stem>.sweep.h5 and
+// OUT/<stem>.sweep.csv, and the ranked summary on stdout. Every method option other than the grid
+// is `fogpipe run`'s default (graph::RunConfig), so q_scale = r_scale = 1 is what `run` does.
+//
+// Exit codes: 0 every recording swept; 1 some recording failed (stderr says why); 2 usage error.
 #include <CLI/CLI.hpp>
-
 #include <iostream>
+#include <memory>
 
 #include "pipeline/cli/commands.h"
+#include "pipeline/graph/run_config.h"
+#include "pipeline/graph/sweep_runner.h"
 
 namespace fogpipe::cli {
+namespace {
+
+struct SweepConfig {
+  std::vector<std::string> recordings;
+  std::string output_dir;
+  std::string config_file;
+  std::string ar_order = "2:12";
+  std::string q_scale = "0.1,1,10";
+  std::string r_scale = "0.1,1,10";
+  std::string emd_sifts = "10";
+  std::string rank_by = "rms_error";
+  int threads = 0;
+  int top = 5;
+};
+
+int RunSweepCommand(CLI::App* cmd, const SweepConfig& config) {
+  std::string error;
+  if (!config.config_file.empty() && !graph::ApplyConfigFile(cmd, config.config_file, &error)) {
+    std::cerr << "fogpipe sweep: " << error << "\n";
+    return 2;
+  }
+  graph::RunConfig run_defaults;
+  run_defaults.threads = config.threads;
+  graph::CampaignOptions campaign;
+  if (!graph::ToCampaignOptions(run_defaults, &campaign, &error)) {
+    std::cerr << "fogpipe sweep: " << error << "\n";
+    return 2;
+  }
+  graph::SweepRunOptions options;
+  options.sweep.method = campaign.method;
+  options.read = campaign.read;
+  options.threads = campaign.threads;
+  options.output_dir = config.output_dir;
+  options.rank_by = config.rank_by;
+  options.top = config.top;
+  method::SweepGrid& grid = options.sweep.grid;
+  if (!method::ParseIntList(config.ar_order, &grid.ar_orders, &error) ||
+      !method::ParseScaleList(config.q_scale, &grid.q_scales, &error) ||
+      !method::ParseScaleList(config.r_scale, &grid.r_scales, &error) ||
+      !method::ParseIntList(config.emd_sifts, &options.emd_sifts, &error) ||
+      !options.sweep.IsValid(&error)) {
+    std::cerr << "fogpipe sweep: " << error << "\n";
+    return 2;
+  }
+  int failed = 0;
+  for (const std::string& recording : config.recordings) {
+    std::vector<graph::SweepTable> tables;
+    if (!graph::SweepRecording(recording, options, &tables, &error)) {
+      std::cerr << "fogpipe sweep: " << error << "\n";
+      ++failed;
+    }
+  }
+  std::cerr << "fogpipe sweep: " << config.recordings.size() - failed << " of "
+            << config.recordings.size() << " recordings swept over " << grid.size()
+            << " settings; tables in " << config.output_dir << "\n";
+  return failed > 0 ? 1 : 0;
+}
+
+}  // namespace
 
 void AddSweepCommand(CLI::App& app, int* exit_code) {
-  auto* cmd = app.add_subcommand("sweep", "(not implemented yet)");
-  cmd->callback([exit_code]() {
-    std::cerr << "fogpipe sweep: not implemented yet\n";
-    *exit_code = 2;
-  });
+  auto* cmd = app.add_subcommand(
+      "sweep", "Sweep AR order and Kalman q/R scales (EMD once per recording and axis)");
+  auto c = std::make_shared<SweepConfig>();
+  cmd->add_option("recordings", c->recordings, "Recordings (v1 HDF5)")->required();
+  cmd->add_option("-o,--output", c->output_dir, "Output folder")->required();
+  cmd->add_option("--config", c->config_file,
+                  "TOML file holding the grid (keys are the long option names, e.g. "
+                  "ar-order = \"2:12\")");
+  cmd->add_option("--ar-order", c->ar_order, "AR orders: FROM:TO[:STEP] or a list");
+  cmd->add_option("--q-scale", c->q_scale, "Multipliers of the default q: list or FROM:TO:COUNT");
+  cmd->add_option("--r-scale", c->r_scale, "Multipliers of the default R: list or FROM:TO:COUNT");
+  cmd->add_option("--emd-sifts", c->emd_sifts, "EMD sifts per IMF (one decomposition each)");
+  cmd->add_option("--rank-by", c->rank_by,
+                  "Ranking criterion (rms_error needs a truth sidecar; else n is used)")
+      ->check(CLI::IsMember(method::RankCriteria()));
+  cmd->add_option("--top", c->top, "Ranked settings printed per axis")
+      ->check(CLI::Range(0, 100000));
+  cmd->add_option("--threads", c->threads,
+                  "Worker threads (0: SLURM_CPUS_PER_TASK if set, else all cores)")
+      ->check(CLI::Range(0, 4096));
+  cmd->footer("Exit codes: 0 all swept, 1 some recording failed, 2 usage error.");
+  cmd->callback([cmd, c, exit_code]() { *exit_code = RunSweepCommand(cmd, *c); });
 }
 
 }  // namespace fogpipe::cli

@@ -25,9 +25,9 @@ manifest="$outdir/manifest.txt"
 "$FOGPIPE" plan "$@" -o "$manifest"
 array_id=$(sbatch --parsable --array="0-$((num_shards - 1))%${max_running}" --cpus-per-task="$cpus" \
   --output="$outdir/slurm-logs/shard-%A_%a.log" \
-  --export="ALL,FOGPIPE=$FOGPIPE,MANIFEST=$manifest,NUM_SHARDS=$num_shards,OUTDIR=$outdir" \
+  --export="ALL,FOGPIPE=$FOGPIPE,MANIFEST=$manifest,NUM_SHARDS=$num_shards,OUTDIR=$outdir,SHARD_BY=${SHARD_BY:-stride}" \
   "$here/fogpipe_array.sbatch")
 merge_id=$(sbatch --parsable --dependency="afterany:${array_id}" \
   --output="$outdir/slurm-logs/merge-%j.log" \
-  --export="ALL,FOGPIPE=$FOGPIPE,OUTDIR=$outdir" "$here/fogpipe_merge.sbatch")
+  --export="ALL,FOGPIPE=$FOGPIPE,OUTDIR=$outdir,MANIFEST=$manifest" "$here/fogpipe_merge.sbatch")
 echo "array_job=$array_id merge_job=$merge_id manifest=$manifest"

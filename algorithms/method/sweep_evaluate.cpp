@@ -1,0 +1,220 @@
+#include "algorithms/method/sweep_evaluate.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+
+#include "algorithms/ar/ar_model.h"
+#include "algorithms/ar/burg.h"
+#include "algorithms/ar/diagnostics.h"
+#include "algorithms/common/units.h"
+#include "algorithms/kalman/ar_kalman.h"
+#include "algorithms/method/white_noise.h"
+
+namespace fogpipe::method {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// The models of one component for every order 1..max_order from one Burg recursion.
+struct ComponentModels {
+  const Eigen::VectorXd* signal = nullptr;
+  bool constant = false;            ///< passed through unfiltered (see ModelComponent)
+  double white_noise = 0.0;         ///< R before scaling (white_noise.h)
+  std::vector<ar::ArModel> models;  ///< models[p - 1]; fewer when the recursion stopped early
+  std::vector<double> fit_one_step, fit_simulation;  ///< per order, %
+};
+
+/// The model used for order p: p itself, or the highest order the recursion reached when the
+/// prediction error vanished earlier (the component is then exactly predictable at that order).
+const ar::ArModel& ModelOfOrder(const ComponentModels& c, int p) {
+  return c.models[static_cast<std::size_t>(std::min<int>(p, c.models.size())) - 1];
+}
+
+}  // namespace
+
+bool SweepOptions::IsValid(std::string* error) const {
+  return method.IsValid(error) && grid.IsValid(error);
+}
+
+SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const SweepOptions& options,
+                     const Eigen::VectorXd* truth, const ForEach& for_each) {
+  SweepResult out;
+  std::string error;
+  if (!options.IsValid(&error)) {
+    out.summary.termination = Termination::kInvalidOptions;
+    out.summary.message = error;
+    return out;
+  }
+  if (truth != nullptr && truth->size() != x.size()) {
+    out.summary.termination = Termination::kInvalidOptions;
+    out.summary.message = "the true rate has " + std::to_string(truth->size()) +
+                          " samples, the signal " + std::to_string(x.size());
+    return out;
+  }
+  auto start = std::chrono::steady_clock::now();
+  PreprocessAndDecompose(x, sample_rate_hz, options.method, &out.base);
+  out.summary.decompose_seconds = SecondsSince(start);
+  if (!HasResult(out.base.summary.termination)) {
+    out.summary.termination = out.base.summary.termination;
+    out.summary.message = out.base.summary.message;
+    return out;
+  }
+  const emd::EmdResult& emd_result = out.base.decomposition;
+  const Eigen::VectorXd& signal = out.base.preprocessed.signal;
+  const int num_imfs = static_cast<int>(emd_result.imfs.size());
+  const int num_components = num_imfs + 1;
+  out.summary.num_imfs = num_imfs;
+
+  // R per component exactly as ModelComponents() shares it (white_noise.h).
+  std::vector<double> periods(num_components), variances(num_components);
+  std::vector<ComponentModels> components(num_components);
+  for (int k = 0; k < num_components; ++k) {
+    const Eigen::VectorXd& c = k < num_imfs ? emd_result.imfs[k] : emd_result.residue;
+    components[k].signal = &c;
+    periods[k] = k < num_imfs ? emd_result.imf_info[k].mean_period_samples
+                              : static_cast<double>(signal.size());
+    variances[k] = (c.array() - c.mean()).square().mean();
+  }
+  const std::vector<double> r = ShareWhiteNoise(WhiteNoiseVariance(signal), periods, variances);
+
+  // One Burg recursion per component up to the largest order; fit % per order.
+  start = std::chrono::steady_clock::now();
+  const int max_order = options.grid.max_order();
+  for_each(num_components, [&](int k) {
+    ComponentModels& m = components[k];
+    const Eigen::VectorXd& c = *m.signal;
+    m.white_noise = r[k];
+    m.constant = c.size() > 0 && (c.array() == c[0]).all();
+    if (m.constant) return;
+    const double mean = c.mean();
+    const ar::OrderSequence sequence = ar::BurgAllOrders(c, max_order, mean);
+    for (int p = 1; p <= sequence.orders_completed; ++p) {
+      m.models.push_back(ar::MakeArModel(sequence.phi[p - 1], sequence.innovation_variance(p - 1),
+                                         mean, c.size()));
+      const ar::ArDiagnostics d = ar::ComputeDiagnostics(c, m.models.back());
+      m.fit_one_step.push_back(d.fit_one_step_percent);
+      m.fit_simulation.push_back(d.fit_simulation_percent);
+    }
+  });
+  out.summary.models_seconds = SecondsSince(start);
+  for (int k = 0; k < num_components; ++k) {
+    if (!components[k].constant && components[k].models.empty()) {
+      out.summary.termination = Termination::kNumericalFailure;
+      out.summary.message = ComponentName(k, num_imfs) + ": Burg produced no model";
+      return out;
+    }
+  }
+
+  const std::vector<SweepSetting> settings = GridSettings(options.grid);
+  out.points.resize(settings.size());
+  const long long dropped = out.base.preprocessed.summary.dropped_samples;
+  for_each(static_cast<int>(settings.size()), [&](int i) {
+    const auto setting_start = std::chrono::steady_clock::now();
+    SweepPoint& point = out.points[i];
+    point.setting = settings[i];
+    kalman::ArKalmanOptions kalman_options = options.method.component.kalman;
+    kalman_options.q_scale = point.setting.default_rule ? 1.0 : point.setting.q_scale;
+    kalman_options.r_scale = point.setting.default_rule ? 1.0 : point.setting.r_scale;
+    Eigen::VectorXd method1 = Eigen::VectorXd::Zero(signal.size());
+    Eigen::VectorXd reuse;
+    for (int k = 0; k < num_components; ++k) {
+      const ComponentModels& m = components[k];
+      if (m.constant) {
+        point.fit_one_step_percent.push_back(kNaN);
+        point.fit_simulation_percent.push_back(kNaN);
+        method1 += *m.signal;
+        continue;
+      }
+      const int used = std::min<int>(point.setting.ar_order, m.models.size());
+      point.fit_one_step_percent.push_back(m.fit_one_step[used - 1]);
+      point.fit_simulation_percent.push_back(m.fit_simulation[used - 1]);
+      const ar::ArModel& model = ModelOfOrder(m, point.setting.ar_order);
+      kalman_options.mean = model.mean;
+      // Grid settings: q referred to sigma_e^2 (sweep_grid.h); default rule: q < 0.
+      kalman_options.q = point.setting.default_rule ? -1.0 : model.innovation_variance;
+      kalman::ArKalmanResult filtered = kalman::FilterAr(
+          *m.signal, model.phi, model.innovation_variance, m.white_noise, kalman_options, &reuse);
+      if (!HasResult(filtered.summary.termination)) {
+        point.termination = filtered.summary.termination;
+        point.message = ComponentName(k, num_imfs) + ": Kalman filter: " + filtered.summary.message;
+        return;
+      }
+      method1 += filtered.smoothed.size() > 0 ? filtered.smoothed : filtered.filtered;
+      reuse = std::move(filtered.filtered);
+    }
+    point.allan.allan = allan::ComputeAllan(method1, sample_rate_hz, options.method.allan);
+    if (!HasResult(point.allan.allan.summary.termination)) {
+      point.termination = point.allan.allan.summary.termination;
+      point.message = "Allan variance: " + point.allan.allan.summary.message;
+      return;
+    }
+    point.allan.noise = allan::FitNoiseTerms(point.allan.allan.table, options.method.noise_fit);
+    point.rms_error = kNaN;
+    if (truth != nullptr) {
+      const auto n = signal.size();
+      const Eigen::ArrayXd error = (method1.array() + out.base.preprocessed.mean_removed) -
+                                   truth->segment(dropped, n).array();
+      point.rms_error = std::sqrt(error.square().mean());
+    }
+    point.termination = Termination::kSuccess;
+    point.seconds = SecondsSince(setting_start);
+  });
+  for (const SweepPoint& point : out.points)
+    out.summary.settings_ok += HasResult(point.termination);
+  out.summary.termination =
+      out.summary.settings_ok > 0 ? Termination::kSuccess : Termination::kNumericalFailure;
+  out.summary.message = std::to_string(out.summary.settings_ok) + " of " +
+                        std::to_string(out.points.size()) + " settings evaluated";
+  return out;
+}
+
+const std::vector<std::string>& RankCriteria() {
+  static const std::vector<std::string> criteria = {"rms_error", "q", "n", "b", "k", "r", "fit"};
+  return criteria;
+}
+
+double CriterionValue(const SweepPoint& point, const std::string& criterion) {
+  if (criterion == "rms_error") return point.rms_error;
+  if (criterion == "fit") {
+    double sum = 0.0;
+    int count = 0;
+    for (double f : point.fit_one_step_percent) {
+      if (std::isfinite(f)) sum += f, ++count;
+    }
+    return count > 0 ? sum / count : kNaN;
+  }
+  const allan::NoiseTermsEngineering e = allan::ToEngineeringUnits(point.allan.noise.terms);
+  if (criterion == "q") return e.q_arcsec;
+  if (criterion == "n") return e.n_deg_sqrt_h;
+  if (criterion == "b") return e.b_deg_h;
+  if (criterion == "k") return e.k_deg_h_sqrt_h;
+  if (criterion == "r") return e.r_deg_h2;
+  throw std::invalid_argument("unknown ranking criterion '" + criterion + "'");
+}
+
+std::vector<int> RankSweep(const std::vector<SweepPoint>& points, const std::string& criterion) {
+  const bool larger_is_better = criterion == "fit";
+  std::vector<int> order;
+  std::vector<double> value(points.size(), kNaN);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!HasResult(points[i].termination)) continue;
+    value[i] = CriterionValue(points[i], criterion);
+    order.push_back(static_cast<int>(i));
+  }
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    const bool a_nan = std::isnan(value[a]), b_nan = std::isnan(value[b]);
+    if (a_nan || b_nan) return !a_nan && b_nan;
+    return larger_is_better ? value[a] > value[b] : value[a] < value[b];
+  });
+  return order;
+}
+
+}  // namespace fogpipe::method

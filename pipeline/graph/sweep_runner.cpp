@@ -1,0 +1,290 @@
+// Sweep file layout (<stem>.sweep.h5, format "fogpipe-sweep-v1"):
+//   /                                   fogpipe_format, recording, rank_by
+//   /axes/<axis>/emd_sifts_<S>/         one row per grid setting, one 1-D dataset per metric with a
+//                                       `units` attribute (see Columns()); attributes num_imfs,
+//                                       emd_sifts, has_truth, decompose_seconds, models_seconds
+//     fit_one_step_percent [settings, components], fit_simulation_percent [settings, components]
+//     ranking                           row indices, best first by rank_by
+#include "pipeline/graph/sweep_runner.h"
+
+#include <oneapi/tbb/global_control.h>
+#include <oneapi/tbb/parallel_for.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "algorithms/common/units.h"
+#include "pipeline/hdf5/atomic_output_file.h"
+#include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/recording_reader.h"
+#include "pipeline/io/recording_writer.h"
+
+namespace fogpipe::graph {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+void TbbForEach(int n, const std::function<void(int)>& body) {
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, n, 1),
+      [&](const tbb::blocked_range<int>& r) {
+        for (int i = r.begin(); i != r.end(); ++i) body(i);
+      },
+      tbb::simple_partitioner());
+}
+
+/// One numeric column of a sweep table.
+struct Column {
+  std::string name;
+  std::string units;
+  std::function<double(const method::SweepPoint&)> value;
+};
+
+double Term(const method::SweepPoint& p, double allan::NoiseTermsEngineering::*member) {
+  if (!HasResult(p.termination)) return kNaN;
+  return allan::ToEngineeringUnits(p.allan.noise.terms).*member;
+}
+
+std::vector<Column> Columns() {
+  using E = allan::NoiseTermsEngineering;
+  std::vector<Column> c = {
+      {"ar_order", "1", [](const auto& p) { return double(p.setting.ar_order); }},
+      // 1 for `fogpipe run`'s own rule (q from noise_defaults.h, R = R_k): its scales are NaN.
+      {"default_rule", "1", [](const auto& p) { return p.setting.default_rule ? 1.0 : 0.0; }},
+      {"q_scale", "1",
+       [](const auto& p) { return p.setting.default_rule ? kNaN : p.setting.q_scale; }},
+      {"r_scale", "1",
+       [](const auto& p) { return p.setting.default_rule ? kNaN : p.setting.r_scale; }},
+      {"fit_one_step_mean_percent", "%",
+       [](const auto& p) { return method::CriterionValue(p, "fit"); }}};
+  const struct {
+    const char* name;
+    double E::*value;
+    double E::*se;
+    const char* units;
+  } terms[] = {{"Q", &E::q_arcsec, &E::q_se, units::kQuantizationUnit},
+               {"N", &E::n_deg_sqrt_h, &E::n_se, units::kArwUnit},
+               {"B", &E::b_deg_h, &E::b_se, units::kBiasUnit},
+               {"K", &E::k_deg_h_sqrt_h, &E::k_se, units::kRrwUnit},
+               {"R", &E::r_deg_h2, &E::r_se, units::kRampUnit}};
+  for (const auto& t : terms) {
+    const auto value = t.value, se = t.se;
+    c.push_back({t.name, t.units, [value](const auto& p) { return Term(p, value); }});
+    c.push_back(
+        {std::string(t.name) + "_std_error", t.units, [se](const auto& p) { return Term(p, se); }});
+  }
+  c.push_back({"rms_error", units::kBiasUnit, [](const auto& p) {
+                 return HasResult(p.termination) ? units::RadPerSecondToDegPerHour(p.rms_error)
+                                                 : kNaN;
+               }});
+  c.push_back({"seconds", "s", [](const auto& p) { return p.seconds; }});
+  return c;
+}
+
+std::string EffectiveRankBy(const SweepTable& table, const std::string& rank_by) {
+  return rank_by == "rms_error" && !table.has_truth ? "n" : rank_by;
+}
+
+std::string Format(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.6g", value);
+  return text;
+}
+
+}  // namespace
+
+bool SweepRecording(const std::string& recording, const SweepRunOptions& options,
+                    std::vector<SweepTable>* tables, std::string* error) {
+  tables->clear();
+  io::RecordingInfo info;
+  std::optional<Eigen::VectorXd> truth;
+  try {
+    info = io::InspectRecording(recording);
+    const std::string sidecar = io::TruthSidecarPath(recording);
+    if (fs::exists(sidecar)) {
+      std::ifstream in(sidecar);
+      truth = io::TrueRateFromTruth(nlohmann::json::parse(in));
+    }
+  } catch (const std::exception& e) {
+    *error = recording + ": " + e.what();
+    return false;
+  }
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
+                              static_cast<std::size_t>(std::max(1, options.threads)));
+  for (const std::string& axis : info.axis_names) {
+    Eigen::VectorXd x;
+    try {
+      x = io::ReadAxisRadPerSecond(recording, axis, options.read);
+    } catch (const std::exception& e) {
+      *error = recording + ": axis " + axis + ": " + e.what();
+      return false;
+    }
+    if (truth && truth->size() != x.size()) {
+      *error = recording + ": the truth sidecar has " + std::to_string(truth->size()) +
+               " samples, the recording " + std::to_string(x.size());
+      return false;
+    }
+    for (int sifts : options.emd_sifts) {
+      method::SweepOptions sweep = options.sweep;
+      sweep.method.emd.fixed_sifts = sifts;
+      sweep.method.emd.max_sifts = std::max(sweep.method.emd.max_sifts, sifts);
+      SweepTable table;
+      table.recording = recording;
+      table.axis = axis;
+      table.emd_sifts = sifts;
+      table.has_truth = truth.has_value();
+      table.result =
+          method::RunSweep(x, info.sample_rate_hz, sweep, truth ? &*truth : nullptr, TbbForEach);
+      if (!HasResult(table.result.summary.termination)) {
+        *error = recording + ": axis " + axis + ": " + table.result.summary.message;
+        return false;
+      }
+      tables->push_back(std::move(table));
+    }
+  }
+  const std::string stem = fs::path(recording).stem().string();
+  const fs::path out = fs::path(options.output_dir) / (stem + ".sweep");
+  try {
+    fs::create_directories(options.output_dir);
+    WriteSweepHdf5(out.string() + ".h5", *tables, options.rank_by);
+    const std::string csv_temp = out.string() + ".csv.tmp";
+    {
+      std::ofstream csv(csv_temp, std::ios::trunc);
+      csv << FormatSweepCsv(*tables);
+      if (!csv) throw std::runtime_error(csv_temp + ": cannot write");
+    }
+    fs::rename(csv_temp, out.string() + ".csv");
+  } catch (const std::exception& e) {
+    *error = recording + ": " + e.what();
+    return false;
+  }
+  if (options.report_stream != nullptr) {
+    std::fputs(FormatSweepRanking(*tables, options.rank_by, options.top).c_str(),
+               options.report_stream);
+  }
+  return true;
+}
+
+void WriteSweepHdf5(const std::string& path, const std::vector<SweepTable>& tables,
+                    const std::string& rank_by) {
+  auto lock = hdf5::LockHdf5();
+  hdf5::AtomicOutputFile out{fs::absolute(path)};
+  hdf5::Group root = out.Root();
+  root.WriteStringAttribute("fogpipe_format", "fogpipe-sweep-v1");
+  root.WriteStringAttribute("recording", tables.empty() ? "" : tables.front().recording);
+  root.WriteStringAttribute("rank_by", rank_by);
+  const std::vector<Column> columns = Columns();
+  for (const SweepTable& table : tables) {
+    hdf5::Group g =
+        root.CreateGroup("axes/" + table.axis + "/emd_sifts_" + std::to_string(table.emd_sifts));
+    const method::SweepResult& r = table.result;
+    g.WriteInt64Attribute("num_imfs", r.summary.num_imfs);
+    g.WriteInt64Attribute("emd_sifts", table.emd_sifts);
+    g.WriteInt64Attribute("has_truth", table.has_truth ? 1 : 0);
+    g.WriteDoubleAttribute("decompose_seconds", r.summary.decompose_seconds);
+    g.WriteDoubleAttribute("models_seconds", r.summary.models_seconds);
+    for (const Column& column : columns) {
+      std::vector<double> values;
+      for (const auto& point : r.points) values.push_back(column.value(point));
+      g.WriteDataset(column.name, values, column.units);
+    }
+    const hsize_t rows = r.points.size();
+    const hsize_t cols = static_cast<hsize_t>(r.summary.num_imfs) + 1;
+    std::vector<double> one_step, simulation;
+    for (const auto& point : r.points) {
+      for (hsize_t k = 0; k < cols; ++k) {
+        const bool has = k < point.fit_one_step_percent.size();
+        one_step.push_back(has ? point.fit_one_step_percent[k] : kNaN);
+        simulation.push_back(has ? point.fit_simulation_percent[k] : kNaN);
+      }
+    }
+    g.WriteDataset("fit_one_step_percent", one_step.data(), {rows, cols}, "%");
+    g.WriteDataset("fit_simulation_percent", simulation.data(), {rows, cols}, "%");
+    std::vector<std::string> status;
+    for (const auto& point : r.points) {
+      status.push_back(HasResult(point.termination) ? "ok" : point.message);
+    }
+    g.WriteStringDataset("status", status);
+    std::vector<long long> ranking;
+    for (int i : method::RankSweep(r.points, EffectiveRankBy(table, rank_by))) ranking.push_back(i);
+    g.WriteDataset("ranking", ranking, "1");
+    g.OpenDataset("ranking").WriteStringAttribute("rank_by", EffectiveRankBy(table, rank_by));
+  }
+  out.Commit();
+}
+
+std::string FormatSweepCsv(const std::vector<SweepTable>& tables) {
+  const std::vector<Column> columns = Columns();
+  std::ostringstream out;
+  out << "recording,axis,emd_sifts";
+  for (const Column& c : columns) out << "," << c.name << " [" << c.units << "]";
+  out << ",fit_one_step_percent_per_component [%],status\n";
+  for (const SweepTable& table : tables) {
+    for (const auto& point : table.result.points) {
+      out << "\"" << table.recording << "\"," << table.axis << "," << table.emd_sifts;
+      for (const Column& c : columns) out << "," << Format(c.value(point));
+      out << ",";
+      for (std::size_t k = 0; k < point.fit_one_step_percent.size(); ++k) {
+        out << (k ? ";" : "") << Format(point.fit_one_step_percent[k]);
+      }
+      out << "," << (HasResult(point.termination) ? "ok" : "failed") << "\n";
+    }
+  }
+  return out.str();
+}
+
+std::string FormatSweepRanking(const std::vector<SweepTable>& tables, const std::string& rank_by,
+                               int top) {
+  std::ostringstream out;
+  for (const SweepTable& table : tables) {
+    const auto& points = table.result.points;
+    const std::string by = EffectiveRankBy(table, rank_by);
+    out << table.recording << "  axis " << table.axis << "  emd_sifts " << table.emd_sifts << "  ("
+        << table.result.summary.num_imfs << " IMFs, EMD "
+        << Format(table.result.summary.decompose_seconds) << " s; ranked by " << by << ")\n";
+    out << "  rank  order  q_scale  r_scale  fit% (mean)   N [deg/sqrt(h)]   K [deg/h/sqrt(h)]"
+        << "   RMS error vs truth [deg/h]\n";
+    auto line = [&](const std::string& label, int i) {
+      const auto& p = points[i];
+      char text[200];
+      std::snprintf(text, sizeof(text), "  %-5s %5d  %7s  %7s  %11.4g  %16.5g  %18.5g  %27.5g\n",
+                    label.c_str(), p.setting.ar_order,
+                    p.setting.default_rule ? "rule" : Format(p.setting.q_scale).c_str(),
+                    p.setting.default_rule ? "rule" : Format(p.setting.r_scale).c_str(),
+                    method::CriterionValue(p, "fit"), method::CriterionValue(p, "n"),
+                    method::CriterionValue(p, "k"), units::RadPerSecondToDegPerHour(p.rms_error));
+      out << text;
+    };
+    const std::vector<int> ranking = method::RankSweep(points, by);
+    for (int r = 0; r < static_cast<int>(ranking.size()) && r < top; ++r) {
+      line(std::to_string(r + 1), ranking[r]);
+    }
+    // For comparison: `fogpipe run`'s rule and the hardest filtering (smallest q / R), each at
+    // the best-ranked AR order among its own settings.
+    int default_best = -1, hardest_best = -1;
+    double hardest_ratio = std::numeric_limits<double>::infinity();
+    for (const auto& p : points) {
+      if (!p.setting.default_rule) {
+        hardest_ratio = std::min(hardest_ratio, p.setting.q_scale / p.setting.r_scale);
+      }
+    }
+    for (int i : ranking) {
+      const auto& s = points[i].setting;
+      if (default_best < 0 && s.default_rule) default_best = i;
+      if (hardest_best < 0 && !s.default_rule && s.q_scale / s.r_scale == hardest_ratio) {
+        hardest_best = i;
+      }
+    }
+    if (default_best >= 0) line("dflt", default_best);
+    if (hardest_best >= 0) line("hard", hardest_best);
+  }
+  return out.str();
+}
+
+}  // namespace fogpipe::graph

@@ -1,0 +1,304 @@
+#include "pipeline/io/campaign_table.h"
+
+#include <H5Lpublic.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "algorithms/common/units.h"
+#include "pipeline/graph/inputs.h"
+#include "pipeline/hdf5/atomic_output_file.h"
+#include "pipeline/hdf5/file.h"
+#include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/recording_reader.h"
+#include "pipeline/io/results_layout.h"
+
+namespace fogpipe::io {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr const char* kResultsSuffix = ".fogpipe.h5";
+constexpr std::array<const char*, 5> kTermUnits = {
+    units::kQuantizationUnit, units::kArwUnit, units::kBiasUnit, units::kRrwUnit, units::kRampUnit};
+
+std::string Normal(const std::string& path) {
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(path, ec);
+  return (ec ? fs::path(path) : absolute).lexically_normal().string();
+}
+
+CampaignRow EmptyRow(const std::string& input_path) {
+  CampaignRow row;
+  row.input_path = input_path;
+  row.duration_s = kNaN;
+  row.model_loop_error = kNaN;
+  for (auto& signal : row.term) signal.fill(kNaN);
+  for (auto& signal : row.term_std_error) signal.fill(kNaN);
+  return row;
+}
+
+double Scalar(const hdf5::Group& group, const std::string& name) {
+  if (!group.Exists(name)) return kNaN;
+  const std::vector<double> values = group.OpenDataset(name).ReadDoubles();
+  return values.empty() ? kNaN : values[0];
+}
+
+/// One results file: its input path, end time and per-axis rows (status "ok").
+struct ResultsRows {
+  std::string input_path;
+  std::string end_time_utc;
+  std::vector<CampaignRow> rows;
+};
+
+ResultsRows ReadResultsRows(const fs::path& path) {
+  auto lock = hdf5::LockHdf5();
+  hdf5::File file = hdf5::File::OpenReadOnly(path.string());
+  const hdf5::Group root = file.Root();
+  if (!root.HasAttribute(results::kFormatAttribute) ||
+      root.ReadStringAttribute(results::kFormatAttribute) != results::kFormat) {
+    throw std::runtime_error(path.string() + ": not a " + std::string(results::kFormat) + " file");
+  }
+  const hdf5::Group provenance = root.OpenGroup("provenance");
+  ResultsRows out;
+  out.input_path = Normal(provenance.ReadStringAttribute("input_path"));
+  out.end_time_utc = provenance.ReadStringAttribute("end_time_utc");
+  const hdf5::Group axes = root.OpenGroup("axes");
+  for (const std::string& name : axes.ChildNames()) {
+    const hdf5::Group g = axes.OpenGroup(name);
+    CampaignRow row = EmptyRow(out.input_path);
+    row.results_file = path.filename().string();
+    row.axis = name;
+    row.duration_s = static_cast<double>(g.ReadInt64Attribute("samples")) /
+                     g.ReadDoubleAttribute("sample_rate_hz");
+    for (std::size_t s = 0; s < kCampaignSignals.size(); ++s) {
+      const std::string noise = std::string("allan/") + kCampaignSignals[s] + "/noise";
+      if (!g.Exists(noise)) continue;
+      const hdf5::Group n = g.OpenGroup(noise);
+      for (std::size_t t = 0; t < kCampaignTerms.size(); ++t) {
+        row.term[s][t] = Scalar(n, kCampaignTerms[t]);
+        row.term_std_error[s][t] = Scalar(n, std::string(kCampaignTerms[t]) + "_std_error");
+      }
+    }
+    // A model history (fogpipe compare) is not part of fogpipe-results-v1 yet.
+    if (g.Exists("model_history/loop_rms_error")) {
+      row.model_loop_error = Scalar(g, "model_history/loop_rms_error");
+    }
+    row.status = "ok";
+    out.rows.push_back(std::move(row));
+  }
+  return out;
+}
+
+struct StatusLine {
+  std::string status, message;
+};
+
+std::map<std::string, StatusLine> ReadStatusLog(const fs::path& path,
+                                                std::vector<std::string>* problems) {
+  std::map<std::string, StatusLine> last;
+  std::ifstream in(path);
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty()) continue;
+    try {
+      const auto json = nlohmann::json::parse(line);
+      last[Normal(json.at("file").get<std::string>())] = {json.at("status").get<std::string>(),
+                                                          json.value("message", "")};
+    } catch (const std::exception& e) {
+      problems->push_back(path.string() + ":" + std::to_string(number) + ": " + e.what());
+    }
+  }
+  return last;
+}
+
+/// A column of the table: HDF5 dataset and CSV field.
+struct Column {
+  std::string name;
+  std::string units;  ///< empty for text columns
+  std::function<std::string(const CampaignRow&)> text;
+  std::function<double(const CampaignRow&)> number;
+};
+
+std::vector<Column> Columns() {
+  std::vector<Column> columns = {
+      {"input_path", "", [](const CampaignRow& r) { return r.input_path; }, nullptr},
+      {"results_file", "", [](const CampaignRow& r) { return r.results_file; }, nullptr},
+      {"axis", "", [](const CampaignRow& r) { return r.axis; }, nullptr},
+      {"serial", "", [](const CampaignRow& r) { return r.serial; }, nullptr},
+      {"instrument", "", [](const CampaignRow& r) { return r.instrument; }, nullptr},
+      {"duration_s", "s", nullptr, [](const CampaignRow& r) { return r.duration_s; }}};
+  for (std::size_t s = 0; s < kCampaignSignals.size(); ++s) {
+    for (std::size_t t = 0; t < kCampaignTerms.size(); ++t) {
+      const std::string name = std::string(kCampaignSignals[s]) + "_" + kCampaignTerms[t];
+      columns.push_back(
+          {name, kTermUnits[t], nullptr, [s, t](const CampaignRow& r) { return r.term[s][t]; }});
+      columns.push_back({name + "_std_error", kTermUnits[t], nullptr,
+                         [s, t](const CampaignRow& r) { return r.term_std_error[s][t]; }});
+    }
+  }
+  columns.push_back({"model_loop_error", "deg/h", nullptr,
+                     [](const CampaignRow& r) { return r.model_loop_error; }});
+  columns.push_back({"status", "", [](const CampaignRow& r) { return r.status; }, nullptr});
+  columns.push_back({"message", "", [](const CampaignRow& r) { return r.message; }, nullptr});
+  return columns;
+}
+
+std::string CsvField(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+}  // namespace
+
+CampaignTable CollectCampaign(const std::string& outdir, const std::string& manifest) {
+  CampaignTable table;
+  table.source_folder = outdir;
+  // The newest results file per input path (a re-named duplicate must not count twice).
+  std::map<std::string, ResultsRows> by_input;
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(outdir)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file() && name.size() > std::string(kResultsSuffix).size() &&
+        name.compare(name.size() - std::string(kResultsSuffix).size(), std::string::npos,
+                     kResultsSuffix) == 0) {
+      files.push_back(entry.path());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  for (const fs::path& file : files) {
+    ResultsRows rows;
+    try {
+      rows = ReadResultsRows(file);
+    } catch (const std::exception& e) {
+      table.problems.push_back(file.string() + ": " + e.what());
+      continue;
+    }
+    auto found = by_input.find(rows.input_path);
+    if (found == by_input.end()) {
+      by_input.emplace(rows.input_path, std::move(rows));
+    } else {
+      ++table.duplicate_results;
+      if (rows.end_time_utc > found->second.end_time_utc) found->second = std::move(rows);
+    }
+  }
+  const auto status = ReadStatusLog(fs::path(outdir) / "status.jsonl", &table.problems);
+
+  std::map<std::string, std::vector<CampaignRow>> rows;
+  for (auto& [input, results] : by_input) {
+    // Serial and instrument live in the recording, not in the results file.
+    std::string serial, instrument;
+    try {
+      const RecordingInfo info = InspectRecording(input);
+      serial = info.serial.value_or("");
+      instrument = info.instrument.value_or("");
+    } catch (const std::exception&) {
+      // The recording may have moved since; the noise terms are still valid.
+    }
+    for (CampaignRow& row : results.rows) {
+      row.serial = serial;
+      row.instrument = instrument;
+    }
+    rows[input] = std::move(results.rows);
+    ++table.results_files;
+  }
+  for (const auto& [input, line] : status) {
+    if (rows.count(input) != 0) continue;
+    CampaignRow row = EmptyRow(input);
+    // "ok"/"skipped" without a results file: it was removed or renamed since.
+    row.status = line.status == "failed" ? "failed" : "missing";
+    row.message = line.message;
+    rows[input] = {row};
+  }
+  if (!manifest.empty()) {
+    std::vector<std::string> errors;
+    for (const graph::InputFile& input : graph::ListInputs({}, manifest, &errors)) {
+      const std::string key = Normal(input.path);
+      if (rows.count(key) != 0) continue;
+      CampaignRow row = EmptyRow(key);
+      row.status = "missing";
+      row.message = "listed in " + manifest + " but neither analysed nor reported";
+      rows[key] = {row};
+    }
+    for (const std::string& e : errors) table.problems.push_back(e);
+  }
+  for (auto& [input, file_rows] : rows) {
+    ++table.recordings;
+    for (CampaignRow& row : file_rows) table.rows.push_back(std::move(row));
+  }
+  return table;
+}
+
+void WriteCampaignTable(const std::string& path, const CampaignTable& table) {
+  const fs::path final_path = fs::absolute(path);
+  auto lock = hdf5::LockHdf5();
+  hdf5::AtomicOutputFile out(final_path);
+  hdf5::Group root = out.Root();
+  root.WriteStringAttribute("fogpipe_format", "fogpipe-campaign-v1");
+  root.WriteInt64Attribute("rows", static_cast<long long>(table.rows.size()));
+  root.WriteStringAttribute("source_folder", table.source_folder);
+  hdf5::Group campaign = root.CreateGroup("campaign");
+  for (const Column& column : Columns()) {
+    if (column.number) {
+      std::vector<double> values;
+      for (const CampaignRow& row : table.rows) values.push_back(column.number(row));
+      campaign.WriteDataset(column.name, values, column.units);
+    } else {
+      std::vector<std::string> values;
+      for (const CampaignRow& row : table.rows) values.push_back(column.text(row));
+      campaign.WriteStringDataset(column.name, values);
+    }
+  }
+  hdf5::Group links = root.CreateGroup("results");
+  const fs::path campaign_folder = final_path.parent_path();
+  std::string previous;
+  for (const CampaignRow& row : table.rows) {
+    if (row.results_file.empty() || row.results_file == previous) continue;
+    previous = row.results_file;
+    const fs::path target = fs::absolute(fs::path(table.source_folder) / row.results_file);
+    const std::string relative = target.lexically_relative(campaign_folder).string();
+    const std::string link_name =
+        row.results_file.substr(0, row.results_file.size() - std::string(kResultsSuffix).size());
+    if (H5Lcreate_external(relative.c_str(), "/", links.id(), link_name.c_str(), H5P_DEFAULT,
+                           H5P_DEFAULT) < 0) {
+      throw std::runtime_error(path + ": cannot create the external link to " + relative);
+    }
+  }
+  out.Commit();
+}
+
+std::string FormatCampaignCsv(const CampaignTable& table) {
+  const std::vector<Column> columns = Columns();
+  std::ostringstream out;
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    out << (c ? "," : "") << columns[c].name
+        << (columns[c].units.empty() ? "" : " [" + columns[c].units + "]");
+  }
+  out << "\n";
+  out.precision(10);
+  for (const CampaignRow& row : table.rows) {
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      if (c) out << ",";
+      if (columns[c].number) {
+        out << columns[c].number(row);
+      } else {
+        out << CsvField(columns[c].text(row));
+      }
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace fogpipe::io

@@ -1,0 +1,66 @@
+// The campaign table written by `fogpipe merge OUTDIR -o campaign.h5`: one row per recording and
+// axis, gathered from the results files (fogpipe-results-v1) and OUTDIR/status.jsonl.
+//
+// Layout of campaign.h5 (fogpipe-campaign-v1):
+//   /                 attributes fogpipe_format, rows, source_folder
+//   /campaign/<col>   one 1-D dataset per column, numeric ones with a `units` attribute
+//   /results/<name>   an HDF5 external link to the root of each results file (relative to the
+//                     campaign file's folder, so the folder may be moved as a whole)
+//
+// Merging is idempotent: the table is rebuilt from what OUTDIR holds and written through a
+// temporary file renamed when complete, so it can run again whenever late or resubmitted shards
+// arrive. A recording is keyed by its input path: a file processed twice (a resubmitted shard, a
+// --force rerun) has one results file name and contributes its rows once.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace fogpipe::io {
+
+/// The signals whose noise terms are tabulated, as named under /axes/<axis>/allan.
+inline constexpr std::array<const char*, 3> kCampaignSignals = {"raw", "method1", "method2"};
+/// IEEE Std 952-1997 noise terms in the order Q, N, B, K, R (engineer's units, units.h).
+inline constexpr std::array<const char*, 5> kCampaignTerms = {"Q", "N", "B", "K", "R"};
+
+struct CampaignRow {
+  std::string input_path;    ///< The recording (provenance input_path, or status.jsonl "file").
+  std::string results_file;  ///< Results file name inside OUTDIR; empty when there is none.
+  std::string axis;          ///< Axis group name; empty for a file without results.
+  std::string serial;        ///< Recording attribute `serial` (empty when absent or unreadable).
+  std::string instrument;    ///< Recording attribute `instrument`.
+  double duration_s = 0.0;   ///< Analysed samples / sample rate, s (NaN without results).
+  /// [signal][term]: value and standard error in Q arcsec, N deg/sqrt(h), B deg/h,
+  /// K deg/h/sqrt(h), R deg/h^2; NaN where not fitted.
+  std::array<std::array<double, 5>, 3> term{}, term_std_error{};
+  /// RMS error of the model loop (fogpipe compare) when the results file has a model history;
+  /// NaN otherwise (fogpipe-results-v1 has none yet).
+  double model_loop_error = 0.0;
+  std::string status;   ///< "ok", "failed" (status.jsonl) or "missing" (in the manifest only).
+  std::string message;  ///< Why it failed, from status.jsonl.
+};
+
+struct CampaignTable {
+  std::string source_folder;
+  std::vector<CampaignRow> rows;      ///< Sorted by input path, then axis.
+  int recordings = 0;                 ///< Distinct input paths.
+  int results_files = 0;              ///< Results files used.
+  int duplicate_results = 0;          ///< Results files ignored: an older one of the same input.
+  std::vector<std::string> problems;  ///< Unreadable results files, bad status lines.
+};
+
+/// Builds the table from `outdir`: every *.fogpipe.h5 directly in it (temporary files of killed
+/// runs are ignored), OUTDIR/status.jsonl (the last line per input wins), and, when `manifest` is
+/// not empty, a "missing" row for every listed recording with neither results nor a status line.
+/// Takes the HDF5 lock itself; never throws for a bad results file (it goes to `problems`).
+CampaignTable CollectCampaign(const std::string& outdir, const std::string& manifest);
+
+/// Writes the table to `path` atomically (hdf5::AtomicOutputFile). Throws hdf5::Error or
+/// std::runtime_error.
+void WriteCampaignTable(const std::string& path, const CampaignTable& table);
+
+/// The table as CSV (header line, one line per row), the same columns as /campaign.
+std::string FormatCampaignCsv(const CampaignTable& table);
+
+}  // namespace fogpipe::io
