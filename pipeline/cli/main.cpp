@@ -1,6 +1,5 @@
 // fogpipe command-line entry point. Only main() may end the process; everything below returns.
 #include <CLI/CLI.hpp>
-
 #include <iostream>
 #include <string>
 

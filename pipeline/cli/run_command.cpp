@@ -14,6 +14,7 @@
 #include "pipeline/graph/interrupt.h"
 #include "pipeline/graph/memory_budget.h"
 #include "pipeline/graph/run_config.h"
+#include "pipeline/io/campaign_manifest.h"
 
 namespace fogpipe::cli {
 namespace {
@@ -37,8 +38,17 @@ int RunCampaignCommand(CLI::App* cmd, graph::RunConfig* config) {
     std::cerr << "fogpipe run: " << error << "\n";
     return 2;
   }
+  io::ShardBy shard_by = io::ShardBy::kStride;
+  if (!io::ParseShardBy(config->shard_by, &shard_by) || config->shard >= config->num_shards) {
+    std::cerr << "fogpipe run: need 0 <= --shard < --num-shards and --shard-by stride|size\n";
+    return 2;
+  }
   std::vector<std::string> input_errors;
-  const auto inputs = graph::ListInputs(config->inputs, config->manifest, &input_errors);
+  // Every shard lists the same sorted inputs and keeps its own part (io::SelectShard), so the
+  // shards of an array job are disjoint and together cover the campaign.
+  const auto inputs =
+      io::SelectShard(graph::ListInputs(config->inputs, config->manifest, &input_errors),
+                      config->shard, config->num_shards, shard_by);
   for (const std::string& e : input_errors) std::cerr << "fogpipe run: " << e << "\n";
   if (inputs.empty()) {
     std::cerr << "fogpipe run: no recording to analyse\n";

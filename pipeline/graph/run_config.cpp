@@ -58,6 +58,15 @@ void AddRunOptions(CLI::App* cmd, RunConfig* c) {
                   "Recordings: files, folders (recursive *.h5) or quoted glob patterns");
   cmd->add_option("--manifest", c->manifest,
                   "File with one recording path per line ('#' comments; optional size column)");
+  cmd->add_option("--shard", c->shard,
+                  "Process only shard I of the sorted input list (Slurm arrays)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--num-shards", c->num_shards,
+                  "Number of shards N; pass it explicitly (SLURM_ARRAY_TASK_COUNT changes when "
+                  "only failed indices are resubmitted)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--shard-by", c->shard_by,
+                  "stride (every N-th file) or size (balanced by bytes)");
   cmd->add_option("-o,--output", c->output_dir, "Output folder (one results file per recording)");
   cmd->add_option("--config", c->config_file,
                   "TOML file of options (keys are the long option names; unknown keys are errors)");

@@ -17,6 +17,9 @@ namespace fogpipe::graph {
 struct RunConfig {
   std::vector<std::string> inputs;
   std::string manifest;
+  int shard = 0;                    ///< This process's shard of the input list, in [0, num_shards).
+  int num_shards = 1;               ///< Given explicitly (never from SLURM_ARRAY_TASK_COUNT).
+  std::string shard_by = "stride";  ///< "stride" or "size" (io::ShardBy).
   std::string output_dir;
   std::string config_file;
   int threads = 0;  ///< 0: SLURM_CPUS_PER_TASK if set, else the hardware's
