@@ -13,32 +13,18 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/common/catalog.h"
+
 namespace fogpipe::model {
 
-enum class Term {
-  kWhite,            ///< angle random walk N
-  kQuantization,     ///< Q
-  kBiasInstability,  ///< B
-  kRateRandomWalk,   ///< K
-  kRateRamp,         ///< R
-  kGaussMarkov,      ///< sigma, correlation time
-  kSinusoid,         ///< frequency, amplitude (may appear more than once)
-  kTemperature,      ///< bias proportional to T - T_ref (needs aux temperature)
-  kTemperatureRate,  ///< bias proportional to dT/dt, Shupe effect (needs aux temperature)
-  kBiasStep,         ///< time and size of a jump
-  kWarmup,           ///< amplitude and time constant of the start-up transient
-};
-
-/// Lower-case catalog name, e.g. "temperature_rate".
-const char* ToString(Term term);
-/// Parses a catalog name; nullopt for anything else.
-std::optional<Term> ParseTerm(const std::string& name);
+using catalog::NeedsTemperature;
+using catalog::ParseTerm;
+using catalog::Term;
+using catalog::ToString;
 /// Every term of the catalog, in catalog order.
-const std::vector<Term>& CatalogTerms();
+inline const std::vector<Term>& CatalogTerms() { return catalog::AllTerms(); }
 /// True for the terms fitted by least squares on the rate (incl. sinusoid, see above).
 bool IsFittedOnRate(Term term);
-/// True for the terms that need the aux channel `temperature`.
-bool NeedsTemperature(Term term);
 /// bias + white + quantization + bias_instability + rate_random_walk + rate_ramp (bias is
 /// implicit).
 std::vector<Term> DefaultTerms();

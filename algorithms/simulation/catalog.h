@@ -1,37 +1,16 @@
-// The catalog of gyro error terms. The names are fixed and shared by the CLI, configuration files,
-// JSON and HDF5 (issue 4): measured rate = bias + deterministic effects + stochastic terms.
+// The simulator uses the project's one term catalog (algorithms/common/catalog.h).
 #pragma once
 
-#include <optional>
-#include <string_view>
-#include <vector>
+#include "algorithms/common/catalog.h"
 
 namespace fogpipe::simulation {
 
-enum class Term {
-  kWhite,            ///< angle random walk N (white rate noise), IEEE Std 952-1997 C.1.
-  kQuantization,     ///< angle quantization Q.
-  kBiasInstability,  ///< bias instability B (flicker rate noise).
-  kRateRandomWalk,   ///< rate random walk K.
-  kRateRamp,         ///< rate ramp R.
-  kGaussMarkov,      ///< first-order Gauss-Markov (sigma, correlation time Tc).
-  kSinusoid,         ///< sinusoidal rate (frequency f0, amplitude W); more than one allowed.
-  kTemperature,      ///< bias proportional to T - T_ref; needs an aux temperature.
-  kTemperatureRate,  ///< bias proportional to dT/dt (Shupe effect); needs an aux temperature.
-  kBiasStep,         ///< a jump of the bias at a time.
-  kWarmup,           ///< start-up transient A exp(-t/tau).
-};
-
-enum class TermKind { kStochastic, kDeterministic };
-
-/// Every term, in catalog order.
-const std::vector<Term>& AllTerms();
-/// The catalog name, e.g. "bias_instability".
-const char* ToString(Term term);
-/// Parses a catalog name; nullopt for anything else.
-std::optional<Term> ParseTerm(std::string_view name);
-TermKind KindOf(Term term);
-/// True for the terms that need an aux temperature channel.
-bool NeedsTemperature(Term term);
+using catalog::AllTerms;
+using catalog::KindOf;
+using catalog::NeedsTemperature;
+using catalog::ParseTerm;
+using catalog::Term;
+using catalog::TermKind;
+using catalog::ToString;
 
 }  // namespace fogpipe::simulation

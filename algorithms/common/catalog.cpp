@@ -1,6 +1,6 @@
-#include "algorithms/simulation/catalog.h"
+#include "algorithms/common/catalog.h"
 
-namespace fogpipe::simulation {
+namespace fogpipe::catalog {
 
 const std::vector<Term>& AllTerms() {
   static const std::vector<Term> kAll = {
@@ -61,4 +61,4 @@ bool NeedsTemperature(Term term) {
   return term == Term::kTemperature || term == Term::kTemperatureRate;
 }
 
-}  // namespace fogpipe::simulation
+}  // namespace fogpipe::catalog

@@ -1,11 +1,11 @@
-#include "algorithms/simulation/catalog.h"
+#include "algorithms/common/catalog.h"
 
 #include <gtest/gtest.h>
 
 #include <set>
 #include <string>
 
-namespace fogpipe::simulation {
+namespace fogpipe::catalog {
 namespace {
 
 TEST(Catalog, ListsTheElevenTermsOfTheIssueWithTheirFixedNames) {
@@ -37,4 +37,4 @@ TEST(Catalog, OnlyTheFourEffectsAreDeterministicAndOnlyTheThermalOnesNeedTempera
 }
 
 }  // namespace
-}  // namespace fogpipe::simulation
+}  // namespace fogpipe::catalog
