@@ -2,7 +2,6 @@
 
 #include <oneapi/tbb/flow_graph.h>
 #include <oneapi/tbb/global_control.h>
-#include <oneapi/tbb/parallel_for.h>
 
 #include <chrono>
 #include <filesystem>
@@ -14,6 +13,7 @@
 #include "pipeline/graph/interrupt.h"
 #include "pipeline/graph/memory_budget.h"
 #include "pipeline/graph/progress.h"
+#include "pipeline/graph/tbb_for_each.h"
 #include "pipeline/hdf5/atomic_output_file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/results_reader.h"
@@ -81,15 +81,6 @@ void Guarded(AxisWork& work, Stage stage, Body&& body) {
     work.error = "unknown error";
   }
   work.stage_seconds[stage] += Seconds(start);
-}
-
-void TbbForEach(int n, const std::function<void(int)>& body) {
-  tbb::parallel_for(
-      tbb::blocked_range<int>(0, n, 1),
-      [&](const tbb::blocked_range<int>& r) {
-        for (int i = r.begin(); i != r.end(); ++i) body(i);
-      },
-      tbb::simple_partitioner());
 }
 
 std::string AxisError(const FileJob& job, int axis, const std::string& what) {

@@ -6,4 +6,5 @@ target_sources(fogpipe_pipeline PRIVATE
   ${CMAKE_CURRENT_LIST_DIR}/memory_budget.cpp
   ${CMAKE_CURRENT_LIST_DIR}/progress.cpp
   ${CMAKE_CURRENT_LIST_DIR}/run_config.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/status_log.cpp)
+  ${CMAKE_CURRENT_LIST_DIR}/status_log.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/tbb_for_each.cpp)

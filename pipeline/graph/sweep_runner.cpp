@@ -8,7 +8,6 @@
 #include "pipeline/graph/sweep_runner.h"
 
 #include <oneapi/tbb/global_control.h>
-#include <oneapi/tbb/parallel_for.h>
 
 #include <cmath>
 #include <filesystem>
@@ -19,6 +18,7 @@
 #include <sstream>
 
 #include "algorithms/common/units.h"
+#include "pipeline/graph/tbb_for_each.h"
 #include "pipeline/hdf5/atomic_output_file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/recording_reader.h"
@@ -29,15 +29,6 @@ namespace {
 
 namespace fs = std::filesystem;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-void TbbForEach(int n, const std::function<void(int)>& body) {
-  tbb::parallel_for(
-      tbb::blocked_range<int>(0, n, 1),
-      [&](const tbb::blocked_range<int>& r) {
-        for (int i = r.begin(); i != r.end(); ++i) body(i);
-      },
-      tbb::simple_partitioner());
-}
 
 /// One numeric column of a sweep table.
 struct Column {
