@@ -62,18 +62,9 @@ void ModelComponents(const MethodOptions& options, const ForEach& for_each, Meth
   const int num_imfs = static_cast<int>(emd_result.imfs.size());
   const Eigen::VectorXd& signal = result->preprocessed.signal;
 
-  // R per component (white_noise.h): the raw white-noise variance shared by mean period; the
-  // residue counts as one cycle over the record (period N), so it gets a tiny share and its filter
-  // follows it.
+  // R per component (white_noise.h): the raw white-noise variance shared by mean period.
   const double white = WhiteNoiseVariance(signal);
-  std::vector<double> periods(num_imfs + 1), variances(num_imfs + 1);
-  for (int k = 0; k <= num_imfs; ++k) {
-    const Eigen::VectorXd& c = k < num_imfs ? emd_result.imfs[k] : emd_result.residue;
-    periods[k] = k < num_imfs ? emd_result.imf_info[k].mean_period_samples
-                              : static_cast<double>(signal.size());
-    variances[k] = (c.array() - c.mean()).square().mean();
-  }
-  const std::vector<double> r = ShareWhiteNoise(white, periods, variances);
+  const std::vector<double> r = ShareWhiteNoise(white, emd_result, signal.size());
 
   // Slots 0..num_imfs-1: IMFs, num_imfs: residue, num_imfs + 1: method 2 on the whole signal.
   result->components.assign(num_imfs + 1, ComponentModel());

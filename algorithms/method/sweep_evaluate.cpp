@@ -74,16 +74,12 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
   out.summary.num_imfs = num_imfs;
 
   // R per component exactly as ModelComponents() shares it (white_noise.h).
-  std::vector<double> periods(num_components), variances(num_components);
   std::vector<ComponentModels> components(num_components);
   for (int k = 0; k < num_components; ++k) {
-    const Eigen::VectorXd& c = k < num_imfs ? emd_result.imfs[k] : emd_result.residue;
-    components[k].signal = &c;
-    periods[k] = k < num_imfs ? emd_result.imf_info[k].mean_period_samples
-                              : static_cast<double>(signal.size());
-    variances[k] = (c.array() - c.mean()).square().mean();
+    components[k].signal = k < num_imfs ? &emd_result.imfs[k] : &emd_result.residue;
   }
-  const std::vector<double> r = ShareWhiteNoise(WhiteNoiseVariance(signal), periods, variances);
+  const std::vector<double> r =
+      ShareWhiteNoise(WhiteNoiseVariance(signal), emd_result, signal.size());
 
   // One Burg recursion per component up to the largest order; fit % per order.
   start = std::chrono::steady_clock::now();

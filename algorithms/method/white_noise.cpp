@@ -44,4 +44,17 @@ std::vector<double> ShareWhiteNoise(double white_noise_variance,
   return r;
 }
 
+std::vector<double> ShareWhiteNoise(double white_noise_variance,
+                                    const emd::EmdResult& decomposition, Eigen::Index num_samples) {
+  const int num_imfs = static_cast<int>(decomposition.imfs.size());
+  std::vector<double> periods(num_imfs + 1), variances(num_imfs + 1);
+  for (int k = 0; k <= num_imfs; ++k) {
+    const Eigen::VectorXd& c = k < num_imfs ? decomposition.imfs[k] : decomposition.residue;
+    periods[k] = k < num_imfs ? decomposition.imf_info[k].mean_period_samples
+                              : static_cast<double>(num_samples);
+    variances[k] = (c.array() - c.mean()).square().mean();
+  }
+  return ShareWhiteNoise(white_noise_variance, periods, variances);
+}
+
 }  // namespace fogpipe::method

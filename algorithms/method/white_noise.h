@@ -24,6 +24,8 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "algorithms/emd/emd.h"
+
 namespace fogpipe::method {
 
 /// sigma_w^2 of step 1, units of x^2. 0 for fewer than 3 samples. When more than half of the
@@ -35,5 +37,11 @@ double WhiteNoiseVariance(const Eigen::VectorXd& x);
 std::vector<double> ShareWhiteNoise(double white_noise_variance,
                                     const std::vector<double>& mean_period_samples,
                                     const std::vector<double>& imf_variance);
+
+/// Steps 1-2 applied to a decomposition of a signal of `num_samples` samples: R_k for every IMF,
+/// then the residue last. The residue counts as one cycle over the record (period num_samples),
+/// so it gets a tiny share and its filter follows it.
+std::vector<double> ShareWhiteNoise(double white_noise_variance,
+                                    const emd::EmdResult& decomposition, Eigen::Index num_samples);
 
 }  // namespace fogpipe::method
