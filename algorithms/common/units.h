@@ -13,6 +13,9 @@ inline constexpr double kDegPerRad = 180.0 / kPi;
 inline constexpr double kRadPerDeg = kPi / 180.0;
 inline constexpr double kSecondsPerHour = 3600.0;
 inline constexpr double kArcsecPerRad = kDegPerRad * 3600.0;
+/// Earth's sidereal rotation rate, rad/s (IERS Conventions 2010, WGS 84). Used by the simulator and
+/// by `compare` (bias net of the Earth-rate projection).
+inline constexpr double kEarthRotationRateRadS = 7.2921150e-5;
 
 /// The rate units a recording may declare (input contract v1: "deg/h", "deg/s", "rad/s").
 enum class RateUnit { kDegPerHour, kDegPerSecond, kRadPerSecond };

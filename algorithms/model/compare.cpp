@@ -10,9 +10,6 @@
 namespace fogpipe::model {
 namespace {
 
-// Earth rotation rate, deg/h (IERS: 7.292115e-5 rad/s).
-constexpr double kEarthRateDegPerHour = 7.292115e-5 * units::kDegPerRad * 3600.0;
-
 const AuxChannel* FindAux(const CompareInput& in, const std::string& name) {
   for (const auto& ch : in.aux)
     if (ch.name == name && in.rate_rad_s && ch.values.size() == in.rate_rad_s->size()) return &ch;
@@ -228,7 +225,8 @@ Evaluation EvaluateModel(const CompareInput& in, const std::vector<Term>& terms,
                     DegH(e.deterministic.model.bias_se_rad_s), "deg/h"}}};
   if (in.latitude_deg) {
     // Assumes the sensitive axis is vertical (up): it then sees Omega_E sin(latitude).
-    const double earth = kEarthRateDegPerHour * std::sin(*in.latitude_deg * units::kRadPerDeg);
+    const double earth = units::RadPerSecondToDegPerHour(units::kEarthRotationRateRadS) *
+                         std::sin(*in.latitude_deg * units::kRadPerDeg);
     bias.parameters.push_back({"bias_net_of_earth_rate", bias.parameters[0].value - earth,
                                bias.parameters[0].standard_error, "deg/h"});
   }

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "algorithms/common/status.h"
+#include "algorithms/common/units.h"
 #include "algorithms/simulation/catalog.h"
 #include "algorithms/simulation/deterministic_effects.h"
 #include "algorithms/simulation/rate_profile.h"
@@ -23,8 +24,7 @@
 
 namespace fogpipe::simulation {
 
-/// Earth's sidereal rotation rate, rad/s (IERS Conventions 2010, WGS 84).
-inline constexpr double kEarthRotationRateRadS = 7.2921150e-5;
+using units::kEarthRotationRateRadS;  // algorithms/common/units.h
 
 /// `gauss_markov`: stationary standard deviation and correlation time.
 struct GaussMarkovTerm {
