@@ -1,11 +1,13 @@
 // Test support for the AR tests: seeded Gaussian noise and AR(p) simulation with burn-in.
+// The noise comes from algorithms/simulation (written apart from the AR code).
 // Header-only; used only by tests/algorithms/ar and tests/benchmarks/ar_benchmark.cpp.
 #pragma once
 
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
-#include <random>
+
+#include "algorithms/simulation/random.h"
 
 namespace fogpipe::ar::testing {
 
@@ -17,38 +19,11 @@ inline Eigen::VectorXd PaperImf6Phi() {
   return phi;
 }
 
-/// Standard normal draws from std::mt19937_64 through Box-Muller (portable, unlike
-/// std::normal_distribution whose output is implementation-defined).
-class NormalSource {
- public:
-  explicit NormalSource(std::uint64_t seed) : gen_(seed) {}
-  double Next() {
-    if (has_spare_) {
-      has_spare_ = false;
-      return spare_;
-    }
-    constexpr double kTwoPi = 6.283185307179586476925;
-    const double u1 = Uniform();
-    const double u2 = Uniform();
-    const double radius = std::sqrt(-2.0 * std::log(u1));
-    spare_ = radius * std::sin(kTwoPi * u2);
-    has_spare_ = true;
-    return radius * std::cos(kTwoPi * u2);
-  }
-
- private:
-  // Uniform on (0, 1): 53 random bits, offset by half a unit so 0 never occurs.
-  double Uniform() { return (static_cast<double>(gen_() >> 11) + 0.5) * 0x1.0p-53; }
-  std::mt19937_64 gen_;
-  double spare_ = 0.0;
-  bool has_spare_ = false;
-};
-
+/// Seeded Gaussian noise from the project's simulator (simulation::RandomSource: std::mt19937_64 +
+/// Marsaglia's polar method, portable unlike std::normal_distribution).
 inline Eigen::VectorXd WhiteNoise(Eigen::Index n, double sigma, std::uint64_t seed) {
-  NormalSource normal(seed);
-  Eigen::VectorXd e(n);
-  for (Eigen::Index i = 0; i < n; ++i) e(i) = sigma * normal.Next();
-  return e;
+  simulation::RandomSource normal(seed);
+  return sigma * normal.Normals(n);
 }
 
 /// x_t = mean + s_t, s_t = sum phi_i s_{t-i} + sigma e_t, after `burn_in` discarded samples that
@@ -57,10 +32,10 @@ inline Eigen::VectorXd SimulateAr(const Eigen::VectorXd& phi, double sigma, Eige
                                   std::uint64_t seed, Eigen::Index burn_in = 20000,
                                   double mean = 0.0) {
   const Eigen::Index p = phi.size();
-  NormalSource normal(seed);
+  simulation::RandomSource normal(seed);
   Eigen::VectorXd s = Eigen::VectorXd::Zero(n + burn_in);
   for (Eigen::Index t = 0; t < n + burn_in; ++t) {
-    double v = sigma * normal.Next();
+    double v = sigma * normal.Normal();
     for (Eigen::Index i = 1; i <= p && i <= t; ++i) v += phi(i - 1) * s(t - i);
     s(t) = v;
   }
