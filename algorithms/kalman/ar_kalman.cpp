@@ -1,5 +1,6 @@
 #include "algorithms/kalman/ar_kalman.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -43,7 +44,47 @@ double GainDistance(const Eigen::VectorXd& g, const Eigen::VectorXd& g_inf) {
   return scale > 0.0 ? diff / scale : diff;
 }
 
+// Spectral radius of the closed loop A (I - G H) for a constant gain G.
+double ClosedLoopRadius(const Eigen::VectorXd& phi, const Eigen::VectorXd& g) {
+  const Eigen::Index p = phi.size();
+  const Eigen::MatrixXd a = CompanionMatrix(phi);
+  Eigen::MatrixXd closed_loop = a;
+  closed_loop -= (a * g) * Eigen::RowVectorXd::Unit(p, 0);
+  return Eigen::EigenSolver<Eigen::MatrixXd>(closed_loop, false)
+      .eigenvalues()
+      .cwiseAbs()
+      .maxCoeff();
+}
+
 }  // namespace
+
+const char* ToString(InitialCovariance initial_covariance) {
+  switch (initial_covariance) {
+    case InitialCovariance::kSampleVariance:
+      return "sample_variance";
+    case InitialCovariance::kSteadyState:
+      return "steady_state";
+  }
+  return "unknown";
+}
+
+const char* ToString(GainSwitch gain_switch) {
+  switch (gain_switch) {
+    case GainSwitch::kNever:
+      return "never";
+    case GainSwitch::kFromStart:
+      return "from_start";
+    case GainSwitch::kConverged:
+      return "converged";
+    case GainSwitch::kStalled:
+      return "stalled";
+    case GainSwitch::kCapped:
+      return "capped";
+    case GainSwitch::kFrozen:
+      return "frozen";
+  }
+  return "unknown";
+}
 
 bool ArKalmanOptions::IsValid(std::string* error) const {
   auto fail = [&](const char* m) {
@@ -63,6 +104,11 @@ bool ArKalmanOptions::IsValid(std::string* error) const {
     return fail("ArKalmanOptions::gain_tolerance must be finite and >= 0");
   if (!(stall_tolerance >= 0.0) || !std::isfinite(stall_tolerance))
     return fail("ArKalmanOptions::stall_tolerance must be finite and >= 0");
+  if (max_time_varying_steps < 0)
+    return fail("ArKalmanOptions::max_time_varying_steps must be >= 0");
+  if (initial_covariance != InitialCovariance::kSampleVariance &&
+      initial_covariance != InitialCovariance::kSteadyState)
+    return fail("ArKalmanOptions::initial_covariance is not a known start");
   return dare.IsValid(error);
 }
 
@@ -110,11 +156,20 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
   result.steady_state_innovation_variance = dare.innovation_variance;
 
   const Eigen::Index p = phi.size();
-  const double p0 = options.initial_variance >= 0.0 ? options.initial_variance : z_variance;
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(p);               // X(0|0) = 0 (eq. 7)
-  Eigen::MatrixXd pf = p0 * Eigen::MatrixXd::Identity(p, p);  // P(0|0) = var(x0) I
-  Eigen::MatrixXd pp(p, p);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(p);  // X(0|0) = 0 (eq. 7)
+  Eigen::MatrixXd pf(p, p), pp(p, p);            // P(k-1|k-1), P(k|k-1)
   Eigen::VectorXd g(p);
+  // The steady-state start needs a stabilizing DARE solution; without one, the paper's start.
+  const bool steady_start =
+      options.initial_covariance == InitialCovariance::kSteadyState && dare_ok;
+  s.initial_covariance =
+      steady_start ? InitialCovariance::kSteadyState : InitialCovariance::kSampleVariance;
+  if (steady_start) {
+    pf = dare.filtered_covariance;
+  } else {
+    const double p0 = options.initial_variance >= 0.0 ? options.initial_variance : z_variance;
+    pf = p0 * Eigen::MatrixXd::Identity(p, p);  // P(0|0) = var(x0) I (eq. 7)
+  }
 
   if (reuse != nullptr && reuse->size() == n) result.filtered.swap(*reuse);
   result.filtered.resize(n);
@@ -122,52 +177,87 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
   FilterGainHistory history;
   if (options.smooth) innovations.resize(n);
 
-  // Time-varying filter (eqs. 8-11), Joseph form, until the gain has converged.
-  const bool may_switch = options.steady_state_switch && dare_ok;
+  // The constant gain of the O(p) loop and its innovation variance: G_inf, or a frozen gain.
+  Eigen::VectorXd constant_gain = dare.gain;
+  double constant_innovation_variance = dare.innovation_variance;
   long long k = 0;
-  double best_distance = std::numeric_limits<double>::infinity();
-  long long best_at = 0;
-  for (; k < n; ++k) {
+  if (steady_start && options.steady_state_switch) {
+    // P0 is the fixed point: G(k) = G_inf for every k. One Riccati step measures how exactly.
     PredictCovariance(pf, phi, result.q, &pp);
-    const double innovation_var = JosephUpdate(pp, result.r, &g, &pf);
-    if (may_switch) {
-      const double distance = GainDistance(g, dare.gain);
-      if (distance < best_distance) {
-        best_distance = distance;
-        best_at = k;
+    JosephUpdate(pp, result.r, &g, &pf);
+    s.gain_switch = GainSwitch::kFromStart;
+    s.switched_at_sample = 0;
+    s.gain_distance_at_switch = GainDistance(g, dare.gain);
+  } else {
+    // Time-varying filter (eqs. 8-11), Joseph form, until the gain has converged, stalled or
+    // reached the cap.
+    const bool may_switch = options.steady_state_switch && dare_ok;
+    long long cap = options.steady_state_switch && options.max_time_varying_steps > 0
+                        ? options.max_time_varying_steps
+                        : std::numeric_limits<long long>::max();
+    double best_distance = std::numeric_limits<double>::infinity();
+    long long best_at = 0;
+    Eigen::VectorXd gain_at_half_cap;
+    for (; k < n; ++k) {
+      PredictCovariance(pf, phi, result.q, &pp);
+      const double innovation_var = JosephUpdate(pp, result.r, &g, &pf);
+      if (may_switch) {
+        const double distance = GainDistance(g, dare.gain);
+        if (distance < best_distance) {
+          best_distance = distance;
+          best_at = k;
+        }
+        // Converged, or stalled at the rounding floor of the recursion: no new minimum for as
+        // many steps as it took to reach the current one (a converging recursion keeps shrinking
+        // the distance geometrically), while already within stall_tolerance.
+        const bool stalled =
+            best_distance <= options.stall_tolerance && k - best_at > best_at && k - best_at >= 64;
+        if (distance <= options.gain_tolerance || stalled || k >= cap) {
+          s.gain_switch = distance <= options.gain_tolerance ? GainSwitch::kConverged
+                          : stalled                          ? GainSwitch::kStalled
+                                                             : GainSwitch::kCapped;
+          s.switched_at_sample = k;
+          s.gain_distance_at_switch = distance;
+          break;
+        }
+      } else if (k == cap / 2) {
+        gain_at_half_cap = g;
+      } else if (k >= cap) {
+        // No steady-state gain to switch to: keep this gain if it stabilizes the loop (the
+        // time-varying gain of a decreasing Riccati iterate does; Bitmead, Gevers & Wertz 1985,
+        // the "fake algebraic Riccati equation"), else stay time-varying to the end.
+        if (ClosedLoopRadius(phi, g) < 1.0) {
+          constant_gain = g;
+          constant_innovation_variance = innovation_var;
+          s.gain_switch = GainSwitch::kFrozen;
+          s.switched_at_sample = k;
+          s.gain_distance_at_switch = GainDistance(gain_at_half_cap, g);
+          break;
+        }
+        cap = std::numeric_limits<long long>::max();
       }
-      // Converged, or stalled at the rounding floor of the recursion: no new minimum for as many
-      // steps as it took to reach the current one (a converging recursion keeps shrinking the
-      // distance geometrically), while already within stall_tolerance.
-      const bool stalled =
-          best_distance <= options.stall_tolerance && k - best_at > best_at && k - best_at >= 64;
-      if (distance <= options.gain_tolerance || stalled) {
-        s.switched_at_sample = k;
-        s.gain_distance_at_switch = distance;
-        break;
+      const double pred = phi.dot(x);
+      const double e = (z[k] - options.mean) - pred;
+      for (Eigen::Index i = p - 1; i >= 1; --i) x[i] = x[i - 1] + g[i] * e;
+      x[0] = pred + g[0] * e;
+      result.filtered[k] = x[0] + options.mean;
+      if (options.smooth) {
+        innovations[k] = e;
+        history.time_varying_gains.insert(history.time_varying_gains.end(), g.data(), g.data() + p);
+        history.time_varying_innovation_variances.push_back(innovation_var);
       }
-    }
-    const double pred = phi.dot(x);
-    const double e = (z[k] - options.mean) - pred;
-    for (Eigen::Index i = p - 1; i >= 1; --i) x[i] = x[i - 1] + g[i] * e;
-    x[0] = pred + g[0] * e;
-    result.filtered[k] = x[0] + options.mean;
-    if (options.smooth) {
-      innovations[k] = e;
-      history.time_varying_gains.insert(history.time_varying_gains.end(), g.data(), g.data() + p);
-      history.time_varying_innovation_variances.push_back(innovation_var);
     }
   }
   history.time_varying_steps = k;
   if (k < n) {
-    SteadyStateFilter(z.data() + k, n - k, options.mean, phi, dare.gain, x,
+    SteadyStateFilter(z.data() + k, n - k, options.mean, phi, constant_gain, x,
                       result.filtered.data() + k,
                       options.smooth ? innovations.data() + k : nullptr);
   }
 
   if (options.smooth) {
-    history.steady_state_gain = dare.gain;
-    history.steady_state_innovation_variance = dare.innovation_variance;
+    history.steady_state_gain = constant_gain;
+    history.steady_state_innovation_variance = constant_innovation_variance;
     RtsSmoothInPlace(z, options.mean, phi, history, &innovations);
     result.smoothed = std::move(innovations);
     result.steady_state_smoothed_error_variance = SteadyStateSmoothedVariance(phi, dare);
@@ -176,9 +266,32 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
   if (!result.filtered.allFinite())
     return Fail(std::move(result), Termination::kNumericalFailure, "non-finite filter output");
   s.termination = dare_ok ? Termination::kSuccess : Termination::kNoConvergence;
-  s.message = dare_ok ? (s.switched_at_sample >= 0 ? "switched to the steady-state gain"
-                                                   : "time-varying filter to the end")
-                      : "DARE did not converge; time-varying filter to the end";
+  switch (s.gain_switch) {
+    case GainSwitch::kNever:
+      s.message = "time-varying filter to the end";
+      break;
+    case GainSwitch::kFromStart:
+      s.message = "steady-state start: steady-state gain from the first sample";
+      break;
+    case GainSwitch::kConverged:
+    case GainSwitch::kStalled:
+      s.message =
+          "switched to the steady-state gain (" + std::string(ToString(s.gain_switch)) + ")";
+      break;
+    case GainSwitch::kCapped:
+      s.message = "switched to the steady-state gain at the time-varying step cap";
+      break;
+    case GainSwitch::kFrozen:
+      s.message = "gain frozen at the time-varying step cap";
+      break;
+  }
+  if (!dare_ok) {
+    s.message = "DARE did not converge (" + dare.summary.message + ")" +
+                (options.initial_covariance == InitialCovariance::kSteadyState
+                     ? "; no steady-state start, started from the sample variance"
+                     : "") +
+                "; " + s.message;
+  }
   return result;
 }
 

@@ -17,6 +17,10 @@ bool DareOptions::IsValid(std::string* error) const {
     if (error) *error = "DareOptions::max_refinement_steps must be >= 0";
     return false;
   }
+  if (!(retry_residual >= 0.0) || !std::isfinite(retry_residual)) {
+    if (error) *error = "DareOptions::retry_residual must be finite and >= 0";
+    return false;
+  }
   if (!(relative_tolerance >= 0.0) || !std::isfinite(relative_tolerance)) {
     if (error) *error = "DareOptions::relative_tolerance must be finite and >= 0";
     return false;
@@ -90,6 +94,65 @@ double DareRelativeResidual(const Eigen::VectorXd& phi, double q, double r,
   return RelativeNorm(RiccatiDefect(phi, q, r, predicted_covariance, &gain), predicted_covariance);
 }
 
+namespace {
+
+struct Doubled {
+  Eigen::MatrixXd h;  ///< The doubling's P for R = 1, in double.
+  int iterations = 0;
+  bool converged = false;
+  bool finite = true;
+};
+
+// The SDA iteration (see riccati.h) for R = 1, Q = diag(q_over_r, 0, ...), in Scalar arithmetic.
+template <typename Scalar>
+Doubled Doubling(const Eigen::VectorXd& phi, double q_over_r, const DareOptions& options) {
+  using Matrix = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
+  const Eigen::Index p = phi.size();
+  Matrix ak = CompanionMatrix(phi).transpose().cast<Scalar>();
+  Matrix gk = Matrix::Zero(p, p);
+  gk(0, 0) = Scalar(1);
+  Matrix hk = Matrix::Zero(p, p);
+  hk(0, 0) = Scalar(q_over_r);
+  const Matrix identity = Matrix::Identity(p, p);
+  Doubled out;
+  while (out.iterations < options.max_iterations) {
+    ++out.iterations;
+    const Eigen::PartialPivLU<Matrix> lu(identity + gk * hk);
+    const Matrix winv_a = lu.solve(ak);
+    const Matrix winv_g = lu.solve(gk);
+    Matrix h_next = hk + ak.transpose() * hk * winv_a;
+    Matrix g_next = gk + ak * winv_g * ak.transpose();
+    ak = ak * winv_a;
+    // The exact iterates are symmetric; keep them so under rounding.
+    h_next = Scalar(0.5) * (h_next + h_next.transpose()).eval();
+    g_next = Scalar(0.5) * (g_next + g_next.transpose()).eval();
+    if (!h_next.allFinite() || !g_next.allFinite() || !ak.allFinite()) {
+      out.finite = false;
+      return out;
+    }
+    const Scalar change = (h_next - hk).norm();
+    hk.swap(h_next);
+    gk.swap(g_next);
+    if (change <= Scalar(options.relative_tolerance) * hk.norm()) {
+      out.converged = true;
+      break;
+    }
+  }
+  out.h = hk.template cast<double>();
+  return out;
+}
+
+double ClosedLoopSpectralRadius(const Eigen::MatrixXd& a, const Eigen::VectorXd& gain) {
+  Eigen::MatrixXd closed_loop = a;
+  closed_loop -= (a * gain) * Eigen::RowVectorXd::Unit(a.rows(), 0);
+  return Eigen::EigenSolver<Eigen::MatrixXd>(closed_loop, false)
+      .eigenvalues()
+      .cwiseAbs()
+      .maxCoeff();
+}
+
+}  // namespace
+
 DareSolution SolveDare(const Eigen::VectorXd& phi, double q, double r, const DareOptions& options) {
   DareSolution out;
   std::string error;
@@ -105,65 +168,55 @@ DareSolution SolveDare(const Eigen::VectorXd& phi, double q, double r, const Dar
     out.summary.message = "need finite q >= 0 and r > 0";
     return out;
   }
-  const Eigen::Index p = phi.size();
   const Eigen::MatrixXd a = CompanionMatrix(phi);
 
-  // Normalised problem: R = 1, Q = q / r.
-  Eigen::MatrixXd ak = a.transpose();
-  Eigen::MatrixXd gk = Eigen::MatrixXd::Zero(p, p);
-  gk(0, 0) = 1.0;
-  Eigen::MatrixXd hk = Eigen::MatrixXd::Zero(p, p);
-  hk(0, 0) = q / r;
-  const Eigen::MatrixXd identity = Eigen::MatrixXd::Identity(p, p);
-
-  bool converged = false;
-  int iterations = 0;
-  while (iterations < options.max_iterations) {
-    ++iterations;
-    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(identity + gk * hk);
-    const Eigen::MatrixXd winv_a = lu.solve(ak);
-    const Eigen::MatrixXd winv_g = lu.solve(gk);
-    Eigen::MatrixXd h_next = hk + ak.transpose() * hk * winv_a;
-    Eigen::MatrixXd g_next = gk + ak * winv_g * ak.transpose();
-    ak = ak * winv_a;
-    // The exact iterates are symmetric; keep them so under rounding.
-    h_next = 0.5 * (h_next + h_next.transpose()).eval();
-    g_next = 0.5 * (g_next + g_next.transpose()).eval();
-    if (!h_next.allFinite() || !g_next.allFinite() || !ak.allFinite()) {
+  // Normalised problem: R = 1, Q = q / r. First in double; if that does not give a stabilizing
+  // solution at a small residual, once more in extended precision (see riccati.h).
+  for (const bool extended : {false, true}) {
+    if (extended && !options.extended_precision_retry) break;
+    const Doubled d = extended ? Doubling<long double>(phi, q / r, options)
+                               : Doubling<double>(phi, q / r, options);
+    if (!d.finite) {
+      if (extended) break;
       out.summary.termination = Termination::kNumericalFailure;
       out.summary.message = "non-finite doubling iterate";
-      out.summary.iterations = iterations;
-      return out;
+      out.summary.iterations = d.iterations;
+      continue;
     }
-    const double change = (h_next - hk).norm();
-    hk.swap(h_next);
-    gk.swap(g_next);
-    if (change <= options.relative_tolerance * hk.norm()) {
-      converged = true;
+    DareSolution candidate;
+    candidate.predicted_covariance = r * d.h;
+    candidate.summary.refinement_steps =
+        Refine(phi, q, r, options.max_refinement_steps, &candidate.predicted_covariance);
+    candidate.innovation_variance = JosephUpdate(candidate.predicted_covariance, r, &candidate.gain,
+                                                 &candidate.filtered_covariance);
+    candidate.summary.iterations = d.iterations;
+    candidate.summary.extended_precision = extended;
+    candidate.summary.relative_residual =
+        DareRelativeResidual(phi, q, r, candidate.predicted_covariance);
+    candidate.summary.closed_loop_spectral_radius = ClosedLoopSpectralRadius(a, candidate.gain);
+    const bool stabilizing = candidate.summary.closed_loop_spectral_radius < 1.0;
+    if (d.converged && stabilizing) {
+      candidate.summary.termination = Termination::kSuccess;
+      candidate.summary.message = "doubling converged";
+    } else if (d.converged) {
+      candidate.summary.termination = Termination::kNoConvergence;
+      candidate.summary.message =
+          "the solution is not stabilizing (closed-loop spectral radius >= 1)";
+    } else {
+      candidate.summary.termination = Termination::kNoConvergence;
+      candidate.summary.message = "doubling hit max_iterations (no stabilizing solution?)";
+    }
+    if (extended) candidate.summary.message += " (extended precision)";
+    // The extended-precision result replaces the double one when it is a success and the double
+    // one was not or had a larger residual, or when the double one has no result at all.
+    const bool take = !extended || !HasResult(out.summary.termination) ||
+                      (candidate.summary.termination == Termination::kSuccess &&
+                       (out.summary.termination != Termination::kSuccess ||
+                        candidate.summary.relative_residual < out.summary.relative_residual));
+    if (take) out = std::move(candidate);
+    if (out.summary.termination == Termination::kSuccess &&
+        out.summary.relative_residual <= options.retry_residual)
       break;
-    }
-  }
-
-  out.predicted_covariance = r * hk;
-  out.summary.refinement_steps =
-      Refine(phi, q, r, options.max_refinement_steps, &out.predicted_covariance);
-  out.innovation_variance =
-      JosephUpdate(out.predicted_covariance, r, &out.gain, &out.filtered_covariance);
-  out.summary.iterations = iterations;
-  out.summary.relative_residual = DareRelativeResidual(phi, q, r, out.predicted_covariance);
-  Eigen::MatrixXd closed_loop = a;
-  closed_loop -= (a * out.gain) * Eigen::RowVectorXd::Unit(p, 0);
-  out.summary.closed_loop_spectral_radius =
-      Eigen::EigenSolver<Eigen::MatrixXd>(closed_loop, false).eigenvalues().cwiseAbs().maxCoeff();
-  if (converged && out.summary.closed_loop_spectral_radius < 1.0) {
-    out.summary.termination = Termination::kSuccess;
-    out.summary.message = "doubling converged";
-  } else if (converged) {
-    out.summary.termination = Termination::kNoConvergence;
-    out.summary.message = "the solution is not stabilizing (closed-loop spectral radius >= 1)";
-  } else {
-    out.summary.termination = Termination::kNoConvergence;
-    out.summary.message = "doubling hit max_iterations (no stabilizing solution?)";
   }
   return out;
 }

@@ -30,13 +30,13 @@ Dense MakeDense(const Eigen::VectorXd& phi, double q) {
 // matrices, storing x(k|k), P(k|k), x(k+1|k), P(k+1|k) for every k:
 //   C(k) = P(k|k) A' P(k+1|k)^-1,  x(k|N) = x(k|k) + C(k) (x(k+1|N) - x(k+1|k)).
 Eigen::VectorXd TextbookRts(const Eigen::VectorXd& z, const Eigen::VectorXd& phi, double q,
-                            double r, double var0) {
+                            double r, const Eigen::MatrixXd& p0) {
   const Dense d = MakeDense(phi, q);
   const Eigen::Index p = phi.size(), n = z.size();
   std::vector<Eigen::VectorXd> xf(n), xp(n);
   std::vector<Eigen::MatrixXd> pf(n), pp(n);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(p);
-  Eigen::MatrixXd pm = var0 * Eigen::MatrixXd::Identity(p, p);
+  Eigen::MatrixXd pm = p0;
   for (Eigen::Index k = 0; k < n; ++k) {
     xp[k] = d.a * x;
     pp[k] = d.a * pm * d.a.transpose() + d.qm;
@@ -68,22 +68,31 @@ TEST(RtsSmoother, EqualsTheTextbookRtsRecursion) {
   for (const Eigen::VectorXd& phi : {ar1, ar2, testing::PaperTable2Models()[1].phi, ar9}) {
     const testing::ArSimulation sim = testing::SimulateArPlusNoise(phi, 0.3, 1.0, n, seed++);
     const double var0 = (sim.z.array() - sim.z.mean()).square().sum() / (n - 1);
-    const Eigen::VectorXd reference = TextbookRts(sim.z, phi, 0.3, 1.0, var0);
-    for (bool switch_on : {false, true}) {
-      ArKalmanOptions o;
-      o.q = 0.3;
-      o.r = 1.0;
-      o.smooth = true;
-      o.steady_state_switch = switch_on;
-      const ArKalmanResult res = FilterAr(sim.z, phi, -1, -1, o);
-      ASSERT_EQ(res.summary.termination, Termination::kSuccess);
-      ASSERT_EQ(res.smoothed.size(), n);
-      EXPECT_EQ(res.summary.switched_at_sample >= 0, switch_on);
-      // Same estimates by a different algebra (adjoint form vs. explicit smoother gains with a
-      // matrix inverse); well-damped models keep the rounding differences near 1e-13.
-      EXPECT_LE((res.smoothed - reference).cwiseAbs().maxCoeff(),
-                1e-9 * reference.cwiseAbs().maxCoeff())
-          << "p = " << phi.size() << " switch " << switch_on;
+    // Both starts: the paper's P0 = var(z) I, and the steady-state P0 = the DARE's P(k|k).
+    for (const InitialCovariance start :
+         {InitialCovariance::kSampleVariance, InitialCovariance::kSteadyState}) {
+      const Eigen::MatrixXd p0 =
+          start == InitialCovariance::kSteadyState
+              ? SolveDare(phi, 0.3, 1.0).filtered_covariance
+              : Eigen::MatrixXd(var0 * Eigen::MatrixXd::Identity(phi.size(), phi.size()));
+      const Eigen::VectorXd reference = TextbookRts(sim.z, phi, 0.3, 1.0, p0);
+      for (bool switch_on : {false, true}) {
+        ArKalmanOptions o;
+        o.q = 0.3;
+        o.r = 1.0;
+        o.smooth = true;
+        o.initial_covariance = start;
+        o.steady_state_switch = switch_on;
+        const ArKalmanResult res = FilterAr(sim.z, phi, -1, -1, o);
+        ASSERT_EQ(res.summary.termination, Termination::kSuccess);
+        ASSERT_EQ(res.smoothed.size(), n);
+        EXPECT_EQ(res.summary.switched_at_sample >= 0, switch_on);
+        // Same estimates by a different algebra (adjoint form vs. explicit smoother gains with a
+        // matrix inverse); well-damped models keep the rounding differences near 1e-13.
+        EXPECT_LE((res.smoothed - reference).cwiseAbs().maxCoeff(),
+                  1e-9 * reference.cwiseAbs().maxCoeff())
+            << "p = " << phi.size() << " switch " << switch_on << " start " << ToString(start);
+      }
     }
   }
 }
