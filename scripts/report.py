@@ -179,7 +179,7 @@ def imf_view(s, cj, out):
     a1.loglog(period[flagged], energy[flagged], "o", color="red", ms=9,
               label="IMF energy: carries misfit")
     a1.loglog(period[~scored], energy[~scored], "x", color="0.4", ms=8,
-              label="not scored (< 3 cycles)")
+              label="not scored (no model IMF there, or < 3 cycles)")
     for i in range(len(period)):
         a1.annotate("%d" % k[i], (period[i], energy[i]), textcoords="offset points",
                     xytext=(4, 4), fontsize=7)
