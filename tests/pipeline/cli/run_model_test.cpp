@@ -7,10 +7,8 @@
 // /aux/temperature (that file fails with a clear message, the others go on), and resume (the same
 // model skips, a changed model redoes).
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -23,22 +21,18 @@
 #include "pipeline/hdf5/group.h"
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/sha256.h"
+#include "tests/pipeline/io/run_fogpipe.h"
 
 namespace fogpipe {
 namespace {
 
 namespace fs = std::filesystem;
 
-// Runs the binary; stdout and stderr together.
+// Runs the binary (tests/pipeline/io/run_fogpipe.h); stdout and stderr together.
 std::string RunFogpipe(const std::string& args, int* code) {
-  const std::string command = std::string(FOGPIPE_BINARY) + " " + args + " 2>&1";
-  std::string out;
-  FILE* p = popen(command.c_str(), "r");
-  std::array<char, 4096> buf;
-  while (p && fgets(buf.data(), buf.size(), p)) out += buf.data();
-  const int status = p ? pclose(p) : -1;
-  *code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return out;
+  const testing::CommandResult r = testing::RunFogpipe(args, /*merge_stderr=*/true);
+  *code = r.exit_code;
+  return r.output;
 }
 
 struct AllanTable {
