@@ -13,6 +13,7 @@
 // Exit codes: 0 compared (consistent or not) or history printed; 1 a read/fit/write failed;
 // 2 invalid options.
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -47,12 +48,21 @@ model::CompareResult RunCompare(const model::CompareInput& in,
   const auto prepared =
       model::PrepareAux(in.aux, in.rate_rad_s->size(), in.sample_rate_hz, o.views);
   r.base = model::EvaluateModel(in, terms, o, &prepared);
-  if (HasResult(r.base.termination))
-    r.base.imf = model::ComputeImfView(r.base.deterministic.residual, in.sample_rate_hz, prepared,
-                                       r.base.stochastic.model, o.imf);
+  // The IMF view (one EMD of the residual and of the reference simulations) runs alongside the
+  // trial fits; it writes only r.base.imf, which nothing else reads before the wait.
+  tbb::task_group imf_view;
+  if (HasResult(r.base.termination)) {
+    imf_view.run([&] {
+      r.base.imf = model::ComputeImfView(r.base.deterministic.residual, in.sample_rate_hz, prepared,
+                                         r.base.stochastic.model, o.imf);
+    });
+  }
   r.summary.termination = r.base.termination;
   r.summary.message = r.base.message;
-  if (!HasResult(r.base.termination) || r.base.views.consistent) return r;
+  if (!HasResult(r.base.termination) || r.base.views.consistent) {
+    imf_view.wait();
+    return r;
+  }
   const std::vector<model::Term> tt = model::TrialTerms(in, terms);
   r.trials.resize(tt.size());
   tbb::parallel_for(size_t{0}, tt.size(), [&](size_t i) {
@@ -60,6 +70,7 @@ model::CompareResult RunCompare(const model::CompareInput& in,
     with.push_back(tt[i]);
     r.trials[i] = model::EvaluateModel(in, with, o, &prepared);
   });
+  imf_view.wait();
   r.summary.num_trials = static_cast<int>(tt.size());
   r.suggestions = model::RankSuggestions(r.base, tt, r.trials, o);
   return r;
