@@ -3,7 +3,7 @@
 
     /usr/bin/python3 scripts/report.py RESULTS.h5 -o DIR [--step N]
 
-Writes DIR/allan.png, psd.png, time.png, aux.png and history.png (Debian python3-matplotlib,
+Writes DIR/allan.png, psd.png, time.png, aux.png, imf.png and history.png (Debian python3-matplotlib,
 python3-h5py, numpy only). Each picture shows where the model fails: failing tau ranges, lines,
 time windows and aux channels are shaded or marked in red. Layout: schemas/model-history.md.
 """
@@ -149,6 +149,72 @@ def aux_view(s, cj, out):
     plt.close(fig)
 
 
+def imf_view(s, cj, out):
+    """Which IMFs of the residual carry the misfit: energy against the fitted noise model (the
+    white-noise dyadic law for a white model), AR fit and aux correlation; flagged IMFs in red."""
+    if "imf" not in s or "energy" not in s["imf"]:
+        return
+    g = s["imf"]
+    period = g["mean_period_s"][()]
+    if len(period) == 0:
+        return
+    scale = RAD_S_TO_DEG_H ** 2
+    energy = g["energy"][()] * scale
+    expected = g["expected_energy"][()] * scale
+    log_sd = g["log_sd"][()]
+    flagged = g["flagged"][()].astype(bool)
+    scored = g["scored"][()].astype(bool)
+    crit = g.attrs["critical"]
+    k = np.arange(1, len(period) + 1)
+    aux = g["aux"] if "aux" in g else {}
+    names = list(aux.keys())
+    fig, (a1, a2, a3) = plt.subplots(3, 1, figsize=(8, 9.5),
+                                     gridspec_kw={"height_ratios": [2.2, 1, 1.2]})
+    ok = np.isfinite(expected)
+    a1.fill_between(period[ok], expected[ok] * np.exp(-crit * log_sd[ok]),
+                    expected[ok] * np.exp(crit * log_sd[ok]), color="0.8",
+                    label="model band (critical z %.2f)" % crit)
+    a1.loglog(period[ok], expected[ok], "k-", lw=2, label="expected under the fitted noise model")
+    a1.loglog(period[~flagged], energy[~flagged], "o", color="C0", label="IMF energy")
+    a1.loglog(period[flagged], energy[flagged], "o", color="red", ms=9,
+              label="IMF energy: carries misfit")
+    a1.loglog(period[~scored], energy[~scored], "x", color="0.4", ms=8,
+              label="not scored (no model IMF there, or < 3 cycles)")
+    for i in range(len(period)):
+        a1.annotate("%d" % k[i], (period[i], energy[i]), textcoords="offset points",
+                    xytext=(4, 4), fontsize=7)
+    a1.set_xlabel("IMF mean period [s]")
+    a1.set_ylabel("energy (mean square) [(deg/h)^2]")
+    a1.grid(True, which="both", alpha=0.3)
+    a1.legend(fontsize=7)
+    colors = np.where(flagged, "red", "C0")
+    a2.bar(k, g["ar_fit_percent"][()], color=colors)
+    a2.set_ylabel("AR one-step fit [%]")
+    a2.set_xticks(k)
+    a2.grid(True, axis="y", alpha=0.3)
+    width = 0.8 / max(1, 2 * len(names))
+    for c, name in enumerate(names):
+        a3.bar(k + (2 * c - len(names) + 0.5) * width, aux[name]["r"][()], width,
+               color="C%d" % (1 + 2 * c), label="r with %s" % name)
+        a3.bar(k + (2 * c + 1 - len(names) + 0.5) * width, aux[name]["r_derivative"][()], width,
+               color="C%d" % (2 + 2 * c), label="r with d(%s)/dt" % name)
+    for i in np.nonzero(flagged)[0]:
+        for ax in (a2, a3):
+            ax.axvspan(k[i] - 0.5, k[i] + 0.5, color="red", alpha=0.12)
+    a3.axhline(0, color="k", lw=0.8)
+    a3.set_ylim(-1, 1)
+    a3.set_xticks(k)
+    a3.set_xlabel("IMF (1 = highest frequency)")
+    a3.set_ylabel("correlation r")
+    a3.grid(True, axis="y", alpha=0.3)
+    if names:
+        a3.legend(fontsize=7, ncol=2)
+    a1.set_title(title(s, cj, "IMF view (red: IMFs that carry misfit)"), fontsize=9)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "imf.png"), dpi=110)
+    plt.close(fig)
+
+
 def history_view(f, out):
     g = f["compare"]
     steps = int(g.attrs["steps"])
@@ -186,6 +252,7 @@ def main():
         psd_view(s, cj, a.output)
         time_view(s, cj, a.output)
         aux_view(s, cj, a.output)
+        imf_view(s, cj, a.output)
         history_view(f, a.output)
 
 

@@ -164,7 +164,8 @@ std::string Evidence(const Evaluation& base, const Evaluation& trial, Term t) {
 }  // namespace
 
 bool CompareOptions::IsValid(std::string* error) const {
-  if (!deterministic.IsValid(error) || !stochastic.IsValid(error) || !views.IsValid(error))
+  if (!deterministic.IsValid(error) || !stochastic.IsValid(error) || !views.IsValid(error) ||
+      !imf.IsValid(error))
     return false;
   if (!(min_improvement > 0 && min_improvement <= 1) || !(tie_ratio >= 1) || !(tie_offset >= 0)) {
     if (error) *error = "min_improvement in (0, 1], tie_ratio >= 1, tie_offset >= 0";
@@ -318,6 +319,9 @@ CompareResult Compare(const CompareInput& in, const std::vector<Term>& terms,
   const std::vector<PreparedAux> prepared =
       PrepareAux(in.aux, in.rate_rad_s->size(), in.sample_rate_hz, o.views);
   r.base = EvaluateModel(in, terms, o, &prepared);
+  if (HasResult(r.base.termination))
+    r.base.imf = ComputeImfView(r.base.deterministic.residual, in.sample_rate_hz, prepared,
+                                r.base.stochastic.model, o.imf);
   r.summary.termination = r.base.termination;
   r.summary.message = r.base.message;
   if (!HasResult(r.base.termination) || r.base.views.consistent) return r;

@@ -29,6 +29,7 @@
 #include "algorithms/common/status.h"
 #include "algorithms/model/catalog.h"
 #include "algorithms/model/deterministic_fit.h"
+#include "algorithms/model/imf_view.h"
 #include "algorithms/model/stochastic_fit.h"
 #include "algorithms/model/views.h"
 
@@ -46,6 +47,7 @@ struct CompareOptions {
   DeterministicOptions deterministic;
   StochasticFitOptions stochastic;
   ViewOptions views;
+  ImfViewOptions imf;  ///< the IMF view (base model only; diagnostic, not part of the error)
   double min_improvement = 0.9;  ///< a suggestion must bring error_after <= this * error
   double tie_ratio = 1.15;       ///< error_after within tie_ratio * best + tie_offset ...
   double tie_offset = 0.05;      ///< ... are ranked by delta_bic
@@ -72,6 +74,7 @@ struct Evaluation {
   StochasticFit stochastic;
   AllanData allan;
   Views views;
+  ImfView imf;  ///< filled for the base model by Compare() (not for trials: one EMD per compare)
   std::vector<FittedTerm> fitted;  ///< bias first, then each term with its parameters
   Termination termination = Termination::kSuccess;
   std::string message;
@@ -115,8 +118,8 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
                                         const std::vector<Evaluation>& trials,
                                         const CompareOptions& options);
 
-/// EvaluateModel + every trial + RankSuggestions, sequentially. Trials are run only when the base
-/// model is not consistent.
+/// EvaluateModel + the base model's IMF view + every trial + RankSuggestions, sequentially.
+/// Trials are run only when the base model is not consistent.
 CompareResult Compare(const CompareInput& input, const std::vector<Term>& terms,
                       const CompareOptions& options);
 

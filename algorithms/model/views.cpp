@@ -19,13 +19,6 @@ Eigen::VectorXd PrefixSum(const Eigen::VectorXd& x) {
   return c;
 }
 
-Eigen::VectorXd BlockMeans(const Eigen::VectorXd& x, long block) {
-  const long nb = x.size() / block;
-  Eigen::VectorXd m(nb);
-  for (long b = 0; b < nb; ++b) m[b] = x.segment(b * block, block).mean();
-  return m;
-}
-
 // Runs of consecutive indices with value > limit: [first, last] pairs.
 std::vector<std::pair<int, int>> Runs(const std::vector<double>& v, double limit) {
   std::vector<std::pair<int, int>> runs;
@@ -291,6 +284,13 @@ bool ViewOptions::IsValid(std::string* error) const {
   if (!(aux_block_s > 0 && aux_smoothing_s >= 0))
     return fail("aux_block_s > 0, aux_smoothing_s >= 0");
   return true;
+}
+
+Eigen::VectorXd BlockMeans(const Eigen::VectorXd& x, long block) {
+  const long nb = x.size() / block;
+  Eigen::VectorXd m(nb);
+  for (long b = 0; b < nb; ++b) m[b] = x.segment(b * block, block).mean();
+  return m;
 }
 
 std::vector<long long> ViewAveragingFactors(long n, const ViewOptions& o) {

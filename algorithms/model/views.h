@@ -142,6 +142,9 @@ Views ComputeViews(const Eigen::VectorXd& residual, double sample_rate_hz,
                    const std::vector<PreparedAux>& aux, const StochasticModel& model,
                    const AllanData& allan, const ViewOptions& options);
 
+/// Means of consecutive blocks of `block` samples (a trailing partial block is dropped).
+Eigen::VectorXd BlockMeans(const Eigen::VectorXd& x, long block);
+
 /// Pearson r and Bretherton n_eff of two equally long series.
 void CorrelationWithEffectiveDof(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double* r,
                                  double* n_eff);

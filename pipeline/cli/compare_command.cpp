@@ -13,6 +13,7 @@
 // Exit codes: 0 compared (consistent or not) or history printed; 1 a read/fit/write failed;
 // 2 invalid options.
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -47,9 +48,21 @@ model::CompareResult RunCompare(const model::CompareInput& in,
   const auto prepared =
       model::PrepareAux(in.aux, in.rate_rad_s->size(), in.sample_rate_hz, o.views);
   r.base = model::EvaluateModel(in, terms, o, &prepared);
+  // The IMF view (one EMD of the residual and of the reference simulations) runs alongside the
+  // trial fits; it writes only r.base.imf, which nothing else reads before the wait.
+  tbb::task_group imf_view;
+  if (HasResult(r.base.termination)) {
+    imf_view.run([&] {
+      r.base.imf = model::ComputeImfView(r.base.deterministic.residual, in.sample_rate_hz, prepared,
+                                         r.base.stochastic.model, o.imf);
+    });
+  }
   r.summary.termination = r.base.termination;
   r.summary.message = r.base.message;
-  if (!HasResult(r.base.termination) || r.base.views.consistent) return r;
+  if (!HasResult(r.base.termination) || r.base.views.consistent) {
+    imf_view.wait();
+    return r;
+  }
   const std::vector<model::Term> tt = model::TrialTerms(in, terms);
   r.trials.resize(tt.size());
   tbb::parallel_for(size_t{0}, tt.size(), [&](size_t i) {
@@ -57,9 +70,34 @@ model::CompareResult RunCompare(const model::CompareInput& in,
     with.push_back(tt[i]);
     r.trials[i] = model::EvaluateModel(in, with, o, &prepared);
   });
+  imf_view.wait();
   r.summary.num_trials = static_cast<int>(tt.size());
   r.suggestions = model::RankSuggestions(r.base, tt, r.trials, o);
   return r;
+}
+
+// The IMF view (diagnostic, not part of the error): one line per IMF, '*' where it carries misfit.
+void PrintImfView(const model::ImfView& v) {
+  if (!HasResult(v.summary.termination)) {
+    std::printf("IMF view: %s\n", v.summary.message.c_str());
+    return;
+  }
+  std::printf(
+      "IMF view (residual decimated %ldx to %.4g Hz; energy against the fitted noise "
+      "model; flagged: z > %.3g): %s\n",
+      v.decimation, v.sample_rate_hz, v.critical, v.summary.message.c_str());
+  std::printf("  %-4s %-11s %-15s %-7s %-9s", "imf", "period [s]", "energy/expected", "z",
+              "AR fit %");
+  for (const auto& name : v.aux_names) std::printf(" r(%s) r(d/dt)", name.c_str());
+  std::printf("\n");
+  for (size_t k = 0; k < v.energy.size(); ++k) {
+    std::printf("%s %-4zu %-11.4g %-15.3g %-7.3g %-9.4g", v.flagged[k] ? " *" : "  ", k + 1,
+                v.mean_period_s[k], v.ratio[k], v.z[k], v.ar_fit_percent[k]);
+    for (size_t c = 0; c < v.aux_names.size(); ++c)
+      std::printf(" %*.2f %7.2f", static_cast<int>(v.aux_names[c].size()) + 3, v.aux_r[c][k],
+                  v.aux_r_derivative[c][k]);
+    std::printf("\n");
+  }
 }
 
 void PrintText(const model::CompareResult& r) {
@@ -81,6 +119,7 @@ void PrintText(const model::CompareResult& r) {
       std::printf("    %s = %.5g +- %.2g %s\n", p.name.c_str(), p.value, p.standard_error,
                   p.units.c_str());
   }
+  PrintImfView(r.base.imf);
   std::printf("model:\n");
   for (const auto& ft : r.base.fitted)
     for (const auto& p : ft.parameters)

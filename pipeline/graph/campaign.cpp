@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "algorithms/method/tables.h"
+#include "algorithms/model/compensate.h"
 #include "pipeline/cli/version.h"
 #include "pipeline/graph/interrupt.h"
 #include "pipeline/graph/memory_budget.h"
@@ -44,6 +45,7 @@ struct FileJob {
   // the writer's reads).
   std::string sha256;
   std::string start_time_utc;
+  Eigen::VectorXd temperature_degc;  ///< --model with a thermal term: /aux/temperature
   Clock::time_point start;
   // Writer only.
   std::vector<std::shared_ptr<struct AxisWork>> arrived;
@@ -137,6 +139,11 @@ void CampaignRunner::Finish(FileJob* job) {
       p.start_time_utc = job->start_time_utc;
       p.end_time_utc = io::UtcNowIso8601();
       p.threads = options_.threads;
+      if (options_.model) {
+        p.model_path = fs::absolute(options_.model->path).lexically_normal().string();
+        p.model_sha256 = options_.model->sha256;
+        p.model_compensated_terms = options_.model->terms;
+      }
       std::vector<io::AxisResults> axes;
       for (int s = 0; s < kNumStages; ++s) {
         p.stage_names.push_back(kStageNames[s]);
@@ -296,6 +303,24 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
       file_error = job->input.path + ": " + e.what();
     }
     const double hash_seconds = Seconds(hash_start);
+    if (file_error.empty() && options.model && options.model->needs_temperature) {
+      // --model with a thermal term: this recording's own temperature drives the compensation.
+      try {
+        bool has = false;
+        for (const auto& ch : job->info.aux) has = has || ch.name == "temperature";
+        if (!has) {
+          file_error = job->input.path + ": --model " + options.model->path +
+                       " compensates a thermal effect (" + options.model->terms +
+                       ") but the recording has no /aux/temperature channel";
+        } else {
+          io::ReadOptions aux_read = options.read;
+          aux_read.reject_constant = false;
+          job->temperature_degc = io::ReadAux(job->input.path, "temperature", aux_read);
+        }
+      } catch (const std::exception& e) {
+        file_error = job->input.path + ": --model: reading /aux/temperature: " + e.what();
+      }
+    }
     for (int a = 0; a < job->info.axis_count; ++a) {
       auto work = std::make_shared<AxisWork>();
       work->job = job;
@@ -312,6 +337,18 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
   using AxisNode = flow::function_node<AxisPtr, AxisPtr>;
   AxisNode decompose(g, flow::unlimited, [&](AxisPtr w) {
     Guarded(*w, kDecompose, [&] {
+      if (options.model) {
+        const Eigen::VectorXd& t = w->job->temperature_degc;
+        model::Compensation c =
+            model::Compensate(w->rate_rad_s, w->job->info.sample_rate_hz, t.size() ? &t : nullptr,
+                              options.model->deterministic, model::CompensateOptions());
+        if (!HasResult(c.summary.termination)) {
+          w->error = AxisError(*w->job, w->axis,
+                               "--model " + options.model->path + ": " + c.summary.message);
+          return;
+        }
+        w->rate_rad_s = std::move(c.rate_rad_s);
+      }
       method::PreprocessAndDecompose(w->rate_rad_s, w->job->info.sample_rate_hz, options.method,
                                      &w->result);
       w->rate_rad_s = Eigen::VectorXd();  // the preprocessed copy is what is kept

@@ -20,16 +20,29 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "algorithms/method/method.h"
+#include "algorithms/model/deterministic_fit.h"
 #include "pipeline/graph/inputs.h"
 #include "pipeline/graph/status_log.h"
 #include "pipeline/io/recording_reader.h"
 #include "pipeline/io/results_writer.h"
 
 namespace fogpipe::graph {
+
+/// `run --model FILE`: the deterministic effects of a `compare --save-model` file
+/// (schemas/model-file.md), subtracted from every axis of every recording before preprocessing,
+/// EMD, AR and Kalman (algorithms/model/compensate.h; the bias is not subtracted).
+struct ModelCompensationOptions {
+  std::string path;    ///< the file as given
+  std::string sha256;  ///< of its bytes; part of the configuration hash
+  model::DeterministicModel deterministic;
+  std::string terms;               ///< the compensated terms, comma-separated (e.g. "temperature")
+  bool needs_temperature = false;  ///< a thermal term: every recording needs /aux/temperature
+};
 
 struct CampaignOptions {
   method::MethodOptions method;
@@ -42,6 +55,7 @@ struct CampaignOptions {
   bool dry_run = false;
   std::string config_toml;    ///< The effective configuration (stored in provenance).
   std::string config_sha256;  ///< Its hash: the rerun key.
+  std::optional<ModelCompensationOptions> model;  ///< --model FILE (read once per run)
   std::FILE* progress_stream = stderr;
   bool redraw_progress = false;
   /// Print Tables 3 and 5 of every finished file to this stream at the end (nullptr: don't).

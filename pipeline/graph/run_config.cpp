@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "pipeline/graph/memory_budget.h"
+#include "pipeline/io/model_history.h"
 #include "pipeline/io/results_layout.h"
 #include "pipeline/io/sha256.h"
 
@@ -48,6 +49,32 @@ bool ParseTaus(const std::string& text, allan::TauGridOptions* grid) {
   } else {
     return false;
   }
+  return true;
+}
+
+// --model FILE: read once per run; the file is named in every error.
+bool ReadModelCompensation(const std::string& path, CampaignOptions* o, std::string* error) {
+  ModelCompensationOptions m;
+  m.path = path;
+  try {
+    const io::ModelFile file = io::ReadModelFile(path);
+    m.deterministic = file.deterministic;
+  } catch (const std::exception& e) {
+    *error = std::string("--model: ") + e.what();
+    return false;
+  }
+  std::string sha_error;
+  const auto sha = io::Sha256FileHex(path, &sha_error);
+  if (!sha) {
+    *error = "--model: " + sha_error;
+    return false;
+  }
+  m.sha256 = *sha;
+  for (const auto& comp : m.deterministic.components) {
+    m.terms += (m.terms.empty() ? "" : ",") + std::string(model::ToString(comp.term));
+    m.needs_temperature = m.needs_temperature || model::NeedsTemperature(comp.term);
+  }
+  o->model = std::move(m);
   return true;
 }
 
@@ -112,8 +139,10 @@ void AddRunOptions(CLI::App* cmd, RunConfig* c) {
                   "Method 2's AR order (0: by BIC; the paper used 6)")
       ->check(CLI::Range(0, 200));
   cmd->add_option("--taus", c->taus, "Allan tau grid: octave, decade:K or all");
-  cmd->add_option("--model", c->model,
-                  "Deterministic-effects model to compensate before EMD (reserved; not yet used)");
+  cmd->add_option(
+      "--model", c->model,
+      "Model file of `compare --save-model`: its deterministic effects are subtracted before the "
+      "EMD (thermal terms use each recording's /aux/temperature)");
 }
 
 bool ApplyConfigFile(CLI::App* cmd, const std::string& path, std::string* error) {
@@ -203,10 +232,7 @@ bool ToCampaignOptions(const RunConfig& c, CampaignOptions* o, std::string* erro
     return false;
   }
   if (!m.IsValid(error)) return false;
-  if (!c.model.empty()) {
-    *error = "--model: compensation of deterministic effects is not available yet";
-    return false;
-  }
+  if (!c.model.empty() && !ReadModelCompensation(c.model, o, error)) return false;
   if (!io::ParseImfStorage(c.imf_storage, &o->results.imf_storage)) {
     *error = "--imf-storage: expected float64, float32 or none";
     return false;
@@ -224,6 +250,9 @@ bool ToCampaignOptions(const RunConfig& c, CampaignOptions* o, std::string* erro
   o->force = c.force;
   o->dry_run = c.dry_run;
   o->config_toml = EffectiveConfigToml(c);
+  // The model file's content is part of the configuration: a changed model redoes every file.
+  // A TOML comment keeps config_toml a valid --config file.
+  if (o->model) o->config_toml += "# model-sha256 = " + o->model->sha256 + "\n";
   o->config_sha256 = io::Sha256Hex(o->config_toml);
   return true;
 }

@@ -101,7 +101,64 @@ void WriteViews(hdf5::Group& g, const model::Evaluation& e) {
   }
 }
 
+std::vector<long long> Int64(const std::vector<int>& v) { return {v.begin(), v.end()}; }
+
+void WriteImfView(hdf5::Group& g, const model::ImfView& v) {
+  hdf5::Group m = g.CreateGroup("imf");
+  m.WriteStringAttribute("termination", fogpipe::ToString(v.summary.termination));
+  m.WriteStringAttribute("message", v.summary.message);
+  m.WriteInt64Attribute("decimation", v.decimation);
+  m.WriteDoubleAttribute("sample_rate_hz", v.sample_rate_hz);
+  m.WriteDoubleAttribute("critical", v.critical);
+  m.WriteDoubleAttribute("aux_critical", v.aux_critical);
+  m.WriteDataset("mean_period_s", v.mean_period_s, "s");
+  m.WriteDataset("energy", v.energy, "(rad/s)^2");
+  m.WriteDataset("expected_energy", v.expected_energy, "(rad/s)^2");
+  m.WriteDataset("ratio", v.ratio, "1");
+  m.WriteDataset("edf", v.edf, "1");
+  m.WriteDataset("log_sd", v.log_sd, "1");
+  m.WriteDataset("z", v.z, "1");
+  m.WriteDataset("scored", Int64(v.scored), "1");
+  m.WriteDataset("flagged", Int64(v.flagged), "1");
+  m.WriteDataset("ar_order", Int64(v.ar_order), "1");
+  m.WriteDataset("ar_fit_percent", v.ar_fit_percent, "%");
+  hdf5::Group aux = m.CreateGroup("aux");
+  for (size_t c = 0; c < v.aux_names.size(); ++c) {
+    hdf5::Group cg = aux.CreateGroup(v.aux_names[c]);
+    cg.WriteDataset("r", v.aux_r[c], "1");
+    cg.WriteDataset("r_derivative", v.aux_r_derivative[c], "1");
+    cg.WriteDataset("z", v.aux_z[c], "1");
+    cg.WriteDataset("z_derivative", v.aux_z_derivative[c], "1");
+  }
+}
+
 }  // namespace
+
+json ImfJson(const model::ImfView& v) {
+  json imfs = json::array();
+  for (size_t k = 0; k < v.energy.size(); ++k) {
+    json aux = json::object();
+    for (size_t c = 0; c < v.aux_names.size(); ++c)
+      aux[v.aux_names[c]] = {{"r", Number(v.aux_r[c][k])},
+                             {"r_derivative", Number(v.aux_r_derivative[c][k])},
+                             {"z", Number(v.aux_z[c][k])},
+                             {"z_derivative", Number(v.aux_z_derivative[c][k])}};
+    imfs.push_back({{"imf", k + 1},
+                    {"mean_period_s", Number(v.mean_period_s[k])},
+                    {"energy_rad2_per_s2", Number(v.energy[k])},
+                    {"expected_energy_rad2_per_s2", Number(v.expected_energy[k])},
+                    {"ratio", Number(v.ratio[k])},
+                    {"log_sd", Number(v.log_sd[k])},
+                    {"z", Number(v.z[k])},
+                    {"flagged", v.flagged[k] != 0},
+                    {"ar_order", v.ar_order[k]},
+                    {"ar_fit_percent", Number(v.ar_fit_percent[k])},
+                    {"aux", aux}});
+  }
+  return {{"decimation", v.decimation},       {"sample_rate_hz", Number(v.sample_rate_hz)},
+          {"critical_z", Number(v.critical)}, {"aux_critical_z", Number(v.aux_critical)},
+          {"message", v.summary.message},     {"imfs", imfs}};
+}
 
 json ModelJson(const model::Evaluation& e) {
   json terms = json::array();
@@ -124,6 +181,9 @@ json CompareJson(const model::CompareResult& r) {
     }
     failures.push_back(o);
   }
+  json model = ModelJson(r.base);
+  // The IMF view lives inside "model" (the top level keeps exactly the five keys).
+  model["imf"] = ImfJson(r.base.imf);
   json suggestions = json::array();
   for (const auto& s : r.suggestions)
     suggestions.push_back({{"term", model::ToString(s.term)},
@@ -135,7 +195,7 @@ json CompareJson(const model::CompareResult& r) {
           {"consistent", r.base.views.consistent},
           {"failures", failures},
           {"suggestions", suggestions},
-          {"model", ModelJson(r.base)}};
+          {"model", model}};
 }
 
 void WriteModelFile(const std::string& path, const model::Evaluation& e) {
@@ -230,6 +290,7 @@ int AppendHistory(const std::string& results, const std::string& recording, cons
     step.WriteTextDataset("compare_json", cj.dump());
     step.WriteTextDataset("model_json", cj["model"].dump());
     WriteViews(step, r.base);
+    WriteImfView(step, r.base.imf);
     compare.WriteInt64Attribute("steps", index + 1);
     file->flush(H5F_SCOPE_GLOBAL);
     file->close();

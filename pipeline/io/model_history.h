@@ -20,6 +20,10 @@ nlohmann::json CompareJson(const model::CompareResult& result);
 /// standard_error, units}}}]}.
 nlohmann::json ModelJson(const model::Evaluation& evaluation);
 
+/// The IMF view (compare's "model"."imf" object): decimation, sample_rate_hz, critical_z,
+/// message and one object per IMF (schemas/model-history.md).
+nlohmann::json ImfJson(const model::ImfView& view);
+
 /// A model file: the terms, the SI deterministic model (enough to compensate) and the fitted
 /// parameters for people.
 struct ModelFile {

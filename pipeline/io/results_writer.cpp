@@ -292,6 +292,11 @@ void WriteResultsFile(const std::filesystem::path& final_path, const Provenance&
     p.WriteStringAttribute("start_time_utc", provenance.start_time_utc);
     p.WriteStringAttribute("end_time_utc", provenance.end_time_utc);
     p.WriteInt64Attribute("threads", provenance.threads);
+    if (!provenance.model_path.empty()) {
+      p.WriteStringAttribute("model_path", provenance.model_path);
+      p.WriteStringAttribute("model_sha256", provenance.model_sha256);
+      p.WriteStringAttribute("model_compensated_terms", provenance.model_compensated_terms);
+    }
     p.WriteTextDataset("config_toml", provenance.config_toml);
     p.WriteStringDataset("stage_names", provenance.stage_names);
     p.WriteDataset("stage_seconds", provenance.stage_seconds, "s");

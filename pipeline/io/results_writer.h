@@ -40,6 +40,11 @@ struct Provenance {
   int threads = 0;
   std::vector<std::string> stage_names;  ///< e.g. read, preprocess_emd, models, allan, write
   std::vector<double> stage_seconds;     ///< Summed over the file's axes, s.
+  /// `run --model FILE` (all empty without it): the model file (absolute path), the SHA-256 of
+  /// its bytes, and the deterministic terms subtracted before the EMD, comma-separated.
+  std::string model_path;
+  std::string model_sha256;
+  std::string model_compensated_terms;
 };
 
 /// One analysed axis.
