@@ -145,10 +145,11 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
                                      model.innovation_variance);
       }
       kalman_options.q = noise.q;
-      kalman_options.initial_variance =
-          noise.pure_noise ? 0.0 : options.method.component.kalman.initial_variance;
-      kalman::ArKalmanResult filtered = kalman::FilterAr(
-          *m.signal, model.phi, model.innovation_variance, noise.r, kalman_options, &reuse);
+      kalman::ArKalmanResult filtered =
+          noise.pure_noise ? PureNoiseFilter(m.signal->size(), model.phi.size(), model.mean,
+                                             noise.r, kalman_options.smooth)
+                           : kalman::FilterAr(*m.signal, model.phi, model.innovation_variance,
+                                              noise.r, kalman_options, &reuse);
       if (!HasResult(filtered.summary.termination)) {
         point.termination = filtered.summary.termination;
         point.message = ComponentName(k, num_imfs) + ": Kalman filter: " + filtered.summary.message;
