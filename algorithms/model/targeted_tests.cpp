@@ -94,6 +94,7 @@ std::vector<std::complex<double>> MeanRemovedDft(const Eigen::VectorXd& x) {
   const double mean = x.mean();
   for (long i = 0; i < x.size(); ++i) in[i] = x[i] - mean;
   Eigen::FFT<double> fft;
+  fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);  // real input: bins 0 .. nfft/2 only
   std::vector<std::complex<double>> out;
   fft.fwd(out, in);
   return out;

@@ -45,7 +45,7 @@
 
 namespace fogpipe::model {
 
-/// DFT of x - mean(x), all n bins (Eigen FFT).
+/// DFT of x - mean(x), bins 0 .. n/2 (real input: the rest is their conjugate; Eigen FFT).
 std::vector<std::complex<double>> MeanRemovedDft(const Eigen::VectorXd& x);
 
 /// Whittle weights w_k = E|R_k|^2 = n fs S(f_k) / 2 for k = 1 .. n/2 - 1 under the one-sided model

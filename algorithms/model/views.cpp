@@ -42,6 +42,9 @@ std::vector<std::pair<int, int>> Runs(const std::vector<double>& v, double limit
   return runs;
 }
 
+// The targeted scans of the time view run on at most this many (block-mean) samples.
+constexpr long kScanSamples = 1L << 18;
+
 // Boundaries whose leave-window-out reference has fewer degrees of freedom are not tested.
 constexpr double kMinDof = 8.0;
 
@@ -262,14 +265,28 @@ void ComputeTimeView(const Eigen::VectorXd& r, double fs,
   // are not scored: their null depends on the fitted low-frequency noise, which a 6 h record
   // determines poorly (rate random walk is often fitted at 0), while the window tests above are
   // self-normalised.
-  const TargetedTest step = ScanBiasStep(r, fs, r_dft, m, o, alpha_view, v->window_s);
+  // On long records the scans run on block means of B samples (at most kScanSamples remain): a
+  // step or a warm-up of at least 5 s is unchanged by averaging over B / fs <= 1 s at 100 Hz x
+  // 24 h, the noise model is refitted on the block means themselves, and the GLS scans then
+  // cost O(kScanSamples log kScanSamples) instead of O(n log n) per evaluation.
+  const long block = (n + kScanSamples - 1) / kScanSamples;
+  Eigen::VectorXd decimated;
+  std::vector<std::complex<double>> decimated_dft;
+  if (block > 1) {
+    decimated = BlockMeans(r, block);
+    decimated_dft = MeanRemovedDft(decimated);
+  }
+  const Eigen::VectorXd& rs = block > 1 ? decimated : r;
+  const std::vector<std::complex<double>>& rs_dft = block > 1 ? decimated_dft : r_dft;
+  const double fss = fs / static_cast<double>(block);
+  const TargetedTest step = ScanBiasStep(rs, fss, rs_dft, m, o, alpha_view, v->window_s);
   if (step.evaluated) {
     v->step_z = step.z;
     v->step_critical = step.critical;
     v->step_time_s = step.location;
     v->step_size_rad_s = step.size;
   }
-  const TargetedTest warm = ScanWarmup(r, fs, r_dft, m, o, alpha_view);
+  const TargetedTest warm = ScanWarmup(rs, fss, rs_dft, m, o, alpha_view);
   if (warm.evaluated) {
     v->warmup_z = warm.z;
     v->warmup_critical = warm.critical;
