@@ -280,7 +280,12 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base, const std::vecto
     Suggestion s;
     s.term = t;
     s.error_after = tr.views.error;
-    if (IsFittedOnRate(t)) {
+    const TimeView& tv = base.views.time;
+    if (t == Term::kBiasStep && tv.step_critical > 0) {
+      s.delta_bic = tv.step_critical * tv.step_critical - tv.step_z * tv.step_z;
+    } else if (t == Term::kWarmup && tv.warmup_critical > 0) {
+      s.delta_bic = tv.warmup_critical * tv.warmup_critical - tv.warmup_z * tv.warmup_z;
+    } else if (IsFittedOnRate(t)) {
       const double dk =
           tr.deterministic.summary.num_parameters - base.deterministic.summary.num_parameters;
       s.delta_bic =
@@ -304,6 +309,27 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base, const std::vecto
     std::stable_sort(out.begin(), lead_end, [](const Suggestion& a, const Suggestion& b) {
       return a.delta_bic < b.delta_bic;
     });
+  }
+  // A thermal term behind a non-thermal leader must still be supported once the leader is in the
+  // model: a large step or warm-up leaves low-frequency residual that the aux score test, run
+  // under a model that lacks it, can attribute to a slow temperature cycle. If the leader's trial
+  // explains the aux failure away, the temperature was innocent.
+  if (!out.empty() && !NeedsTemperature(out.front().term)) {
+    const size_t lead =
+        static_cast<size_t>(std::find(tt.begin(), tt.end(), out.front().term) - tt.begin());
+    const Evaluation* leader = lead < trials.size() ? &trials[lead] : nullptr;
+    const auto* aux_lead = leader ? AuxOf(*leader, "temperature") : nullptr;
+    const double crit = leader ? leader->views.aux.critical : 0.0;
+    out.erase(std::remove_if(out.begin() + 1, out.end(),
+                             [&](const Suggestion& s) {
+                               if (!NeedsTemperature(s.term) || leader == nullptr) return false;
+                               if (aux_lead == nullptr) return true;
+                               const double z = s.term == Term::kTemperature
+                                                    ? aux_lead->z
+                                                    : aux_lead->z_derivative;
+                               return !(std::abs(z) > crit);
+                             }),
+              out.end());
   }
   return out;
 }

@@ -10,7 +10,9 @@
 // Ranking. A trial is a candidate when the model is not consistent and the trial lowers the error
 // by at least 10 % (`min_improvement`). Thermal terms must in addition be supported by the aux
 // view (|z| of the residual against T, resp. dT/dt, above the aux view's critical value): a
-// temperature explanation is only offered when the residual actually follows the temperature.
+// temperature explanation is only offered when the residual actually follows the temperature,
+// and, behind a non-thermal first suggestion, only if it still does once that suggestion is in
+// the model (its trial's aux view): a large step or warm-up otherwise leaks into the aux score.
 // Candidates are sorted by error_after; those within 15 % (+0.05) of the best error_after are
 // statistically indistinguishable on the error, and are ordered among themselves by delta_bic (the
 // simpler explanation first, Schwarz 1978). The first suggestion is the one to add.
@@ -19,6 +21,13 @@
 // Gaussian BIC with the sample count deflated by the long-run variance ratio lambda of the
 // residual (coloured noise carries fewer independent samples than n). Allan-fitted terms:
 // chi2_after - chi2_before + dk ln(J) with chi2 the weighted NNLS cost over J taus.
+// bias_step and warmup, whose nonlinear parameter (step time, time constant) is found by a scan:
+// c^2 - z^2, z the GLS t-statistic of the term under the noise refitted without it (the base
+// model's time-view scan, targeted_tests.h) and c its family-wise critical value: -2 ln L with
+// the look-elsewhere cost of the scan (c^2 ~ 2 ln of the number of effectively distinct
+// alternatives; Davies 1987, Siegmund 1988) in place of ln n. An early step and a warm-up explain
+// the start of a record about equally well; the step scan searches many more distinct
+// alternatives than the smooth warm-up family, and pays for it here.
 #pragma once
 
 #include <Eigen/Core>

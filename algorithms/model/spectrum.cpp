@@ -10,10 +10,19 @@
 namespace fogpipe::model {
 namespace {
 
-int NextPowerOfTwo(long n) {
-  int p = 1;
-  while (p < n) p <<= 1;
-  return p;
+// Smallest 2^a 3^b 5^c >= n: a size kissfft transforms with radix 2, 3, 4, 5 butterflies only
+// (cf. scipy.fft.next_fast_len). Padding a 24 h, 100 Hz record 2x to 2^25 instead would nearly
+// double the transform and its memory.
+long NextFastSize(long n) {
+  long best = 1;
+  while (best < n) best <<= 1;
+  for (long p5 = 1; p5 < 2 * n; p5 *= 5)
+    for (long p35 = p5; p35 < 2 * n; p35 *= 3) {
+      long m = p35;
+      while (m < n) m <<= 1;
+      best = std::min(best, m);
+    }
+  return best;
 }
 
 // Inverse standard normal CDF (Acklam's rational approximation, relative error < 1.2e-9).
@@ -44,11 +53,12 @@ Spectrum Periodogram(const Eigen::VectorXd& x, double fs, int pad_factor) {
   Spectrum s;
   const long n = x.size();
   if (n < 2) return s;
-  const int nfft = NextPowerOfTwo(std::max<long>(n, static_cast<long>(pad_factor) * n));
+  const long nfft = NextFastSize(std::max<long>(n, static_cast<long>(pad_factor) * n));
   std::vector<double> in(nfft, 0.0);
   const double mean = x.mean();
   for (long i = 0; i < n; ++i) in[i] = x[i] - mean;
   Eigen::FFT<double> fft;
+  fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);  // real input: bins 0 .. nfft/2 only
   std::vector<std::complex<double>> out;
   fft.fwd(out, in);
   const int half = nfft / 2;
@@ -82,6 +92,7 @@ Spectrum WelchPsd(const Eigen::VectorXd& x, double fs, int seg) {
   s.psd.assign(half + 1, 0.0);
   for (int k = 0; k <= half; ++k) s.frequency_hz[k] = fs * k / seg;
   Eigen::FFT<double> fft;
+  fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);  // real input: bins 0 .. nfft/2 only
   std::vector<double> in(seg);
   std::vector<std::complex<double>> out;
   for (long c = 0; c < count; ++c) {

@@ -18,8 +18,8 @@ struct Spectrum {
   int segment_length = 0;  ///< samples per FFT segment (before zero padding)
 };
 
-/// Periodogram of x - mean(x), zero padded to the next power of two >= pad_factor * n (pad_factor
-/// >= 1). Rectangular window: best resolution for locating a line's frequency.
+/// Periodogram of x - mean(x), zero padded to the smallest 2^a 3^b 5^c >= pad_factor * n
+/// (pad_factor >= 1). Rectangular window: best resolution for locating a line's frequency.
 Spectrum Periodogram(const Eigen::VectorXd& x, double sample_rate_hz, int pad_factor);
 
 /// Welch PSD with Hann windows of `segment_length` samples (a power of two is fastest) and 50 %

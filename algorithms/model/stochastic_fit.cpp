@@ -34,15 +34,6 @@ allan::Term AllanTerm(Term t) {
   }
 }
 
-// Unit-amplitude Allan laws g_i(tau) (fogpipe::allan's closed forms); the model is sum c_i g_i
-// with c_i = P_i^2 (P = Q, N, B, K, R, sigma).
-double UnitLaw(Term t, double tau, double tc) {
-  allan::TermParams p;
-  p.amplitude = 1.0;
-  p.correlation_time_s = tc;
-  return allan::TermAllanVariance(AllanTerm(t), p, tau);
-}
-
 struct NnlsResult {
   Eigen::VectorXd c;
   Eigen::VectorXd se;
@@ -87,7 +78,7 @@ Fitted FitAt(const std::vector<double>& tau, const Eigen::VectorXd& s2, const Ei
   const int rows = static_cast<int>(tau.size()), p = static_cast<int>(terms.size());
   Eigen::MatrixXd a(rows, p);
   for (int i = 0; i < rows; ++i)
-    for (int j = 0; j < p; ++j) a(i, j) = UnitLaw(terms[j], tau[i], tc);
+    for (int j = 0; j < p; ++j) a(i, j) = UnitAllanLaw(terms[j], tau[i], tc);
   // Relative variance of s2: 2 / edf + floor^2. Weights start from the data, then the model.
   Eigen::VectorXd model = s2;
   Fitted f;
@@ -106,6 +97,14 @@ Fitted FitAt(const std::vector<double>& tau, const Eigen::VectorXd& s2, const Ei
 
 }  // namespace
 
+// The model is sum c_i g_i with c_i = P_i^2 (P = Q, N, B, K, R, sigma).
+double UnitAllanLaw(Term t, double tau, double tc) {
+  allan::TermParams p;
+  p.amplitude = 1.0;
+  p.correlation_time_s = tc;
+  return allan::TermAllanVariance(AllanTerm(t), p, tau);
+}
+
 bool StochasticModel::Has(Term t) const {
   return std::find(terms.begin(), terms.end(), t) != terms.end();
 }
@@ -114,19 +113,19 @@ double TermAllanVariance(const StochasticModel& m, Term term, double tau) {
   if (!m.Has(term)) return 0.0;
   switch (term) {
     case Term::kQuantization:
-      return m.q_rad * m.q_rad * UnitLaw(term, tau, 0);
+      return m.q_rad * m.q_rad * UnitAllanLaw(term, tau, 0);
     case Term::kWhite:
-      return m.n_rad_sqrt_s * m.n_rad_sqrt_s * UnitLaw(term, tau, 0);
+      return m.n_rad_sqrt_s * m.n_rad_sqrt_s * UnitAllanLaw(term, tau, 0);
     case Term::kBiasInstability:
-      return m.b_rad_s * m.b_rad_s * UnitLaw(term, tau, 0);
+      return m.b_rad_s * m.b_rad_s * UnitAllanLaw(term, tau, 0);
     case Term::kRateRandomWalk:
-      return m.k_rad_s_sqrt_s * m.k_rad_s_sqrt_s * UnitLaw(term, tau, 0);
+      return m.k_rad_s_sqrt_s * m.k_rad_s_sqrt_s * UnitAllanLaw(term, tau, 0);
     case Term::kRateRamp:
-      return m.r_rad_s2 * m.r_rad_s2 * UnitLaw(term, tau, 0);
+      return m.r_rad_s2 * m.r_rad_s2 * UnitAllanLaw(term, tau, 0);
     case Term::kGaussMarkov:
-      return m.gm_correlation_time_s > 0
-                 ? m.gm_sigma_rad_s * m.gm_sigma_rad_s * UnitLaw(term, tau, m.gm_correlation_time_s)
-                 : 0.0;
+      return m.gm_correlation_time_s > 0 ? m.gm_sigma_rad_s * m.gm_sigma_rad_s *
+                                               UnitAllanLaw(term, tau, m.gm_correlation_time_s)
+                                         : 0.0;
     default:
       return 0.0;
   }

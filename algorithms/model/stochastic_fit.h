@@ -37,6 +37,10 @@ struct StochasticModel {
   bool Has(Term t) const;
 };
 
+/// Unit-amplitude Allan law g(tau) of a stochastic term (fogpipe::allan's closed forms): the
+/// term's Allan variance is P^2 g(tau) with P = Q, N, B, K, R or sigma; `tc_s` is the Gauss-Markov
+/// correlation time (ignored by the other terms).
+double UnitAllanLaw(Term term, double tau_s, double tc_s);
 /// Allan variance of one term at tau (rad/s)^2 (Term::kSinusoid not included: fitted on rate).
 double TermAllanVariance(const StochasticModel& m, Term term, double tau_s);
 /// Sum over the model's terms.

@@ -8,6 +8,7 @@
 #include "algorithms/allan/allan.h"
 #include "algorithms/model/deterministic_fit.h"
 #include "algorithms/model/spectrum.h"
+#include "algorithms/model/targeted_tests.h"
 
 namespace fogpipe::model {
 namespace {
@@ -34,6 +35,20 @@ std::vector<std::pair<int, int>> Runs(const std::vector<double>& v, double limit
   return runs;
 }
 
+// The targeted scans of the time view run on at most this many (block-mean) samples.
+constexpr long kScanSamples = 1L << 18;
+
+// Boundaries whose leave-window-out reference has fewer degrees of freedom are not tested.
+constexpr double kMinDof = 8.0;
+
+// Student's t with nu degrees of freedom that has the tail probability of the normal deviate z
+// > 0, inverting Wallace's (1959) approximation z = (8 nu + 1) / (8 nu + 3) sqrt(nu ln(1 + t^2 /
+// nu)).
+double NormalToStudent(double z, double nu) {
+  const double a = z * (8.0 * nu + 3.0) / (8.0 * nu + 1.0);
+  return std::sqrt(nu * std::expm1(a * a / nu));
+}
+
 double MaxAbs(const std::vector<double>& v, int a, int b) {
   double m = 0;
   for (int i = a; i <= b; ++i) m = std::max(m, std::abs(v[i]));
@@ -46,8 +61,9 @@ std::vector<double> Abs(const std::vector<double>& v) {
   return a;
 }
 
-void ComputeAllanView(const AllanData& d, const StochasticModel& m, const ViewOptions& o,
-                      double alpha_view, AllanView* v, std::vector<Failure>* failures) {
+void ComputeAllanView(const AllanData& d, const StochasticModel& m, const ViewOptions& o, double fs,
+                      double record_s, double alpha_view, AllanView* v,
+                      std::vector<Failure>* failures) {
   const double c2 = o.relative_floor * o.relative_floor;
   v->tau_s = d.tau_s;
   v->avar_meas = d.avar;
@@ -67,13 +83,23 @@ void ComputeAllanView(const AllanData& d, const StochasticModel& m, const ViewOp
     const double nu = 2.0 / (2.0 / edf + c2);
     v->z.push_back(model > 0 ? WilsonHilfertyZ(d.avar[j] / model, nu) : 0.0);
   }
-  v->critical = BonferroniCriticalZ(static_cast<int>(v->z.size()), alpha_view);
+  // alpha_view is split between the per-tau tests and the Gauss-Markov bump test.
+  v->critical = BonferroniCriticalZ(static_cast<int>(v->z.size()), 0.5 * alpha_view);
   const std::vector<double> az = Abs(v->z);
   v->statistic = az.empty() ? 0.0 : *std::max_element(az.begin(), az.end());
   for (auto [a, b] : Runs(az, v->critical)) {
     failures->push_back({"tau", d.tau_s[a] / std::sqrt(2.0), d.tau_s[b] * std::sqrt(2.0), "",
                          std::pow(MaxAbs(az, a, b) / v->critical, 2)});
   }
+  const TargetedTest gm = ScanGaussMarkov(d, fs, record_s, m, o, 0.5 * alpha_view);
+  if (!gm.evaluated) return;
+  v->gm_z = gm.z;
+  v->gm_critical = gm.critical;
+  v->gm_correlation_time_s = gm.location;
+  v->gm_sigma_rad_s = gm.size;
+  v->statistic = std::max(v->statistic, gm.z * v->critical / gm.critical);
+  if (gm.z > gm.critical)
+    failures->push_back({"tau", gm.from, gm.to, "", std::pow(gm.z / gm.critical, 2)});
 }
 
 void ComputeFrequencyView(const Eigen::VectorXd& r, double fs, const StochasticModel& m,
@@ -126,7 +152,8 @@ void ComputeFrequencyView(const Eigen::VectorXd& r, double fs, const StochasticM
   }
 }
 
-void ComputeTimeView(const Eigen::VectorXd& r, double fs, const StochasticModel& m,
+void ComputeTimeView(const Eigen::VectorXd& r, double fs,
+                     const std::vector<std::complex<double>>& r_dft, const StochasticModel& m,
                      const ViewOptions& o, double alpha_view, TimeView* v,
                      std::vector<Failure>* failures) {
   const long n = r.size();
@@ -150,17 +177,46 @@ void ComputeTimeView(const Eigen::VectorXd& r, double fs, const StochasticModel&
   for (double x : var) v->z_variance.push_back(WilsonHilfertyZ(x / pooled, len - 1.0));
   // Mean changes at octave scales len, 2 len, 4 len, 8 len: a step is best seen by windows about
   // as long as the noise allows (white noise favours long windows, rate random walk short ones).
+  // Reference: the mean square of the same differences elsewhere in the record (boundaries at
+  // least 2 l away, whose windows do not overlap this one), not the fitted model: a step or a
+  // warm-up inflates the fitted rate_random_walk / rate_ramp (K^2 = D^2 / T for a step), which
+  // would cap z at sqrt(3 T / (2 l)) whatever the step size; a single event cannot inflate the
+  // leave-window-out reference. Any noise with stationary increments (white, flicker, random
+  // walk) gives homogeneous differences, so the reference is right whatever the noise model. The
+  // ratio t is Student t with nu = m / 1.75 (m differences at half-window stride; for white
+  // noise their correlations at lags l/2, l, 3l/2 are 1/4, -1/2, -1/4, so var(mean d^2) is 1.75
+  // times that of m independent squares). It is judged against the Student critical value
+  // t_c(nu) of the same family-wise level (Wallace 1959) and reported on the normal scale as
+  // z = t c / t_c(nu), so that z / c = t / t_c: the error still grows with the energy of the
+  // jump. Boundaries with nu < kMinDof are not tested.
+  std::vector<double> t_mean, nu_mean;
   for (long l = len; l <= 8 * len && 2 * l <= n; l *= 2) {
-    const double sd = std::sqrt(2.0 * ModelAllanVariance(m, l / fs));
-    for (long b = l; b + l <= n; b += std::max(1L, l / 2)) {
-      const double before = (c[b] - c[b - l]) / l, after = (c[b + l] - c[b]) / l;
-      v->boundary_s.push_back(b / fs);
+    const long stride = std::max(1L, l / 2);
+    std::vector<double> d, at;
+    for (long b = l; b + l <= n; b += stride) {
+      d.push_back((c[b + l] - c[b]) / l - (c[b] - c[b - l]) / l);
+      at.push_back(static_cast<double>(b));
+    }
+    const long m = static_cast<long>(d.size());
+    std::vector<double> sq(m + 1, 0.0);  // prefix sums of d^2
+    for (long i = 0; i < m; ++i) sq[i + 1] = sq[i] + d[i] * d[i];
+    const long near = (2 * l + stride - 1) / stride - 1;  // |j - i| <= near: windows overlap
+    for (long i = 0; i < m; ++i) {
+      const long lo = std::max(0L, i - near), hi = std::min(m - 1, i + near);
+      const long others = m - (hi - lo + 1);
+      const double nu = others / 1.75;
+      if (nu < kMinDof) continue;
+      const double ms = (sq[m] - (sq[hi + 1] - sq[lo])) / others;
+      v->boundary_s.push_back(at[i] / fs);
       v->boundary_window_s.push_back(l / fs);
-      v->z_mean.push_back(sd > 0 ? (after - before) / sd : 0.0);
+      t_mean.push_back(ms > 0 ? d[i] / std::sqrt(ms) : 0.0);
+      nu_mean.push_back(nu);
     }
   }
-  const int count = static_cast<int>(v->z_mean.size() + v->z_variance.size());
+  const int count = static_cast<int>(t_mean.size() + v->z_variance.size());
   v->critical = BonferroniCriticalZ(count, alpha_view);
+  for (size_t i = 0; i < t_mean.size(); ++i)
+    v->z_mean.push_back(t_mean[i] * v->critical / NormalToStudent(v->critical, nu_mean[i]));
   const std::vector<double> am = Abs(v->z_mean), av = Abs(v->z_variance);
   for (double x : am) v->statistic = std::max(v->statistic, x);
   for (double x : av) v->statistic = std::max(v->statistic, x);
@@ -198,37 +254,44 @@ void ComputeTimeView(const Eigen::VectorXd& r, double fs, const StochasticModel&
                          v->center_s[b] + 0.5 * v->window_s, "",
                          std::pow(MaxAbs(av, a, b) / v->critical, 2)});
   }
-}
-
-std::vector<std::complex<double>> Dft(const Eigen::VectorXd& x) {
-  std::vector<double> in(x.size());
-  const double mean = x.mean();
-  for (long i = 0; i < x.size(); ++i) in[i] = x[i] - mean;
-  Eigen::FFT<double> fft;
-  std::vector<std::complex<double>> out;
-  fft.fwd(out, in);
-  return out;
-}
-
-// Score (Lagrange multiplier) test of "rate += c * x(t)" under the stochastic model, in the
-// frequency domain (Whittle 1953): with R_k the DFT of the residual and X_k that of the regressor,
-// E|R_k|^2 = w_k = n fs S(f_k) / 2 (S one-sided), U = sum_k Re(R_k conj X_k) / w_k has variance
-// sum_k |X_k|^2 / (2 w_k), and z = U / sd(U) ~ N(0, 1). This is the generalised least-squares
-// t-statistic of c with the noise covariance of the fitted model: coloured noise (bias
-// instability, rate random walk) is down-weighted where the model says it is strong.
-double WhittleScoreZ(const std::vector<std::complex<double>>& r_dft,
-                     const std::vector<std::complex<double>>& xd, const std::vector<double>& w) {
-  double u = 0, var = 0;
-  for (size_t k = 1; k < w.size(); ++k) {
-    if (!(w[k] > 0)) continue;
-    u += (r_dft[k] * std::conj(xd[k])).real() / w[k];
-    var += std::norm(xd[k]) / (2.0 * w[k]);
+  // The targeted GLS scans name the effect (they rank bias_step against warmup, compare.h); they
+  // are not scored: their null depends on the fitted low-frequency noise, which a 6 h record
+  // determines poorly (rate random walk is often fitted at 0), while the window tests above are
+  // self-normalised.
+  // On long records the scans run on block means of B samples (at most kScanSamples remain): a
+  // step or a warm-up of at least 5 s is unchanged by averaging over B / fs <= 1 s at 100 Hz x
+  // 24 h, the noise model is refitted on the block means themselves, and the GLS scans then
+  // cost O(kScanSamples log kScanSamples) instead of O(n log n) per evaluation.
+  const long block = (n + kScanSamples - 1) / kScanSamples;
+  Eigen::VectorXd decimated;
+  std::vector<std::complex<double>> decimated_dft;
+  if (block > 1) {
+    decimated = BlockMeans(r, block);
+    decimated_dft = MeanRemovedDft(decimated);
   }
-  return var > 0 ? u / std::sqrt(var) : 0.0;
+  const Eigen::VectorXd& rs = block > 1 ? decimated : r;
+  const std::vector<std::complex<double>>& rs_dft = block > 1 ? decimated_dft : r_dft;
+  const double fss = fs / static_cast<double>(block);
+  const TargetedTest step = ScanBiasStep(rs, fss, rs_dft, m, o, alpha_view, v->window_s);
+  if (step.evaluated) {
+    v->step_z = step.z;
+    v->step_critical = step.critical;
+    v->step_time_s = step.location;
+    v->step_size_rad_s = step.size;
+  }
+  const TargetedTest warm = ScanWarmup(rs, fss, rs_dft, m, o, alpha_view);
+  if (warm.evaluated) {
+    v->warmup_z = warm.z;
+    v->warmup_critical = warm.critical;
+    v->warmup_time_constant_s = warm.location;
+    v->warmup_amplitude_rad_s = warm.size;
+  }
 }
 
-void ComputeAuxView(const Eigen::VectorXd& r, double fs, const std::vector<PreparedAux>& aux,
-                    const StochasticModel& m, const ViewOptions& o, double alpha_view, AuxView* v,
+void ComputeAuxView(const Eigen::VectorXd& r, double fs,
+                    const std::vector<std::complex<double>>& r_dft,
+                    const std::vector<PreparedAux>& aux, const StochasticModel& m,
+                    const ViewOptions& o, double alpha_view, AuxView* v,
                     std::vector<Failure>* failures) {
   const long block = std::max(1L, static_cast<long>(std::lround(o.aux_block_s * fs)));
   const Eigen::VectorXd rl = BlockMeans(r, block);
@@ -237,10 +300,7 @@ void ComputeAuxView(const Eigen::VectorXd& r, double fs, const std::vector<Prepa
     v->block_center_s.push_back((b * block + 0.5 * block) / fs);
     v->residual_lowpass.push_back(rl[b]);
   }
-  const long n = r.size();
-  const std::vector<std::complex<double>> r_dft = Dft(r);
-  std::vector<double> w(n / 2, 0.0);  // bins 1 .. n/2 - 1 (no mean, no Nyquist)
-  for (long k = 1; k < n / 2; ++k) w[k] = n * fs * ModelOneSidedPsd(m, fs * k / n, fs) / 2.0;
+  const std::vector<double> w = WhittleWeights(m, r.size(), fs);
   for (const PreparedAux& pa : aux) {
     const AuxChannel& ch = *pa.channel;
     AuxChannelView cv;
@@ -341,8 +401,8 @@ std::vector<PreparedAux> PrepareAux(const std::vector<AuxChannel>& aux, long n, 
     PreparedAux p;
     p.channel = &ch;
     p.derivative = SmoothedDerivative(ch.values, fs, o.aux_smoothing_s);
-    p.dft = Dft(ch.values);
-    p.dft_derivative = Dft(p.derivative);
+    p.dft = MeanRemovedDft(ch.values);
+    p.dft_derivative = MeanRemovedDft(p.derivative);
     out.push_back(std::move(p));
   }
   return out;
@@ -354,10 +414,11 @@ Views ComputeViews(const Eigen::VectorXd& r, double fs, const std::vector<Prepar
   const bool has_aux = !aux.empty();
   const int num_views = has_aux ? 4 : 3;
   const double av = o.alpha / num_views;
-  ComputeAllanView(allan, m, o, av, &v.allan, &v.failures);
+  const std::vector<std::complex<double>> r_dft = MeanRemovedDft(r);
+  ComputeAllanView(allan, m, o, fs, r.size() / fs, av, &v.allan, &v.failures);
   ComputeFrequencyView(r, fs, m, o, av, &v.frequency, &v.failures);
-  ComputeTimeView(r, fs, m, o, av, &v.time, &v.failures);
-  if (has_aux) ComputeAuxView(r, fs, aux, m, o, av, &v.aux, &v.failures);
+  ComputeTimeView(r, fs, r_dft, m, o, av, &v.time, &v.failures);
+  if (has_aux) ComputeAuxView(r, fs, r_dft, aux, m, o, av, &v.aux, &v.failures);
   auto sq = [](double x) { return x * x; };
   v.error = std::max({sq(v.allan.statistic / v.allan.critical),
                       sq(v.frequency.statistic / v.frequency.critical),

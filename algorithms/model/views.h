@@ -4,14 +4,20 @@
 //   - Allan (domain "tau"): at octave taus, r = s2_meas / s2_model ~ chi2(nu)/nu with nu the
 //     Greenhall-Riley EDF shrunk by a relative model-shape tolerance c (nu' = 2 / (2/edf + c^2));
 //     z by Wilson & Hilferty (1931), two-sided. Octave spacing limits the correlation of taus.
+//     Plus a targeted Gauss-Markov bump test (targeted_tests.h), whose alternative cannot hide in
+//     bias_instability and white noise; alpha_v is split in two equal parts.
 //   - Frequency ("frequency"): lines. The 2x zero-padded periodogram of the residual over the
 //     model PSD (its shape; the level is scaled so that the median ratio is ln 2): each bin is
 //     S(f) Exp(1) under the model, so the exact tail exp(-ratio) gives a one-sided z. Lines slower
 //     than min_line_cycles per record are left to the Allan view. The Welch PSD is for display.
-//   - Time ("time"): differences of adjacent window means of the residual over their model
-//     standard deviation sqrt(2 sigma_A^2(window)) (the definition of the Allan variance), at a
-//     half-window stride and windows of record/time_windows x 1, 2, 4, 8; and each window's
-//     variance against the pooled variance (chi2(L-1)).
+//   - Time ("time"): differences of adjacent window means of the residual, at a half-window
+//     stride and windows of record/time_windows x 1, 2, 4, 8, over the root mean square of the
+//     same differences elsewhere in the record (leave-window-out; Student t, reported on the
+//     normal scale as t c / t_c(nu)); and each window's variance against the pooled variance
+//     (chi2(L-1)). The reference is the data's, not the model's: a step or a warm-up inflates the
+//     fitted rate random walk (a step of size D looks like K^2 = D^2 / T), and window jumps judged
+//     against that model saturate at z = sqrt(3 T / (2 L)) whatever D is. The targeted GLS step
+//     and warm-up scans (targeted_tests.h) are reported here too, for ranking only (not scored).
 //   - Aux ("aux"): for each aux channel and its smoothed derivative, the score test of "rate +=
 //     c * channel" under the fitted noise model, in the frequency domain (Whittle 1953): the
 //     generalised least-squares t-statistic of c. For display and the evidence sentences, Pearson
@@ -76,6 +82,11 @@ struct AllanView {
   std::vector<double> tau_s, avar_meas, avar_model, ci_low, ci_high, edf, z;
   std::vector<std::string> term_names;
   std::vector<std::vector<double>> term_avar;  ///< per term, at tau_s
+  /// Targeted Gauss-Markov bump test (targeted_tests.h): z = signed root of the chi-square drop
+  /// when gauss_markov is added, its critical value, the fitted Tc (s) and sigma (rad/s); z = 0
+  /// when the model already has gauss_markov.
+  double gm_z = 0, gm_critical = 0, gm_correlation_time_s = 0, gm_sigma_rad_s = 0;
+  /// max(max|z|, gm_z * critical / gm_critical): on the scale of the per-tau critical value.
   double statistic = 0, critical = 1;
 };
 
@@ -89,9 +100,16 @@ struct FrequencyView {
 struct TimeView {
   double window_s = 0;
   std::vector<double> center_s, mean, variance, z_variance;  ///< per window
-  /// Mean changes: boundary time, window length either side, z (octave scales, half stride).
+  /// Mean changes: boundary time, window length either side, z (octave scales, half stride;
+  /// leave-window-out reference, z / critical = t / t_c(nu), see above).
   std::vector<double> boundary_s, boundary_window_s, z_mean;
   std::vector<double> change_point_s;
+  /// Targeted scans (targeted_tests.h), not scored: GLS z of the best bias step and of the best
+  /// warm-up under the noise model refitted without them, their critical values (the scans'
+  /// look-elsewhere cost, used by the ranking), the step time (s) and size (rad/s), the warm-up
+  /// time constant (s) and amplitude (rad/s).
+  double step_z = 0, step_critical = 0, step_time_s = 0, step_size_rad_s = 0;
+  double warmup_z = 0, warmup_critical = 0, warmup_time_constant_s = 0, warmup_amplitude_rad_s = 0;
   double statistic = 0, critical = 1;
 };
 

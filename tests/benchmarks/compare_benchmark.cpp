@@ -1,6 +1,13 @@
 // fogpipe::model::Compare on simulated navigation-grade recordings with a hidden temperature
-// effect (so the base model is inconsistent and every trial fit runs). Single thread.
+// effect (so the base model is inconsistent and every trial fit runs). BM_Compare: one thread
+// (Compare() runs the trials in order). BM_CompareTwoThreads: the pipeline's schedule
+// (pipeline/cli/compare_command.cpp: base model, then the trial fits in parallel, then the
+// ranking) on two std::threads pulling trials from a shared counter, as oneTBB would.
 #include <benchmark/benchmark.h>
+
+#include <atomic>
+#include <thread>
+#include <vector>
 
 #include "algorithms/common/units.h"
 #include "algorithms/model/compare.h"
@@ -42,6 +49,47 @@ void BM_Compare(benchmark::State& state) {
 }
 BENCHMARK(BM_Compare)->Args({6, 10})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Compare)->Args({24, 100})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+model::CompareResult CompareOnThreads(const model::CompareInput& in, int threads) {
+  const model::CompareOptions o;
+  const std::vector<model::Term> terms = model::DefaultTerms();
+  model::CompareResult r;
+  const auto prepared =
+      model::PrepareAux(in.aux, in.rate_rad_s->size(), in.sample_rate_hz, o.views);
+  r.base = model::EvaluateModel(in, terms, o, &prepared);
+  if (!HasResult(r.base.termination) || r.base.views.consistent) return r;
+  const std::vector<model::Term> tt = model::TrialTerms(in, terms);
+  r.trials.resize(tt.size());
+  std::atomic<size_t> next{0};
+  auto work = [&] {
+    for (size_t i = next++; i < tt.size(); i = next++) {
+      std::vector<model::Term> with = terms;
+      with.push_back(tt[i]);
+      r.trials[i] = model::EvaluateModel(in, with, o, &prepared);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  r.suggestions = model::RankSuggestions(r.base, tt, r.trials, o);
+  return r;
+}
+
+void BM_CompareTwoThreads(benchmark::State& state) {
+  const Case c = Make(static_cast<double>(state.range(0)), static_cast<double>(state.range(1)));
+  for (auto _ : state) {
+    const auto r = CompareOnThreads(c.in, 2);
+    benchmark::DoNotOptimize(r.base.views.error);
+  }
+  state.counters["samples"] = static_cast<double>(c.rec.rate_rad_s.size());
+}
+BENCHMARK(BM_CompareTwoThreads)->Args({6, 10})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CompareTwoThreads)
+    ->Args({24, 100})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
 
 }  // namespace
 

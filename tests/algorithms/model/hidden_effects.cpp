@@ -41,7 +41,7 @@ simulation::GyroSimulatorOptions HiddenEffectOptions(std::uint64_t seed,
       }
       case Term::kGaussMarkov: {
         auto& g = e.gauss_markov.back();
-        g.sigma_rad_s = k(t, 3, 5) * NoiseAllanDeviation(e, 1.89 * g.correlation_time_s) / 0.62;
+        g.sigma_rad_s = k(t, 6, 10) * NoiseAllanDeviation(e, 1.89 * g.correlation_time_s) / 0.62;
         break;
       }
       case Term::kTemperature: {
@@ -62,12 +62,12 @@ simulation::GyroSimulatorOptions HiddenEffectOptions(std::uint64_t seed,
       }
       case Term::kBiasStep: {
         auto& b = e.bias_steps.back();
-        b.size_rad_s = Sign(b.size_rad_s) * k(t, 6, 10) * std::sqrt(2.0) *
+        b.size_rad_s = Sign(b.size_rad_s) * k(t, 25, 35) * std::sqrt(2.0) *
                        NoiseAllanDeviation(e, record / 8.0);
         break;
       }
       case Term::kWarmup: {
-        e.warmup->amplitude_rad_s = Sign(e.warmup->amplitude_rad_s) * k(t, 8, 12) *
+        e.warmup->amplitude_rad_s = Sign(e.warmup->amplitude_rad_s) * k(t, 50, 70) *
                                     NoiseAllanDeviation(e, e.warmup->time_constant_s);
         break;
       }

@@ -42,7 +42,8 @@ TEST(Spectrum, PeriodogramPeaksAtTheLineFrequency) {
   size_t best = 1;
   for (size_t k = 1; k < s.psd.size(); ++k)
     if (s.psd[k] > s.psd[best]) best = k;
-  // The padded grid spacing is fs / 65536; the peak is within one spacing of f0.
+  // The padded grid spacing is fs / 40000 (2 x 20000 is 2^6 5^4); the peak is within one spacing
+  // of f0.
   EXPECT_NEAR(s.frequency_hz[best], f0, s.frequency_hz[1]);
 }
 
