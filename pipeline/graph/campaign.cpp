@@ -83,6 +83,21 @@ void Guarded(AxisWork& work, Stage stage, Body&& body) {
   work.stage_seconds[stage] += Seconds(start);
 }
 
+std::string MiB(std::uint64_t bytes) {
+  return std::to_string((bytes + (1ull << 20) - 1) >> 20) + " MiB";
+}
+
+std::string OverBudgetMessage(const std::string& path, const FileJob& job, std::uint64_t need,
+                              const CampaignOptions& options) {
+  const std::uint64_t fixed = FixedBytes(options.threads);
+  return path + ": needs about " + MiB(need) + " of memory (" + std::to_string(job.info.samples) +
+         " samples x " + std::to_string(job.info.axis_count) +
+         (job.info.axis_count == 1 ? " axis" : " axes") + "), more than --memory-budget " +
+         MiB(options.memory_budget_bytes) + " leaves for recordings after " + MiB(fixed) +
+         " for the process; not analysed. Rerun it with --memory-budget " + MiB(need + fixed) +
+         " or more";
+}
+
 std::string AxisError(const FileJob& job, int axis, const std::string& what) {
   return job.input.path + ": axis " + job.info.axis_names[axis] + ": " + what;
 }
@@ -221,6 +236,8 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
   // Preflight (main thread): skip what is done, inspect the rest (metadata only).
   std::vector<std::unique_ptr<FileJob>> jobs;
   std::uint64_t bytes_per_file = 0;
+  const std::uint64_t for_recordings =
+      BytesForRecordings(options.memory_budget_bytes, options.threads);
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     const InputFile& input = inputs[i];
     const auto start = Clock::now();
@@ -246,14 +263,23 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
       runner.Record(outcome, i);
       continue;
     }
-    bytes_per_file =
-        std::max(bytes_per_file, static_cast<std::uint64_t>(job->info.axis_count) *
-                                     BytesPerAxis(static_cast<std::uint64_t>(job->info.samples),
-                                                  options.method.emd.max_imfs));
+    const std::uint64_t need =
+        static_cast<std::uint64_t>(job->info.axis_count) *
+        BytesPerAxis(static_cast<std::uint64_t>(job->info.samples), options.method.emd.max_imfs);
+    if (need > for_recordings) {
+      // Never run over the budget: a recording that alone needs more is refused before it is
+      // read, with what it needs, and the campaign goes on.
+      FileOutcome outcome{input.path,           "",
+                          job->info.axis_count, FileStatus::kFailed,
+                          Seconds(start),       OverBudgetMessage(input.path, *job, need, options)};
+      runner.Record(outcome, i);
+      continue;
+    }
+    bytes_per_file = std::max(bytes_per_file, need);
     jobs.push_back(std::move(job));
   }
   report.bytes_per_file = bytes_per_file;
-  report.files_in_flight = AxesInFlight(options.memory_budget_bytes, bytes_per_file);
+  report.files_in_flight = AxesInFlight(for_recordings, bytes_per_file);
   if (options.dry_run) {
     for (const auto& job : jobs) {
       FileOutcome outcome{job->input.path,
