@@ -336,9 +336,13 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
     }
   });
   using AxisNode = flow::function_node<AxisPtr, AxisPtr>;
+  // The EMD's sifts run their envelope work through TBB too (bit-identical IMFs, emd.h): with
+  // few recordings in flight it is otherwise the one serial stage.
+  method::MethodOptions decompose_options = options.method;
+  decompose_options.emd.for_each = TbbForEach;
   AxisNode decompose(g, flow::unlimited, [&](AxisPtr w) {
     Guarded(*w, kDecompose, [&] {
-      method::PreprocessAndDecompose(w->rate_rad_s, w->job->info.sample_rate_hz, options.method,
+      method::PreprocessAndDecompose(w->rate_rad_s, w->job->info.sample_rate_hz, decompose_options,
                                      &w->result);
       w->rate_rad_s = Eigen::VectorXd();  // the preprocessed copy is what is kept
       if (!HasResult(w->result.summary.termination)) {

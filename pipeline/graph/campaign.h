@@ -6,7 +6,8 @@
 //                 that alone exceeds the budget is refused in the preflight)
 //     -> reader  (serial: SHA-256 of the file, then one axis at a time by hyperslabs, each axis
 //                 sent on as soon as it is read)
-//     -> decompose (unlimited: preprocessing + EMD, one axis per task)
+//     -> decompose (unlimited: preprocessing + EMD, one axis per task; the sifts' envelope
+//                   work through tbb::parallel_for inside, emd.h EmdOptions::for_each)
 //     -> models    (unlimited: per-component AR + Kalman and method 2, tbb::parallel_for inside)
 //     -> allan     (unlimited: three Allan tables + noise fits, tbb::parallel_for inside)
 //     -> writer  (serial: gathers a file's axes, writes temp file + rename, status.jsonl line,
