@@ -1,7 +1,7 @@
 #include "pipeline/io/column_datasets.h"
 
 #include <H5Dpublic.h>
-#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/parallel_pipeline.h>
 #include <oneapi/tbb/task_arena.h>
 #include <zlib.h>
 
@@ -157,29 +157,44 @@ void WriteColumnDataset(hdf5::Group& group, const std::string& name,
   hdf5::Dataset dataset = group.OpenDataset(name);
   dataset.WriteStringAttribute("units", units);
 
-  // Chunks in file order: column 0 top to bottom, then column 1, ...; encoded in batches of a
-  // few per worker (bounded memory: batch x ~1.5 chunk sizes), each batch written in order.
+  // Chunks in file order: column 0 top to bottom, then column 1, ... A pipeline of at most
+  // 2 x threads chunks in flight (bounded memory: ~1.5 chunk sizes each): encoded in parallel,
+  // written one at a time in order while the next ones are being encoded. The write may run on
+  // a TBB worker thread: it is an HDF5 C API call (thread-safe in Debian's build), serialized by
+  // the serial_in_order filter, while this thread holds the fogpipe HDF5 lock for all of it.
   const hsize_t per_column = (n + chunk_rows - 1) / chunk_rows;
   const hsize_t total = per_column * k;
-  const hsize_t batch =
-      4 * static_cast<hsize_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
-  std::vector<std::vector<unsigned char>> encoded(batch);
-  for (hsize_t first = 0; first < total; first += batch) {
-    const hsize_t count = std::min(batch, total - first);
-    tbb::parallel_for(hsize_t{0}, count, [&](hsize_t i) {
-      const hsize_t c = (first + i) / per_column, row0 = (first + i) % per_column * chunk_rows;
-      encoded[i] =
-          EncodeChunk(columns[c]->data() + row0, std::min(chunk_rows, n - row0), effective);
-    });
-    for (hsize_t i = 0; i < count; ++i) {
-      const hsize_t c = (first + i) / per_column, row0 = (first + i) % per_column * chunk_rows;
-      const hsize_t offset[2] = {row0, c};
-      Checked(H5Dwrite_chunk(dataset.id(), H5P_DEFAULT, 0, offset, encoded[i].size(),
-                             encoded[i].data()),
-              group, name, "write chunk at row " + std::to_string(row0));
-      encoded[i] = std::vector<unsigned char>();
-    }
-  }
+  const std::size_t tokens =
+      2 * static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  const hid_t dataset_id = dataset.id();
+  struct Encoded {
+    hsize_t index = 0;
+    std::vector<unsigned char> bytes;
+  };
+  hsize_t next = 0;
+  tbb::parallel_pipeline(
+      tokens, tbb::make_filter<void, hsize_t>(tbb::filter_mode::serial_in_order,
+                                              [&](tbb::flow_control& control) -> hsize_t {
+                                                if (next == total) control.stop();
+                                                return next < total ? next++ : 0;
+                                              }) &
+                  tbb::make_filter<hsize_t, Encoded>(
+                      tbb::filter_mode::parallel,
+                      [&](hsize_t i) {
+                        const hsize_t c = i / per_column, row0 = i % per_column * chunk_rows;
+                        return Encoded{i, EncodeChunk(columns[c]->data() + row0,
+                                                      std::min(chunk_rows, n - row0), effective)};
+                      }) &
+                  tbb::make_filter<Encoded, void>(
+                      tbb::filter_mode::serial_in_order, [&](const Encoded& chunk) {
+                        H5Eset_auto2(H5E_DEFAULT, nullptr,
+                                     nullptr);  // errors are thrown, not printed
+                        const hsize_t row0 = chunk.index % per_column * chunk_rows;
+                        const hsize_t offset[2] = {row0, chunk.index / per_column};
+                        Checked(H5Dwrite_chunk(dataset_id, H5P_DEFAULT, 0, offset,
+                                               chunk.bytes.size(), chunk.bytes.data()),
+                                group, name, "write chunk at row " + std::to_string(row0));
+                      }));
 }
 
 }  // namespace fogpipe::io

@@ -8,7 +8,7 @@
 // (perf record, 2026-11-21), for a ratio of only 0.80: the low mantissa bytes of noise are random.
 //
 // How: each chunk holds ONE column (chunk shape [chunk_rows, 1], or [chunk_rows] for a vector), so
-// that reading one IMF inflates only that IMF's chunks. The chunks are encoded by tbb::parallel_for
+// that reading one IMF inflates only that IMF's chunks. The chunks are encoded in parallel
 // exactly as HDF5's filters would store them, byte shuffle (H5Z_FILTER_SHUFFLE) then deflate
 // (H5Z_FILTER_DEFLATE, a zlib stream), and written in order with H5Dwrite_chunk (HDF5 >= 1.10.3,
 // "direct chunk write"), which stores them as they are. The dataset's creation properties declare
@@ -25,8 +25,10 @@
 // third of the speed. Deflate level 0 stores the chunks uncompressed (and unshuffled).
 //
 // Every function requires the caller to hold LockHdf5() and throws hdf5::Error (HDF5) or
-// std::runtime_error (zlib). Compression runs on the calling thread's TBB arena; HDF5 is only
-// called from the calling thread.
+// std::runtime_error (zlib). Compression runs in the calling thread's TBB arena, overlapped with
+// the writes of the chunks already encoded (tbb::parallel_pipeline); those H5Dwrite_chunk calls
+// may run on a TBB worker thread, one at a time, while the caller holds the lock (the HDF5 C
+// library is built thread-safe; no C++ wrapper object is touched there).
 #pragma once
 
 #include <Eigen/Core>
