@@ -279,7 +279,12 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
     jobs.push_back(std::move(job));
   }
   report.bytes_per_file = bytes_per_file;
-  report.files_in_flight = AxesInFlight(for_recordings, bytes_per_file);
+  // Within the budget, at most 2 recordings per thread: every stage is parallel inside, so more
+  // add no throughput, but they make many files finish together at the end, queued at the
+  // serial writer (measured, 16 x 1 h at 100 Hz on 2 threads: 11.6 s with 15 in flight, 10.3 s
+  // with 4).
+  report.files_in_flight =
+      std::min(AxesInFlight(for_recordings, bytes_per_file), 2 * std::max(1, options.threads));
   if (options.dry_run) {
     for (const auto& job : jobs) {
       FileOutcome outcome{job->input.path,
