@@ -16,7 +16,6 @@ Usage: results_check_test.py FOGPIPE_BINARY SOURCE_DIR
    budget is refused with a message naming the memory it needs, and the others still finish.
 Recordings are written with h5py + numpy (seeded; run_campaign_test.write_recording).
 """
-import json
 import os
 import shutil
 import subprocess
@@ -26,31 +25,14 @@ import tempfile
 import h5py
 import numpy as np
 
+# The same recordings, checks and helpers as the run tests (they share argv: FOGPIPE SOURCE).
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from run_campaign_test import write_recording  # noqa: E402 (same recordings as the run tests)
-
-FOGPIPE, SOURCE = sys.argv[1], sys.argv[2]
-CHECKER = os.path.join(SOURCE, "scripts", "check_results_h5py.py")
-failures = []
-
-
-def check(condition, message):
-    print(("ok   " if condition else "FAIL ") + message, flush=True)
-    if not condition:
-        failures.append(message)
-
-
-def run(args):
-    return subprocess.run([FOGPIPE] + args, capture_output=True, text=True)
+from run_campaign_test import (CHECKER, FOGPIPE, check, failures, run,  # noqa: E402
+                               status_lines, write_recording)
 
 
 def checker(paths):
     return subprocess.run(["/usr/bin/python3", CHECKER] + paths, capture_output=True, text=True)
-
-
-def status_lines(outdir):
-    with open(os.path.join(outdir, "status.jsonl")) as fh:
-        return [json.loads(line) for line in fh]
 
 
 def case_storage_options(tmp):
