@@ -35,6 +35,7 @@ class EnvelopeBuffers {
           static_cast<size_t>(std::max(upper_.interior_capacity(), lower_.interior_capacity()) +
                               2 * EnvelopeKnots::kMaxMirrored);
       work_ = std::vector<double>();
+      second_work_ = std::vector<double>();
       work_.resize(work);
       counts = FindExtrema(x, n, &upper_, &lower_);
     }
@@ -44,10 +45,26 @@ class EnvelopeBuffers {
   // One sift of h in place (knots already found on h).
   SiftStatistics Sift(double* h, int n, const EmdOptions& options, SiftStatisticsKind kind) {
     if (options.mirror_ends) MirrorEnds(h, n, &upper_, &lower_);
-    SolveMoments(upper_, options.spline, upper_.moments(), work_.data());
-    SolveMoments(lower_, options.spline, lower_.moments(), work_.data());
-    return SubtractEnvelopeMean(h, n, upper_, lower_, kind, options.rilling_theta1,
-                                options.rilling_theta2);
+    const int parts = n / kMinPartSamples;
+    if (!options.for_each || parts < 2) {
+      SolveMoments(upper_, options.spline, upper_.moments(), work_.data());
+      SolveMoments(lower_, options.spline, lower_.moments(), work_.data());
+      return SubtractEnvelopeMean(h, n, upper_, lower_, kind, options.rilling_theta1,
+                                  options.rilling_theta2);
+    }
+    if (second_work_.size() != work_.size()) second_work_.resize(work_.size());
+    options.for_each(2, [&](int e) {
+      EnvelopeKnots& knots = e == 0 ? upper_ : lower_;
+      SolveMoments(knots, options.spline, knots.moments(),
+                   e == 0 ? work_.data() : second_work_.data());
+    });
+    if (kind == SiftStatisticsKind::kCauchy) {
+      return SubtractEnvelopeMean(h, n, upper_, lower_, kind, options.rilling_theta1,
+                                  options.rilling_theta2);
+    }
+    return SubtractEnvelopeMeanInParts(h, n, upper_, lower_, kind, options.rilling_theta1,
+                                       options.rilling_theta2, std::min(parts, kMaxParts),
+                                       options.for_each);
   }
 
   void RebindSignal(const double* x) {
@@ -56,8 +73,14 @@ class EnvelopeBuffers {
   }
 
  private:
+  // The parallel sift splits the envelope pass into at most kMaxParts parts of at least
+  // kMinPartSamples samples (512 KiB of h each: far more work than scheduling a task).
+  static constexpr int kMinPartSamples = 1 << 16;
+  static constexpr int kMaxParts = 16;
+
   EnvelopeKnots upper_, lower_;
   std::vector<double> work_;
+  std::vector<double> second_work_;  // the lower spline's, when both are solved at once
 };
 
 // residue = x - (imf_1 + ... + imf_K), summed in IMF order, block by block so that every array is

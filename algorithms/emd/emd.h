@@ -21,7 +21,9 @@
 //     (12 E + 12 E + 8 E) bytes = 4 E doubles. White noise: E = N / 3 (0.35 N while sifting IMF 1),
 //     so 1.44 N doubles with the growth slack; at most E = (N - 1) / 2, so 2 N doubles.
 // So at most (K + 3) N doubles of heap, (K + 4) N with the caller's input x (plus 12 doubles of
-// mirrored-knot slots in the extreme case of an extremum at every sample). Tested by heap
+// mirrored-knot slots in the extreme case of an extremum at every sample). With `for_each` set,
+// the two splines are solved at once, each with its own work array: one more double per knot of
+// the larger envelope (at most N / 2 more doubles). Tested by heap
 // accounting in tests/algorithms/emd/emd_memory_test.cpp. Nothing of size N is allocated inside
 // the sift loop; knot arrays grow (exactly, +1/32) only when a sift has more extrema than any
 // before.
@@ -30,6 +32,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -52,6 +55,12 @@ struct EmdOptions : StopCriteria {
   /// pass through the interior extrema only and their end pieces are extrapolated to the ends
   /// (Huang 1998 without end treatment: larger end swings).
   bool mirror_ends = true;
+  /// Runs body(i) for i in [0, n), possibly concurrently; empty (default): everything serially.
+  /// The pipeline passes a tbb::parallel_for: each sift then solves the two envelope splines at
+  /// once and subtracts the envelope mean in parts of at least 65536 samples
+  /// (envelope.h SubtractEnvelopeMeanInParts). The IMFs are bit-identical either way (tested);
+  /// with the Cauchy rule the subtraction stays serial (its sums would round differently).
+  std::function<void(int n, const std::function<void(int)>& body)> for_each;
 
   bool IsValid(std::string* error) const;
 };

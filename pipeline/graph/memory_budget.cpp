@@ -48,6 +48,16 @@ std::uint64_t BytesPerAxis(std::uint64_t num_samples, int max_imfs) {
   return (expected_imfs + 8) * std::max<std::uint64_t>(num_samples, 1) * 8;
 }
 
+std::uint64_t FixedBytes(int threads) {
+  constexpr std::uint64_t kMiB = 1ull << 20;
+  return 32 * kMiB + 2 * kMiB * static_cast<std::uint64_t>(std::max(1, threads));
+}
+
+std::uint64_t BytesForRecordings(std::uint64_t budget_bytes, int threads) {
+  const std::uint64_t fixed = FixedBytes(threads);
+  return budget_bytes > fixed ? budget_bytes - fixed : 0;
+}
+
 int AxesInFlight(std::uint64_t budget_bytes, std::uint64_t bytes_per_axis) {
   const std::uint64_t n = budget_bytes / std::max<std::uint64_t>(bytes_per_axis, 1);
   return static_cast<int>(std::clamp<std::uint64_t>(n, 1, 1 << 20));

@@ -8,24 +8,26 @@
 #include "algorithms/common/units.h"
 #include "pipeline/hdf5/atomic_output_file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/column_datasets.h"
 #include "pipeline/io/results_layout.h"
 
 namespace fogpipe::io {
 namespace {
 
-using hdf5::DatasetOptions;
 using hdf5::Group;
 using method::ComponentModel;
 using method::MethodResult;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-DatasetOptions Storage(ImfStorage storage, int deflate_level) {
-  DatasetOptions options;
-  options.storage =
+/// How the large N-sample datasets are stored (column_datasets.h).
+ColumnStorage Columns(ImfStorage storage, const ResultsOptions& options) {
+  ColumnStorage columns;
+  columns.type =
       storage == ImfStorage::kFloat32 ? hdf5::StorageType::kFloat32 : hdf5::StorageType::kFloat64;
-  options.deflate_level = deflate_level;
-  options.shuffle = true;
-  return options;
+  columns.deflate_level = options.deflate_level;
+  columns.run_length = options.run_length_deflate;
+  columns.chunk_rows = options.chunk_rows;
+  return columns;
 }
 
 void WriteScalar(Group& group, const std::string& name, double value, const std::string& units) {
@@ -34,25 +36,6 @@ void WriteScalar(Group& group, const std::string& name, double value, const std:
 
 void WriteCount(Group& group, const std::string& name, long long value, const std::string& units) {
   group.WriteDataset(name, std::vector<long long>{value}, units);
-}
-
-/// Columns [N, columns.size()] written block by block, so that no N x K copy is ever made.
-void WriteColumns(Group& group, const std::string& name,
-                  const std::vector<const Eigen::VectorXd*>& columns, const std::string& units,
-                  const DatasetOptions& options) {
-  const hsize_t n = columns.empty() ? 0 : static_cast<hsize_t>(columns[0]->size());
-  const hsize_t k = columns.size();
-  hdf5::Dataset dataset = group.CreateDataset(name, {n, k}, units, options);
-  const hsize_t block = 1 << 14;
-  std::vector<double> buffer;
-  for (hsize_t row0 = 0; row0 < n; row0 += block) {
-    const hsize_t rows = std::min(block, n - row0);
-    buffer.resize(rows * k);
-    for (hsize_t r = 0; r < rows; ++r) {
-      for (hsize_t c = 0; c < k; ++c) buffer[r * k + c] = (*columns[c])[row0 + r];
-    }
-    dataset.WriteRows(row0, rows, buffer.data());
-  }
 }
 
 /// A [rows, width] matrix of per-component vectors, NaN-padded on the right.
@@ -193,12 +176,12 @@ void WriteAxis(Group axes, const AxisResults& axis, const ResultsOptions& option
   d.WriteStringAttribute("storage", ToString(options.imf_storage));
   d.WriteInt64Attribute("num_imfs", num_imfs);
   d.WriteStringAttribute("termination", ToString(e.summary.termination));
-  const DatasetOptions big = Storage(options.imf_storage, options.deflate_level);
+  const ColumnStorage big = Columns(options.imf_storage, options);
   if (options.imf_storage != ImfStorage::kNone) {
     std::vector<const Eigen::VectorXd*> columns;
     for (const auto& imf : e.imfs) columns.push_back(&imf);
-    WriteColumns(d, "imfs", columns, results::kRateUnits, big);
-    d.WriteDataset("residue", e.residue, results::kRateUnits, big);
+    WriteColumnDataset(d, "imfs", columns, true, results::kRateUnits, big);
+    WriteColumnDataset(d, "residue", {&e.residue}, false, results::kRateUnits, big);
   }
   std::vector<long long> sifts;
   std::vector<std::string> stop_reason;
@@ -226,13 +209,13 @@ void WriteAxis(Group axes, const AxisResults& axis, const ResultsOptions& option
   if (options.store_filtered_imfs && options.imf_storage != ImfStorage::kNone) {
     std::vector<const Eigen::VectorXd*> columns;
     for (const ComponentModel* c : components) columns.push_back(&c->Output());
-    WriteColumns(kalman, "filtered", columns, results::kRateUnits, big);
+    WriteColumnDataset(kalman, "filtered", columns, true, results::kRateUnits, big);
   }
 
   Group s = g.CreateGroup("signals");
-  s.WriteDataset("method1", r.method1, results::kRateUnits, Storage(ImfStorage::kFloat64, 4));
-  s.WriteDataset("method2", r.direct.Output(), results::kRateUnits,
-                 Storage(ImfStorage::kFloat64, options.deflate_level));
+  const ColumnStorage exact = Columns(ImfStorage::kFloat64, options);
+  WriteColumnDataset(s, "method1", {&r.method1}, false, results::kRateUnits, exact);
+  WriteColumnDataset(s, "method2", {&r.direct.Output()}, false, results::kRateUnits, exact);
   WriteModelTable(s.CreateGroup("method2_model"), {"raw"}, {&r.direct});
   WriteKalmanTable(s.CreateGroup("method2_kalman"), {"raw"}, {&r.direct});
 

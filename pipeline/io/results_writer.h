@@ -22,8 +22,13 @@ struct ResultsOptions {
   ImfStorage imf_storage = ImfStorage::kFloat64;
   /// Also store each component's Kalman output ([N, K+1], same storage as the IMFs).
   bool store_filtered_imfs = false;
-  /// zlib level of chunked datasets (shuffle is always on).
-  int deflate_level = 4;
+  /// The large N-sample datasets (IMFs, residue, filtered components, method 1 and 2) are chunked
+  /// one column per chunk of `chunk_rows` rows, byte-shuffled and deflated at `deflate_level`
+  /// (0: uncompressed) with zlib's run-length strategy when `run_length_deflate`, the chunks
+  /// compressed in parallel (column_datasets.h). Lossless whatever these are.
+  int deflate_level = 1;
+  bool run_length_deflate = true;
+  unsigned long long chunk_rows = 65536;
 };
 
 /// Where the numbers came from. Stored in /provenance.

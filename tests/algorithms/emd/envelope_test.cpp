@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <functional>
+#include <stdexcept>
 #include <vector>
 
 #include "algorithms/emd/cubic_spline.h"
@@ -94,6 +97,64 @@ TEST(Envelope, CountsRillingExceedancesOfMeanOverAmplitude) {
                                                     SiftStatisticsKind::kRilling, theta1, theta2);
   EXPECT_EQ(stats.num_over_theta1, over1);
   EXPECT_EQ(stats.num_over_theta2, over2);
+}
+
+// Knots and moments of the envelopes of white noise (dense knots, mirrored ends).
+struct NoiseEnvelopes {
+  explicit NoiseEnvelopes(const std::vector<double>& x) {
+    const int n = static_cast<int>(x.size());
+    upper.Reserve(n);
+    lower.Reserve(n);
+    FindExtrema(x.data(), n, &upper, &lower);
+    MirrorEnds(x.data(), n, &upper, &lower);
+    std::vector<double> work(n + 4);
+    SolveMoments(upper, SplineKind::kNotAKnot, upper.moments(), work.data());
+    SolveMoments(lower, SplineKind::kNotAKnot, lower.moments(), work.data());
+  }
+  EnvelopeKnots upper, lower;
+};
+
+// Runs the bodies last to first: a schedule unlike the serial one, so that a part that read a
+// knot its left neighbour already overwrote would show.
+void BackwardForEach(int n, const std::function<void(int)>& body) {
+  for (int i = n - 1; i >= 0; --i) body(i);
+}
+
+TEST(Envelope, PassInPartsIsBitIdenticalToTheSerialPassWhateverThePartsAndTheOrder) {
+  const int n = 10007;
+  std::vector<double> x(n);
+  uint64_t state = 12345;
+  for (double& v : x) {  // xorshift noise: a knot every 1.5 samples on average
+    state ^= state << 13, state ^= state >> 7, state ^= state << 17;
+    v = static_cast<double>(state >> 11) * 0x1.0p-53 - 0.5;
+  }
+  for (SiftStatisticsKind kind : {SiftStatisticsKind::kNone, SiftStatisticsKind::kRilling}) {
+    std::vector<double> serial = x;
+    NoiseEnvelopes se(serial);
+    se.upper.RebindSignal(serial.data());
+    se.lower.RebindSignal(serial.data());
+    const SiftStatistics a =
+        SubtractEnvelopeMean(serial.data(), n, se.upper, se.lower, kind, 0.05, 0.5);
+    for (int parts : {1, 2, 3, 7, 64}) {
+      std::vector<double> h = x;
+      NoiseEnvelopes pe(h);
+      pe.upper.RebindSignal(h.data());
+      pe.lower.RebindSignal(h.data());
+      const SiftStatistics b = SubtractEnvelopeMeanInParts(h.data(), n, pe.upper, pe.lower, kind,
+                                                           0.05, 0.5, parts, BackwardForEach);
+      EXPECT_EQ(h, serial) << "parts " << parts;
+      EXPECT_EQ(a.num_over_theta1, b.num_over_theta1) << "parts " << parts;
+      EXPECT_EQ(a.num_over_theta2, b.num_over_theta2) << "parts " << parts;
+    }
+  }
+}
+
+TEST(Envelope, PassInPartsRefusesTheCauchySums) {
+  std::vector<double> x = Zigzag(200);
+  Envelopes e(x);
+  EXPECT_THROW(SubtractEnvelopeMeanInParts(x.data(), 200, e.upper, e.lower,
+                                           SiftStatisticsKind::kCauchy, 0, 0, 2, BackwardForEach),
+               std::invalid_argument);
 }
 
 }  // namespace

@@ -1,0 +1,200 @@
+#include "pipeline/io/column_datasets.h"
+
+#include <H5Dpublic.h>
+#include <oneapi/tbb/parallel_pipeline.h>
+#include <oneapi/tbb/task_arena.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+
+namespace fogpipe::io {
+namespace {
+
+std::size_t ElementBytes(hdf5::StorageType type) {
+  return type == hdf5::StorageType::kFloat32 ? 4 : 8;
+}
+
+// Closes an HDF5 identifier on scope exit.
+struct IdCloser {
+  hid_t id;
+  herr_t (*close)(hid_t);
+  ~IdCloser() {
+    if (id >= 0) close(id);
+  }
+};
+
+hid_t Checked(hid_t status, const hdf5::Group& group, const std::string& name,
+              const std::string& operation) {
+  if (status < 0) {
+    throw hdf5::Error(group.file_path(), group.path() + "/" + name, operation, "",
+                      hdf5::CurrentErrorStack());
+  }
+  return status;
+}
+
+// A zlib stream (RFC 1950) of `in`, which HDF5's deflate filter decodes with inflate().
+void Deflate(const unsigned char* in, std::size_t bytes, int level, bool run_length,
+             std::vector<unsigned char>* out) {
+  z_stream stream{};
+  if (deflateInit2(&stream, level, Z_DEFLATED, 15, 8, run_length ? Z_RLE : Z_DEFAULT_STRATEGY) !=
+      Z_OK) {
+    throw std::runtime_error("zlib deflateInit2 failed");
+  }
+  out->resize(deflateBound(&stream, static_cast<uLong>(bytes)));
+  stream.next_in = const_cast<unsigned char*>(in);
+  stream.avail_in = static_cast<uInt>(bytes);
+  stream.next_out = out->data();
+  stream.avail_out = static_cast<uInt>(out->size());
+  const int status = deflate(&stream, Z_FINISH);
+  const std::size_t written = out->size() - stream.avail_out;
+  deflateEnd(&stream);
+  if (status != Z_STREAM_END) throw std::runtime_error("zlib deflate did not finish a chunk");
+  out->resize(written);
+}
+
+}  // namespace
+
+bool ColumnStorage::IsValid(std::string* error) const {
+  auto fail = [error](const char* what) {
+    if (error) *error = what;
+    return false;
+  };
+  if (type != hdf5::StorageType::kFloat64 && type != hdf5::StorageType::kFloat32) {
+    return fail("column storage must be float64 or float32");
+  }
+  if (chunk_rows < 1) return fail("chunk_rows must be >= 1");
+  // One chunk must fit zlib's 32-bit lengths and HDF5's 4 GiB chunk limit.
+  if (chunk_rows > (1ull << 26)) return fail("chunk_rows must be <= 2^26");
+  if (deflate_level < 0 || deflate_level > 9) return fail("deflate_level must be in 0..9");
+  return true;
+}
+
+void ShuffleBytes(const unsigned char* in, std::size_t elements, std::size_t element_size,
+                  unsigned char* out) {
+  for (std::size_t i = 0; i < elements; ++i) {
+    const unsigned char* element = in + i * element_size;
+    for (std::size_t b = 0; b < element_size; ++b) out[b * elements + i] = element[b];
+  }
+}
+
+std::vector<unsigned char> EncodeChunk(const double* values, std::size_t rows,
+                                       const ColumnStorage& storage) {
+  const std::size_t element = ElementBytes(storage.type);
+  const std::size_t chunk = storage.chunk_rows;
+  std::vector<unsigned char> raw(chunk * element, 0);  // zero padding past `rows`
+  if (storage.type == hdf5::StorageType::kFloat32) {
+    for (std::size_t i = 0; i < rows; ++i) {
+      const float v = static_cast<float>(values[i]);
+      std::memcpy(raw.data() + i * 4, &v, 4);
+    }
+  } else {
+    std::memcpy(raw.data(), values, rows * 8);
+  }
+  if (storage.deflate_level == 0) return raw;
+  std::vector<unsigned char> shuffled(raw.size());
+  ShuffleBytes(raw.data(), chunk, element, shuffled.data());
+  std::vector<unsigned char> out;
+  Deflate(shuffled.data(), shuffled.size(), storage.deflate_level, storage.run_length, &out);
+  return out;
+}
+
+void WriteColumnDataset(hdf5::Group& group, const std::string& name,
+                        const std::vector<const Eigen::VectorXd*>& columns, bool matrix,
+                        const std::string& units, const ColumnStorage& storage) {
+  std::string error;
+  if (!storage.IsValid(&error)) throw std::invalid_argument("fogpipe::io: " + error);
+  if (columns.empty() || (!matrix && columns.size() != 1)) {
+    throw std::invalid_argument("fogpipe::io: " + name + ": a vector dataset needs one column");
+  }
+  const hsize_t n = static_cast<hsize_t>(columns[0]->size());
+  const hsize_t k = columns.size();
+  for (const Eigen::VectorXd* c : columns) {
+    if (static_cast<hsize_t>(c->size()) != n) {
+      throw std::invalid_argument("fogpipe::io: " + name + ": columns of different lengths");
+    }
+  }
+  const std::vector<hsize_t> dims = matrix ? std::vector<hsize_t>{n, k} : std::vector<hsize_t>{n};
+
+  if (n < storage.min_chunked_rows) {  // small: contiguous, one plain write
+    hdf5::DatasetOptions plain;
+    plain.storage = storage.type;
+    plain.deflate_level = 0;
+    plain.min_chunked_elements = ~hsize_t{0};
+    std::vector<double> data(n * k);
+    for (hsize_t r = 0; r < n; ++r)
+      for (hsize_t c = 0; c < k; ++c) data[r * k + c] = (*columns[c])[r];
+    group.WriteDataset(name, data.data(), dims, units, plain);
+    return;
+  }
+
+  ColumnStorage effective = storage;
+  effective.chunk_rows = std::min<unsigned long long>(storage.chunk_rows, n);
+  const hsize_t chunk_rows = effective.chunk_rows;
+  {
+    const std::string operation = "create dataset";
+    IdCloser space{Checked(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
+                           group, name, operation),
+                   H5Sclose};
+    IdCloser dcpl{Checked(H5Pcreate(H5P_DATASET_CREATE), group, name, operation), H5Pclose};
+    const std::vector<hsize_t> chunk =
+        matrix ? std::vector<hsize_t>{chunk_rows, 1} : std::vector<hsize_t>{chunk_rows};
+    Checked(H5Pset_chunk(dcpl.id, static_cast<int>(chunk.size()), chunk.data()), group, name,
+            operation);
+    if (effective.deflate_level > 0) {
+      Checked(H5Pset_shuffle(dcpl.id), group, name, operation);
+      Checked(H5Pset_deflate(dcpl.id, static_cast<unsigned>(effective.deflate_level)), group, name,
+              operation);
+    }
+    const hid_t file_type =
+        effective.type == hdf5::StorageType::kFloat32 ? H5T_IEEE_F32LE : H5T_IEEE_F64LE;
+    IdCloser dataset{Checked(H5Dcreate2(group.id(), name.c_str(), file_type, space.id, H5P_DEFAULT,
+                                        dcpl.id, H5P_DEFAULT),
+                             group, name, operation),
+                     H5Dclose};
+  }
+  hdf5::Dataset dataset = group.OpenDataset(name);
+  dataset.WriteStringAttribute("units", units);
+
+  // Chunks in file order: column 0 top to bottom, then column 1, ... A pipeline of at most
+  // 2 x threads chunks in flight (bounded memory: ~1.5 chunk sizes each): encoded in parallel,
+  // written one at a time in order while the next ones are being encoded. The write may run on
+  // a TBB worker thread: it is an HDF5 C API call (thread-safe in Debian's build), serialized by
+  // the serial_in_order filter, while this thread holds the fogpipe HDF5 lock for all of it.
+  const hsize_t per_column = (n + chunk_rows - 1) / chunk_rows;
+  const hsize_t total = per_column * k;
+  const std::size_t tokens =
+      2 * static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  const hid_t dataset_id = dataset.id();
+  struct Encoded {
+    hsize_t index = 0;
+    std::vector<unsigned char> bytes;
+  };
+  hsize_t next = 0;
+  tbb::parallel_pipeline(
+      tokens, tbb::make_filter<void, hsize_t>(tbb::filter_mode::serial_in_order,
+                                              [&](tbb::flow_control& control) -> hsize_t {
+                                                if (next == total) control.stop();
+                                                return next < total ? next++ : 0;
+                                              }) &
+                  tbb::make_filter<hsize_t, Encoded>(
+                      tbb::filter_mode::parallel,
+                      [&](hsize_t i) {
+                        const hsize_t c = i / per_column, row0 = i % per_column * chunk_rows;
+                        return Encoded{i, EncodeChunk(columns[c]->data() + row0,
+                                                      std::min(chunk_rows, n - row0), effective)};
+                      }) &
+                  tbb::make_filter<Encoded, void>(
+                      tbb::filter_mode::serial_in_order, [&](const Encoded& chunk) {
+                        H5Eset_auto2(H5E_DEFAULT, nullptr,
+                                     nullptr);  // errors are thrown, not printed
+                        const hsize_t row0 = chunk.index % per_column * chunk_rows;
+                        const hsize_t offset[2] = {row0, chunk.index / per_column};
+                        Checked(H5Dwrite_chunk(dataset_id, H5P_DEFAULT, 0, offset,
+                                               chunk.bytes.size(), chunk.bytes.data()),
+                                group, name, "write chunk at row " + std::to_string(row0));
+                      }));
+}
+
+}  // namespace fogpipe::io
