@@ -1,10 +1,27 @@
 #include "pipeline/graph/memory_budget.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 
 namespace fogpipe::graph {
+
+std::uint64_t AutoMemoryBudgetBytes() {
+  if (const char* slurm = std::getenv("SLURM_MEM_PER_NODE")) {
+    char* end = nullptr;
+    const double mib = std::strtod(slurm, &end);
+    if (end != slurm && mib > 0.0) return static_cast<std::uint64_t>(0.8 * mib * 1048576.0);
+  }
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long page_size = sysconf(_SC_PAGE_SIZE);
+  if (pages > 0 && page_size > 0) {
+    return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page_size) / 2;
+  }
+  return std::uint64_t{2} << 30;
+}
 
 std::optional<std::uint64_t> ParseByteSize(const std::string& text) {
   std::size_t used = 0;

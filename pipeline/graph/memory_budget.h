@@ -11,6 +11,12 @@ namespace fogpipe::graph {
 /// T=2^40; an optional trailing "B" or "iB" is accepted). nullopt for anything else or <= 0.
 std::optional<std::uint64_t> ParseByteSize(const std::string& text);
 
+/// The budget `--memory-budget auto` (the default) stands for: 80 % of SLURM_MEM_PER_NODE (MiB)
+/// when Slurm set it (a job's --mem), else half of the physical memory (sysconf), else 2 GiB.
+/// A fixed default would refuse long recordings on big machines (a 24 h record at 100 Hz needs
+/// about 4 GiB) or overrun small ones.
+std::uint64_t AutoMemoryBudgetBytes();
+
 /// Bytes one axis of `num_samples` samples needs while it is analysed: the raw and preprocessed
 /// signals, every IMF and the residue, their filtered versions, the method-1 and method-2 outputs
 /// and work space. Estimated as (expected_imfs + 8) x N x 8 bytes with expected_imfs =

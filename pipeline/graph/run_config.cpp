@@ -101,7 +101,8 @@ void AddRunOptions(CLI::App* cmd, RunConfig* c) {
                   "Worker threads (0: SLURM_CPUS_PER_TASK if set, else all cores)")
       ->check(CLI::Range(0, 4096));
   cmd->add_option("--memory-budget", c->memory_budget,
-                  "Memory for recordings in flight, e.g. 512M, 2G (bounds concurrent files)");
+                  "Memory for recordings in flight, e.g. 512M, 8G, or auto (default: 80 % of "
+                  "SLURM_MEM_PER_NODE, else half the physical memory)");
   cmd->add_flag("--dry-run", c->dry_run, "List what would be done; write nothing");
   cmd->add_flag("--force", c->force, "Redo files whose results exist with the same configuration");
   cmd->add_option("--drop-start-s", c->drop_start_s, "Seconds dropped at the start (transient)")
@@ -239,9 +240,12 @@ bool ToCampaignOptions(const RunConfig& c, CampaignOptions* o, std::string* erro
   }
   o->results.store_filtered_imfs = c.store_filtered_imfs;
   o->read.max_nan_gap_samples = c.max_nan_gap;
-  const auto budget = ParseByteSize(c.memory_budget);
+  const auto budget = c.memory_budget == "auto"
+                          ? std::optional<std::uint64_t>(AutoMemoryBudgetBytes())
+                          : ParseByteSize(c.memory_budget);
   if (!budget) {
-    *error = "--memory-budget: expected a size such as 512M or 2G, got '" + c.memory_budget + "'";
+    *error = "--memory-budget: expected auto or a size such as 512M or 2G, got '" +
+             c.memory_budget + "'";
     return false;
   }
   o->memory_budget_bytes = *budget;

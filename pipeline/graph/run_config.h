@@ -23,7 +23,7 @@ struct RunConfig {
   std::string output_dir;
   std::string config_file;
   int threads = 0;  ///< 0: SLURM_CPUS_PER_TASK if set, else the hardware's
-  std::string memory_budget = "2G";
+  std::string memory_budget = "auto";
   bool dry_run = false;
   bool force = false;
   // Method (these enter the configuration hash).

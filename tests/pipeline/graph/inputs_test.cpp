@@ -2,7 +2,9 @@
 #include "pipeline/graph/inputs.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -95,6 +97,18 @@ TEST(MemoryBudget, ParsesBinaryMultiplesAndRejectsNonsense) {
   EXPECT_FALSE(ParseByteSize("12X"));
   EXPECT_FALSE(ParseByteSize("-1G"));
   EXPECT_FALSE(ParseByteSize("G"));
+}
+
+TEST(MemoryBudget, AutoIsEightyPercentOfASlurmJobsMemoryElseHalfThePhysicalMemory) {
+  const char* saved = std::getenv("SLURM_MEM_PER_NODE");
+  const std::string restore = saved ? saved : "";
+  setenv("SLURM_MEM_PER_NODE", "1000", 1);
+  EXPECT_EQ(AutoMemoryBudgetBytes(), static_cast<std::uint64_t>(0.8 * 1000 * 1048576.0));
+  unsetenv("SLURM_MEM_PER_NODE");
+  const std::uint64_t physical = static_cast<std::uint64_t>(sysconf(_SC_PHYS_PAGES)) *
+                                 static_cast<std::uint64_t>(sysconf(_SC_PAGE_SIZE));
+  EXPECT_EQ(AutoMemoryBudgetBytes(), physical / 2);
+  if (saved) setenv("SLURM_MEM_PER_NODE", restore.c_str(), 1);
 }
 
 TEST(MemoryBudget, AllowsAtLeastOneAxisAndFloorOfBudgetOverEstimate) {
