@@ -1,6 +1,5 @@
 #include "algorithms/kalman/ar_kalman.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -42,18 +41,6 @@ double GainDistance(const Eigen::VectorXd& g, const Eigen::VectorXd& g_inf) {
   const double scale = g_inf.cwiseAbs().maxCoeff();
   const double diff = (g - g_inf).cwiseAbs().maxCoeff();
   return scale > 0.0 ? diff / scale : diff;
-}
-
-// Spectral radius of the closed loop A (I - G H) for a constant gain G.
-double ClosedLoopRadius(const Eigen::VectorXd& phi, const Eigen::VectorXd& g) {
-  const Eigen::Index p = phi.size();
-  const Eigen::MatrixXd a = CompanionMatrix(phi);
-  Eigen::MatrixXd closed_loop = a;
-  closed_loop -= (a * g) * Eigen::RowVectorXd::Unit(p, 0);
-  return Eigen::EigenSolver<Eigen::MatrixXd>(closed_loop, false)
-      .eigenvalues()
-      .cwiseAbs()
-      .maxCoeff();
 }
 
 }  // namespace
@@ -226,7 +213,7 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
         // No steady-state gain to switch to: keep this gain if it stabilizes the loop (the
         // time-varying gain of a decreasing Riccati iterate does; Bitmead, Gevers & Wertz 1985,
         // the "fake algebraic Riccati equation"), else stay time-varying to the end.
-        if (ClosedLoopRadius(phi, g) < 1.0) {
+        if (IsStableLoop(phi, g)) {
           constant_gain = g;
           constant_innovation_variance = innovation_var;
           s.gain_switch = GainSwitch::kFrozen;
