@@ -58,6 +58,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "algorithms/common/status.h"
 #include "algorithms/kalman/riccati.h"
@@ -179,5 +180,17 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
                         double innovation_variance, double white_noise_variance,
                         const ArKalmanOptions& options = ArKalmanOptions(),
                         Eigen::VectorXd* reuse = nullptr);
+
+/// The same AR model filtered under several option sets (the q/R settings of a sweep), output i
+/// added to sums[i][0..n) (plus its smoothed series instead when options[i].smooth). Option sets
+/// that start in steady state run side by side in one pass over z (AddSteadyStateFilters,
+/// steady_state_filter.h), the others through FilterAr's path; output i equals
+/// FilterAr(z, phi, ..., options[i]).filtered up to rounding. Returns the summaries; a sum whose
+/// summary has no result is left untouched.
+std::vector<ArKalmanSummary> FilterArAndAdd(const Eigen::Ref<const Eigen::VectorXd>& z,
+                                            const Eigen::VectorXd& phi, double innovation_variance,
+                                            double white_noise_variance,
+                                            const std::vector<ArKalmanOptions>& options,
+                                            const std::vector<double*>& sums);
 
 }  // namespace fogpipe::kalman

@@ -481,5 +481,40 @@ TEST(FilterAr, NamesOfStartsAndSwitchesAreStable) {
   EXPECT_FALSE(o.IsValid(&error));
 }
 
+// The sweep's batch entry: several option sets on one model, outputs added to sums. Each sum must
+// equal FilterAr's output for the same options (steady-state lanes run side by side, 4 at a time,
+// the rest through FilterAr's own path); the same arithmetic per lane, so equal up to a few ulps of
+// the signal (the side-by-side loop may contract multiply-adds differently): 1e-13 relative.
+TEST(FilterArAndAdd, EachSumEqualsFilterArForItsOptions) {
+  const auto models = PaperTable2Models();
+  // Orders 1 and 4 (fixed kernels up to 8), 11 (the sweep's 9..12 kernels) and 40 (one lane at a
+  // time above the side-by-side limit); 11 and 40 are imf3's model padded with zeros.
+  Eigen::VectorXd padded11 = Eigen::VectorXd::Zero(11), padded40 = Eigen::VectorXd::Zero(40);
+  padded11.head(4) = models[2].phi;
+  padded40.head(4) = models[2].phi;
+  for (const Eigen::VectorXd& model : {Phi({0.9}), models[1].phi, padded11, padded40}) {
+    const testing::ArSimulation sim = SimulateArPlusNoise(model, 0.1, 1.0, 5000, 111);
+    std::vector<ArKalmanOptions> options;
+    for (double q : {0.01, 0.1, 1.0})
+      for (double r : {0.5, 1.0, 2.0}) options.push_back(Explicit(q, r));
+    options.push_back(PaperStart(0.1, 1.0));  // through FilterAr's time-varying path
+    options.back().mean = 0.25;
+    std::vector<Eigen::VectorXd> sums(options.size(), Eigen::VectorXd::Constant(5000, 1.0));
+    std::vector<double*> pointers;
+    for (auto& v : sums) pointers.push_back(v.data());
+    const std::vector<ArKalmanSummary> summaries =
+        FilterArAndAdd(sim.z, model, -1, -1, options, pointers);
+    ASSERT_EQ(summaries.size(), options.size());
+    for (std::size_t i = 0; i < options.size(); ++i) {
+      const ArKalmanResult single = FilterAr(sim.z, model, -1, -1, options[i]);
+      ASSERT_EQ(summaries[i].termination, Termination::kSuccess) << summaries[i].message;
+      EXPECT_EQ(summaries[i].gain_switch, single.summary.gain_switch);
+      const double scale = single.filtered.cwiseAbs().maxCoeff();
+      EXPECT_LE((sums[i].array() - 1.0 - single.filtered.array()).abs().maxCoeff(), 1e-13 * scale)
+          << "p = " << model.size() << " option set " << i;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace fogpipe::kalman
