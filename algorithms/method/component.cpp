@@ -31,8 +31,18 @@ ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_varia
   if (!HasResult(out.fit.summary.termination)) return out;
   kalman::ArKalmanOptions kalman_options = options.kalman;
   kalman_options.mean = out.fit.model.mean;
-  out.kalman = kalman::FilterAr(x, out.fit.model.phi, out.fit.model.innovation_variance,
-                                white_noise_variance, kalman_options);
+  const double sigma_e2 = out.fit.model.innovation_variance;
+  const double variance = (x.array() - x.mean()).square().mean();
+  const FilterNoise noise =
+      ComponentFilterNoise(options.noise_rule, white_noise_variance, variance, sigma_e2);
+  if (kalman_options.q < 0.0 && kalman_options.r < 0.0) {
+    kalman_options.q = noise.q;
+    // Pure noise (white_noise.h, step 3): start at the steady state P = 0, output the mean.
+    if (noise.pure_noise && kalman_options.initial_variance < 0.0) {
+      kalman_options.initial_variance = 0.0;
+    }
+  }
+  out.kalman = kalman::FilterAr(x, out.fit.model.phi, sigma_e2, noise.r, kalman_options);
   return out;
 }
 

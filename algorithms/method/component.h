@@ -7,14 +7,18 @@
 
 #include "algorithms/ar/fit_ar.h"
 #include "algorithms/kalman/ar_kalman.h"
+#include "algorithms/method/white_noise.h"
 
 namespace fogpipe::method {
 
 struct ComponentOptions {
   /// Order by BIC up to max_order, or fixed_order > 0 (ArOptions documents the estimator).
   ar::ArOptions ar;
-  /// q, R, their scales, the steady-state switch and the optional RTS smoother.
+  /// q, R, their scales, the steady-state switch and the optional RTS smoother. Explicit q or R
+  /// (>= 0) override the rule below.
   kalman::ArKalmanOptions kalman;
+  /// How q and R follow from the component's white-noise share (white_noise.h).
+  ComponentNoiseRule noise_rule = ComponentNoiseRule::kShareOfInnovation;
 };
 
 struct ComponentModel {
@@ -23,7 +27,8 @@ struct ComponentModel {
   ar::ArFit fit;
   /// The Kalman filter on that model: q and R used, steady-state gain, filtered series.
   kalman::ArKalmanResult kalman;
-  /// The white-noise variance handed to the filter (white_noise.h), units of x^2.
+  /// The component's share of the white-noise variance (white_noise.h), units of x^2; the R
+  /// actually used is kalman.r.
   double white_noise_variance = 0.0;
   /// The filter output used downstream: RTS-smoothed when kalman.smooth, filtered otherwise.
   const Eigen::VectorXd& Output() const {
@@ -35,7 +40,8 @@ struct ComponentModel {
   std::string message() const;
 };
 
-/// Fits the AR model to `x` and runs the Kalman filter on it with R from `white_noise_variance`.
+/// Fits the AR model to `x` and runs the Kalman filter on it, q and R from `white_noise_variance`
+/// (the component's white share, units of x^2) by options.noise_rule unless given explicitly.
 ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_variance,
                               const ComponentOptions& options);
 

@@ -70,6 +70,8 @@ void ModelComponents(const MethodOptions& options, const ForEach& for_each, Meth
   result->components.assign(num_imfs + 1, ComponentModel());
   ComponentOptions direct_options = options.component;
   direct_options.ar.fixed_order = options.direct_ar_order;
+  // The raw signal's white noise is white: innovation matching is the consistent rule there.
+  direct_options.noise_rule = ComponentNoiseRule::kInnovationMatch;
   for_each(num_imfs + 2, [&](int k) {
     if (k < num_imfs) {
       result->components[k] = ModelComponent(emd_result.imfs[k], r[k], options.component);

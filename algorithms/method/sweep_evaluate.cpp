@@ -27,7 +27,8 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 struct ComponentModels {
   const Eigen::VectorXd* signal = nullptr;
   bool constant = false;            ///< passed through unfiltered (see ModelComponent)
-  double white_noise = 0.0;         ///< R before scaling (white_noise.h)
+  double white_noise = 0.0;         ///< white-noise share (white_noise.h), x^2
+  double variance = 0.0;            ///< the component's variance, x^2
   std::vector<ar::ArModel> models;  ///< models[p - 1]; fewer when the recursion stopped early
   std::vector<double> fit_one_step, fit_simulation;  ///< per order, %
 };
@@ -80,6 +81,7 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
   }
   const std::vector<double> r =
       ShareWhiteNoise(WhiteNoiseVariance(signal), emd_result, signal.size());
+  const std::vector<double> variances = ComponentVariances(emd_result);
 
   // One Burg recursion per component up to the largest order; fit % per order.
   start = std::chrono::steady_clock::now();
@@ -88,6 +90,7 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
     ComponentModels& m = components[k];
     const Eigen::VectorXd& c = *m.signal;
     m.white_noise = r[k];
+    m.variance = variances[k];
     m.constant = c.size() > 0 && (c.array() == c[0]).all();
     if (m.constant) return;
     const double mean = c.mean();
@@ -151,8 +154,17 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
         o.q_scale = setting.default_rule ? 1.0 : setting.q_scale;
         o.r_scale = setting.default_rule ? 1.0 : setting.r_scale;
         o.mean = model.mean;
-        // Grid settings: q referred to sigma_e^2 (sweep_grid.h); default rule: q < 0.
-        o.q = setting.default_rule ? -1.0 : model.innovation_variance;
+        // Grid settings: q referred to sigma_e^2, R to the white share (sweep_grid.h); the
+        // default rule: exactly ModelComponent()'s (white_noise.h).
+        FilterNoise noise{model.innovation_variance, m.white_noise};
+        if (setting.default_rule) {
+          noise = ComponentFilterNoise(options.method.component.noise_rule, m.white_noise,
+                                       m.variance, model.innovation_variance);
+        }
+        o.q = noise.q;
+        if (o.r < 0.0) o.r = noise.r;
+        o.initial_variance =
+            noise.pure_noise ? 0.0 : options.method.component.kalman.initial_variance;
         out.points[begin + j].fit_one_step_percent.push_back(m.fit_one_step[used - 1]);
         out.points[begin + j].fit_simulation_percent.push_back(m.fit_simulation[used - 1]);
       }

@@ -44,17 +44,63 @@ std::vector<double> ShareWhiteNoise(double white_noise_variance,
   return r;
 }
 
+std::vector<double> ComponentVariances(const emd::EmdResult& decomposition) {
+  const int num_imfs = static_cast<int>(decomposition.imfs.size());
+  std::vector<double> variances(num_imfs + 1);
+  for (int k = 0; k <= num_imfs; ++k) {
+    const Eigen::VectorXd& c = k < num_imfs ? decomposition.imfs[k] : decomposition.residue;
+    variances[k] = c.size() > 0 ? (c.array() - c.mean()).square().mean() : 0.0;
+  }
+  return variances;
+}
+
 std::vector<double> ShareWhiteNoise(double white_noise_variance,
                                     const emd::EmdResult& decomposition, Eigen::Index num_samples) {
   const int num_imfs = static_cast<int>(decomposition.imfs.size());
-  std::vector<double> periods(num_imfs + 1), variances(num_imfs + 1);
+  std::vector<double> periods(num_imfs + 1);
   for (int k = 0; k <= num_imfs; ++k) {
-    const Eigen::VectorXd& c = k < num_imfs ? decomposition.imfs[k] : decomposition.residue;
     periods[k] = k < num_imfs ? decomposition.imf_info[k].mean_period_samples
                               : static_cast<double>(num_samples);
-    variances[k] = (c.array() - c.mean()).square().mean();
   }
-  return ShareWhiteNoise(white_noise_variance, periods, variances);
+  return ShareWhiteNoise(white_noise_variance, periods, ComponentVariances(decomposition));
+}
+
+const char* ToString(ComponentNoiseRule rule) {
+  switch (rule) {
+    case ComponentNoiseRule::kShareOfInnovation:
+      return "share";
+    case ComponentNoiseRule::kInnovationMatch:
+      return "innovation";
+  }
+  return "unknown";
+}
+
+bool ParseComponentNoiseRule(const std::string& text, ComponentNoiseRule* rule) {
+  for (ComponentNoiseRule r :
+       {ComponentNoiseRule::kShareOfInnovation, ComponentNoiseRule::kInnovationMatch}) {
+    if (text == ToString(r)) {
+      *rule = r;
+      return true;
+    }
+  }
+  return false;
+}
+
+FilterNoise ComponentFilterNoise(ComponentNoiseRule rule, double white_share, double variance,
+                                 double innovation_variance) {
+  FilterNoise out;
+  if (rule == ComponentNoiseRule::kInnovationMatch) {
+    out.r = white_share;
+    return out;
+  }
+  // The white fraction of the component (ShareWhiteNoise caps the share at the variance).
+  const double fraction = variance > 0.0 ? std::min(white_share / variance, 1.0) : 1.0;
+  out.r = fraction * innovation_variance;
+  if (fraction >= 1.0) {
+    out.q = 0.0;
+    out.pure_noise = true;
+  }
+  return out;
 }
 
 }  // namespace fogpipe::method

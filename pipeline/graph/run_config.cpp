@@ -97,6 +97,10 @@ void AddRunOptions(CLI::App* cmd, RunConfig* c) {
   cmd->add_option("--q", c->q, "Kalman process-noise variance, (rad/s)^2 (<0: default rule)");
   cmd->add_option("--r", c->r,
                   "Kalman measurement-noise variance, (rad/s)^2 (<0: white-noise rule)");
+  cmd->add_option("--noise-rule", c->noise_rule,
+                  "How each IMF's Kalman q and R follow from its white-noise share: share "
+                  "(default) or innovation (see schemas/results-v1.md)")
+      ->check(CLI::IsMember({"share", "innovation"}));
   cmd->add_option("--q-scale", c->q_scale, "Multiplier of q")->check(CLI::PositiveNumber);
   cmd->add_option("--r-scale", c->r_scale, "Multiplier of R")->check(CLI::PositiveNumber);
   cmd->add_flag("--smooth", c->smooth, "Use the RTS smoother output instead of the filter's");
@@ -147,6 +151,7 @@ std::string EffectiveConfigToml(const RunConfig& c) {
       << "max-imfs = " << c.max_imfs << "\n"
       << "q = " << Number(c.q) << "\n"
       << "r = " << Number(c.r) << "\n"
+      << "noise-rule = " << Quoted(c.noise_rule) << "\n"
       << "q-scale = " << Number(c.q_scale) << "\n"
       << "r-scale = " << Number(c.r_scale) << "\n"
       << "smooth = " << (c.smooth ? "true" : "false") << "\n"
@@ -185,6 +190,10 @@ bool ToCampaignOptions(const RunConfig& c, CampaignOptions* o, std::string* erro
   }
   m.component.kalman.q = c.q;
   m.component.kalman.r = c.r;
+  if (!method::ParseComponentNoiseRule(c.noise_rule, &m.component.noise_rule)) {
+    *error = "--noise-rule: expected share or innovation, got '" + c.noise_rule + "'";
+    return false;
+  }
   m.component.kalman.q_scale = c.q_scale;
   m.component.kalman.r_scale = c.r_scale;
   m.component.kalman.smooth = c.smooth;

@@ -37,6 +37,8 @@ struct RunConfig {
   int max_imfs = 0;
   double q = -1.0;
   double r = -1.0;
+  /// How each component's Kalman q and R follow from its white-noise share (white_noise.h).
+  std::string noise_rule = "share";
   double q_scale = 1.0;
   double r_scale = 1.0;
   bool smooth = false;

@@ -35,5 +35,35 @@ TEST(WhiteNoise, SharesInverselyToMeanPeriodAndCapsAtTheImfVariance) {
   EXPECT_EQ(ShareWhiteNoise(0.0, {3.0}, {1.0})[0], 0.0);
 }
 
+// Step 3: R is the white fraction of sigma_e^2, so R < sigma_e^2 whenever the component is not all
+// noise, which is what leaves the moment match of noise_defaults.h a positive q.
+TEST(WhiteNoise, TheShareRuleGivesRTheWhiteFractionOfTheInnovationVariance) {
+  const FilterNoise f =
+      ComponentFilterNoise(ComponentNoiseRule::kShareOfInnovation, 0.25, 1.0, 0.02);
+  EXPECT_DOUBLE_EQ(f.r, 0.25 * 0.02);
+  EXPECT_LT(f.q, 0.0) << "q is left to the moment match";
+  EXPECT_FALSE(f.pure_noise);
+  const FilterNoise g = ComponentFilterNoise(ComponentNoiseRule::kShareOfInnovation, 1.0, 1.0, 0.3);
+  EXPECT_TRUE(g.pure_noise);
+  EXPECT_EQ(g.q, 0.0);
+  EXPECT_DOUBLE_EQ(g.r, 0.3);
+  const FilterNoise h = ComponentFilterNoise(ComponentNoiseRule::kInnovationMatch, 0.25, 1.0, 0.02);
+  EXPECT_DOUBLE_EQ(h.r, 0.25);
+  EXPECT_FALSE(h.pure_noise);
+}
+
+TEST(WhiteNoise, NamesAndParsesEveryRule) {
+  for (ComponentNoiseRule rule :
+       {ComponentNoiseRule::kShareOfInnovation, ComponentNoiseRule::kInnovationMatch}) {
+    ComponentNoiseRule parsed = rule == ComponentNoiseRule::kShareOfInnovation
+                                    ? ComponentNoiseRule::kInnovationMatch
+                                    : ComponentNoiseRule::kShareOfInnovation;
+    EXPECT_TRUE(ParseComponentNoiseRule(ToString(rule), &parsed));
+    EXPECT_EQ(parsed, rule);
+  }
+  ComponentNoiseRule unused;
+  EXPECT_FALSE(ParseComponentNoiseRule("variance", &unused));
+}
+
 }  // namespace
 }  // namespace fogpipe::method
