@@ -164,11 +164,12 @@ Doubled Doubling(const Eigen::VectorXd& phi, double q_over_r, bool delta_basis,
 // Whether the powers of m decay: squares m until its norm is below 1e-8 (stable), or non-finite,
 // or 64 squarings (2^64 steps) have not brought it down. Unlike the eigenvalues, which for the
 // clustered near-unit roots of slow components are only accurate to ~1e-5 (eps^(1/m) for an
-// m-fold cluster), this measures what the loop does to its state, in the difference basis where
-// the near-unit modes are well scaled.
-bool PowersDecay(const Eigen::MatrixXd& m) {
-  const Eigen::MatrixXd t = DeltaBasis(m.rows());
-  Eigen::MatrixXd power = t * m * t;
+// m-fold cluster), this measures what the loop does to its state. Squared in the companion basis
+// and, if that does not show the decay, in the difference basis, where near-unit modes are well
+// scaled (but whose binomial entries, up to C(p-1, (p-1)/2), make it poorly conditioned for high
+// orders such as a direct AR(20)); rounding makes powers grow, not decay, so either showing the
+// decay is evidence of stability.
+bool PowersDecayIn(Eigen::MatrixXd power) {
   for (int it = 0; it < 64; ++it) {
     const double norm = power.norm();
     if (!std::isfinite(norm) || norm > 1e150) return false;
@@ -176,6 +177,12 @@ bool PowersDecay(const Eigen::MatrixXd& m) {
     power = (power * power).eval();
   }
   return false;
+}
+
+bool PowersDecay(const Eigen::MatrixXd& m) {
+  if (PowersDecayIn(m)) return true;
+  const Eigen::MatrixXd t = DeltaBasis(m.rows());
+  return PowersDecayIn(t * m * t);
 }
 
 }  // namespace

@@ -14,10 +14,12 @@
 // The AR orders run through `for_each` (the pipeline passes a tbb::parallel_for), and within an
 // order the Allan evaluation of its settings too; every setting writes only its own slot and sums
 // its components in component order, so the numbers do not depend on the schedule. All q/R
-// settings of one order are filtered together (kalman::FilterArAndAdd: their steady-state filters
-// run side by side in one pass over each component, which is what brings the sweep near the cost
-// of one `run`). Memory: the decomposition plus one signal-length sum per setting of every order
-// in flight (10 settings per order for a 3 x 3 grid: 29 MB per order for 1 h at 100 Hz).
+// settings of one order are filtered together (kalman::FilterArAndAdd); with the steady-state
+// start (`fogpipe sweep --kalman-start steady`) their filters run side by side in one pass over
+// each component. With the paper's start (the default, as in `run`) each filter's time-varying
+// phase is capped at 4096 steps (sweep_evaluate.cpp says why). Memory: the decomposition plus one
+// signal-length sum per setting of every order in flight (10 settings per order for a 3 x 3 grid:
+// 29 MB per order for 1 h at 100 Hz).
 #pragma once
 
 #include <Eigen/Core>
