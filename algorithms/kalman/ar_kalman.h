@@ -49,7 +49,7 @@
 //    up to 0.9973), as the radius^k law predicts, and the steady-state start was as accurate.
 //  - speed: the steady-state start has no O(p^2) phase at all; the paper's start costs up to
 //    max_time_varying_steps such steps per filter (measured on that sweep: 6.7 s CPU instead of
-//    4.2 s, against 1.9 s for one `run`).
+//    3.6 s, against 1.8 s for one `run`; scripts/benchmark_sweep.sh, 1 thread).
 // Accuracy against the truth decides: the paper's start is the default, the steady-state start is
 // the fast option (fogpipe sweep --kalman-start steady).
 //
