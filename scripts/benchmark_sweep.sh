@@ -16,22 +16,29 @@ mkdir -p "$work"
 calc() { awk "BEGIN { printf \"%.4f\", $* }"; }
 median() { sort -g | awk '{v[NR]=$1} END {print (NR % 2) ? v[(NR+1)/2] : (v[NR/2] + v[NR/2+1]) / 2}'; }
 seconds() { local t0 t1; t0=$(date +%s.%N); "$@" >/dev/null 2>&1 || { echo "failed: $*" >&2; return 1; }; t1=$(date +%s.%N); calc "$t1 - $t0"; }
+# CPU seconds (user + sys) of a command: on a shared machine wall time also counts other processes.
+cpu_seconds() { /usr/bin/time -f "%U %S" -o "$work/time.txt" "$@" >/dev/null 2>&1 || { echo "failed: $*" >&2; return 1; }; awk '{ printf "%.4f", $1 + $2 }' "$work/time.txt"; }
 
 rec="$work/hour100hz.h5"
 [ -f "$rec" ] || "$FOGPIPE" simulate -o "$rec" --profile paper --duration-s 3600 --sample-rate-hz 100 --seed 5 \
   --rate-profile "step:600:20,ramp:1200:1800:0.05,sine:0.005:10" >/dev/null 2>&1
-run_times=(); sweep_times=()
+run_times=(); sweep_times=(); run_cpu=(); sweep_cpu=()
+sweep_args=(--ar-order 2:12 --q-scale 0.1,1,10 --r-scale 0.1,1,10)
 for i in $(seq 1 "$REPS"); do
   rm -rf "$work/run"
   run_times+=("$(seconds "$FOGPIPE" run "$rec" -o "$work/run" --threads "$THREADS")")
-  sweep_times+=("$(seconds "$FOGPIPE" sweep "$rec" -o "$work/sweep" --threads "$THREADS" \
-    --ar-order 2:12 --q-scale 0.1,1,10 --r-scale 0.1,1,10)")
+  sweep_times+=("$(seconds "$FOGPIPE" sweep "$rec" -o "$work/sweep" --threads "$THREADS" "${sweep_args[@]}")")
+  rm -rf "$work/run"
+  run_cpu+=("$(cpu_seconds "$FOGPIPE" run "$rec" -o "$work/run" --threads "$THREADS")")
+  sweep_cpu+=("$(cpu_seconds "$FOGPIPE" sweep "$rec" -o "$work/sweep" --threads "$THREADS" "${sweep_args[@]}")")
 done
 run_med=$(printf '%s\n' "${run_times[@]}" | median)
 sweep_med=$(printf '%s\n' "${sweep_times[@]}" | median)
-echo "run   1 h 100 Hz, $THREADS threads: median $run_med s  (runs: ${run_times[*]})"
-echo "sweep 99 settings, $THREADS threads: median $sweep_med s  (runs: ${sweep_times[*]})"
-echo "sweep / run = $(calc "$sweep_med / $run_med" | cut -c1-5)  (target <= 2)"
+run_cpu_med=$(printf '%s\n' "${run_cpu[@]}" | median)
+sweep_cpu_med=$(printf '%s\n' "${sweep_cpu[@]}" | median)
+echo "run   1 h 100 Hz, $THREADS threads: median $run_med s wall, $run_cpu_med s CPU  (wall runs: ${run_times[*]})"
+echo "sweep 110 settings, $THREADS threads: median $sweep_med s wall, $sweep_cpu_med s CPU  (wall runs: ${sweep_times[*]})"
+echo "sweep / run = $(calc "$sweep_med / $run_med" | cut -c1-5) wall, $(calc "$sweep_cpu_med / $run_cpu_med" | cut -c1-5) CPU  (target <= 2)"
 
 n=16
 camp="$work/campaign"

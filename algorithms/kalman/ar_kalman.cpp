@@ -1,6 +1,5 @@
 #include "algorithms/kalman/ar_kalman.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -42,18 +41,6 @@ double GainDistance(const Eigen::VectorXd& g, const Eigen::VectorXd& g_inf) {
   const double scale = g_inf.cwiseAbs().maxCoeff();
   const double diff = (g - g_inf).cwiseAbs().maxCoeff();
   return scale > 0.0 ? diff / scale : diff;
-}
-
-// Spectral radius of the closed loop A (I - G H) for a constant gain G.
-double ClosedLoopRadius(const Eigen::VectorXd& phi, const Eigen::VectorXd& g) {
-  const Eigen::Index p = phi.size();
-  const Eigen::MatrixXd a = CompanionMatrix(phi);
-  Eigen::MatrixXd closed_loop = a;
-  closed_loop -= (a * g) * Eigen::RowVectorXd::Unit(p, 0);
-  return Eigen::EigenSolver<Eigen::MatrixXd>(closed_loop, false)
-      .eigenvalues()
-      .cwiseAbs()
-      .maxCoeff();
 }
 
 }  // namespace
@@ -112,26 +99,35 @@ bool ArKalmanOptions::IsValid(std::string* error) const {
   return dare.IsValid(error);
 }
 
-ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
-                        double innovation_variance, double white_noise_variance,
-                        const ArKalmanOptions& options, Eigen::VectorXd* reuse) {
-  ArKalmanResult result;
+namespace {
+
+// Validation, noise levels and the DARE: everything before the first sample. False (with the
+// result failed) if there is nothing to filter. check_z: make the pass over z (sample variance and
+// finiteness); without it *z_variance is left as it is (callers that made that pass themselves).
+bool PrepareFilter(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
+                   double innovation_variance, double white_noise_variance,
+                   const ArKalmanOptions& options, bool check_z, ArKalmanResult* result_out,
+                   DareSolution* dare_out, double* z_variance) {
+  ArKalmanResult& result = *result_out;
   ArKalmanSummary& s = result.summary;
   const long long n = z.size();
   s.samples = n;
+  auto fail = [&](Termination termination, std::string message) {
+    result = Fail(std::move(result), termination, std::move(message));
+    return false;
+  };
   std::string error;
-  if (!options.IsValid(&error)) return Fail(std::move(result), Termination::kInvalidOptions, error);
+  if (!options.IsValid(&error)) return fail(Termination::kInvalidOptions, error);
   if (phi.size() == 0 || !phi.allFinite())
-    return Fail(std::move(result), Termination::kInvalidOptions, "phi must be non-empty, finite");
-  if (n == 0) return Fail(std::move(result), Termination::kInsufficientData, "empty series");
-  double z_variance = 0.0;
-  if (!SampleVarianceIfFinite(z, &z_variance))
-    return Fail(std::move(result), Termination::kNumericalFailure, "z has non-finite samples");
+    return fail(Termination::kInvalidOptions, "phi must be non-empty, finite");
+  if (n == 0) return fail(Termination::kInsufficientData, "empty series");
+  if (check_z && !SampleVarianceIfFinite(z, z_variance))
+    return fail(Termination::kNumericalFailure, "z has non-finite samples");
 
   // Noise levels: explicit or default, then the sweep scale factors (see ArKalmanOptions).
   const double r0 = options.r >= 0.0 ? options.r : white_noise_variance;
   if (!(r0 > 0.0) || !std::isfinite(r0))
-    return Fail(std::move(result), Termination::kInvalidOptions,
+    return fail(Termination::kInvalidOptions,
                 "R must be > 0: set options.r or pass a positive white_noise_variance");
   double q0 = options.q;
   if (q0 < 0.0) {
@@ -139,22 +135,53 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
     dn_options.dare = options.dare;
     const DefaultNoiseResult dn = DefaultNoise(phi, innovation_variance, r0, dn_options);
     if (!HasResult(dn.summary.termination))
-      return Fail(std::move(result), dn.summary.termination, "default q: " + dn.summary.message);
+      return fail(dn.summary.termination, "default q: " + dn.summary.message);
     q0 = dn.q;
   }
   result.q = q0 * options.q_scale;
   result.r = r0 * options.r_scale;
 
-  const DareSolution dare = SolveDare(phi, result.q, result.r, options.dare);
+  DareSolution& dare = *dare_out;
+  dare = SolveDare(phi, result.q, result.r, options.dare);
   s.riccati_iterations = dare.summary.iterations;
   s.riccati_relative_residual = dare.summary.relative_residual;
   if (!HasResult(dare.summary.termination))
-    return Fail(std::move(result), dare.summary.termination, "DARE: " + dare.summary.message);
-  const bool dare_ok = dare.summary.termination == Termination::kSuccess;
+    return fail(dare.summary.termination, "DARE: " + dare.summary.message);
   result.steady_state_gain = dare.gain;
   result.steady_state_error_variance = dare.filtered_covariance(0, 0);
   result.steady_state_innovation_variance = dare.innovation_variance;
+  return true;
+}
 
+// Whether the filter runs with G_inf from the first sample.
+bool StartsInSteadyState(const ArKalmanOptions& options, const DareSolution& dare) {
+  return options.initial_covariance == InitialCovariance::kSteadyState &&
+         dare.summary.termination == Termination::kSuccess && options.steady_state_switch;
+}
+
+// The summary of a steady-state start; gain_distance_at_switch from one Riccati step from P0.
+void SummarizeSteadyStart(const Eigen::VectorXd& phi, const DareSolution& dare, double q, double r,
+                          ArKalmanSummary* s) {
+  Eigen::MatrixXd pp, pf;
+  Eigen::VectorXd g;
+  PredictCovariance(dare.filtered_covariance, phi, q, &pp);
+  JosephUpdate(pp, r, &g, &pf);
+  s->initial_covariance = InitialCovariance::kSteadyState;
+  s->gain_switch = GainSwitch::kFromStart;
+  s->switched_at_sample = 0;
+  s->gain_distance_at_switch = GainDistance(g, dare.gain);
+  s->termination = Termination::kSuccess;
+  s->message = "steady-state start: steady-state gain from the first sample";
+}
+
+// The filter itself, after PrepareFilter.
+void RunFilter(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
+               const ArKalmanOptions& options, const DareSolution& dare, double z_variance,
+               ArKalmanResult* result_out, Eigen::VectorXd* reuse) {
+  ArKalmanResult& result = *result_out;
+  ArKalmanSummary& s = result.summary;
+  const long long n = z.size();
+  const bool dare_ok = dare.summary.termination == Termination::kSuccess;
   const Eigen::Index p = phi.size();
   Eigen::VectorXd x = Eigen::VectorXd::Zero(p);  // X(0|0) = 0 (eq. 7)
   Eigen::MatrixXd pf(p, p), pp(p, p);            // P(k-1|k-1), P(k|k-1)
@@ -182,12 +209,8 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
   double constant_innovation_variance = dare.innovation_variance;
   long long k = 0;
   if (steady_start && options.steady_state_switch) {
-    // P0 is the fixed point: G(k) = G_inf for every k. One Riccati step measures how exactly.
-    PredictCovariance(pf, phi, result.q, &pp);
-    JosephUpdate(pp, result.r, &g, &pf);
-    s.gain_switch = GainSwitch::kFromStart;
-    s.switched_at_sample = 0;
-    s.gain_distance_at_switch = GainDistance(g, dare.gain);
+    // P0 is the fixed point: G(k) = G_inf for every k.
+    SummarizeSteadyStart(phi, dare, result.q, result.r, &s);
   } else {
     // Time-varying filter (eqs. 8-11), Joseph form, until the gain has converged, stalled or
     // reached the cap.
@@ -226,7 +249,7 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
         // No steady-state gain to switch to: keep this gain if it stabilizes the loop (the
         // time-varying gain of a decreasing Riccati iterate does; Bitmead, Gevers & Wertz 1985,
         // the "fake algebraic Riccati equation"), else stay time-varying to the end.
-        if (ClosedLoopRadius(phi, g) < 1.0) {
+        if (IsStableLoop(phi, g)) {
           constant_gain = g;
           constant_innovation_variance = innovation_var;
           s.gain_switch = GainSwitch::kFrozen;
@@ -263,8 +286,10 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
     result.steady_state_smoothed_error_variance = SteadyStateSmoothedVariance(phi, dare);
   }
 
-  if (!result.filtered.allFinite())
-    return Fail(std::move(result), Termination::kNumericalFailure, "non-finite filter output");
+  if (!result.filtered.allFinite()) {
+    result = Fail(std::move(result), Termination::kNumericalFailure, "non-finite filter output");
+    return;
+  }
   s.termination = dare_ok ? Termination::kSuccess : Termination::kNoConvergence;
   switch (s.gain_switch) {
     case GainSwitch::kNever:
@@ -292,7 +317,56 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
                      : "") +
                 "; " + s.message;
   }
+}
+
+}  // namespace
+
+ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
+                        double innovation_variance, double white_noise_variance,
+                        const ArKalmanOptions& options, Eigen::VectorXd* reuse) {
+  ArKalmanResult result;
+  DareSolution dare;
+  double z_variance = 0.0;
+  if (PrepareFilter(z, phi, innovation_variance, white_noise_variance, options, true, &result,
+                    &dare, &z_variance)) {
+    RunFilter(z, phi, options, dare, z_variance, &result, reuse);
+  }
   return result;
+}
+
+std::vector<ArKalmanSummary> FilterArAndAdd(const Eigen::Ref<const Eigen::VectorXd>& z,
+                                            const Eigen::VectorXd& phi, double innovation_variance,
+                                            double white_noise_variance,
+                                            const std::vector<ArKalmanOptions>& options,
+                                            const std::vector<double*>& sums) {
+  std::vector<ArKalmanSummary> summaries(options.size());
+  double z_variance = 0.0;
+  const bool z_ok = z.size() > 0 && SampleVarianceIfFinite(z, &z_variance);
+  std::vector<SteadyStateLane> lanes;
+  std::vector<DareSolution> dares(options.size());
+  Eigen::VectorXd scratch;
+  for (std::size_t i = 0; i < options.size(); ++i) {
+    ArKalmanResult result;
+    if (!PrepareFilter(z, phi, innovation_variance, white_noise_variance, options[i], !z_ok,
+                       &result, &dares[i], &z_variance)) {
+      summaries[i] = std::move(result.summary);
+      continue;
+    }
+    if (StartsInSteadyState(options[i], dares[i]) && !options[i].smooth) {
+      SummarizeSteadyStart(phi, dares[i], result.q, result.r, &result.summary);
+      summaries[i] = std::move(result.summary);
+      lanes.push_back({&dares[i].gain, options[i].mean, sums[i]});
+      continue;
+    }
+    RunFilter(z, phi, options[i], dares[i], z_variance, &result, &scratch);
+    summaries[i] = result.summary;
+    if (!HasResult(result.summary.termination)) continue;
+    const Eigen::VectorXd& out = options[i].smooth ? result.smoothed : result.filtered;
+    Eigen::Map<Eigen::VectorXd>(sums[i], z.size()) += out;
+    scratch = std::move(result.filtered);
+  }
+  AddSteadyStateFilters(z.data(), z.size(), phi, lanes);
+  return summaries;
 }
 
 }  // namespace fogpipe::kalman

@@ -36,28 +36,29 @@
 // forgotten at radius^k, see the tests), and otherwise freezes the last time-varying gain if that
 // gain gives a stable closed loop (an approximation, flagged as GainSwitch::kFrozen).
 //
-// Choice of the default (kSteadyState), measured on a simulated 1 h 100 Hz paper-profile recording
-// with a moving true rate (step, ramp, sinusoid), 15 IMFs + residue, AR order by BIC up to 12,
-// q = {0.1, 1, 10} sigma_e^2 with R = {10, 1, 0.1} R_k, and `run`'s q/R rule:
-//  - wherever the DARE has a stabilizing solution the two outputs agree to 1e-9 relative after at
-//    most 7409 samples (74 s of the hour), as the radius^k law predicts for radii up to 0.9973;
-//  - the RMS error of method 1 against the true rate over the first 100 / 1000 samples is lower
-//    with the steady-state start in 3 of the 4 settings (e.g. 4.8e-6 vs 1.1e-5 rad/s over the
-//    first 100 at q = 0.1 sigma_e^2, R = 10 R_k) and equal to 3 digits in the fourth; over the
-//    whole hour they are equal to 4 digits where both reach a constant gain;
-//  - with q = 0 (the current default rule on most IMFs) the paper's start lets the time-varying
-//    recursion run free (on one IMF to 1e3 times the IMF's scale), the steady-state start gives
-//    the mean: RMS error against the truth 3.7e-5 vs 7.8e-5 rad/s (raw signal: 8.7e-5);
-//  - the steady-state start needs no O(p^2) phase at all (the paper's start needs 26 to 4714
-//    time-varying steps on these models before it switches, and up to the cap without a DARE
-//    solution).
-// The paper's start stays available (kSampleVariance) and tested.
+// Choice of the default (kSampleVariance, the paper's start), measured:
+//  - 1 h at 100 Hz, paper profile with a moving true rate (step, ramp, sinusoid), 15 IMFs +
+//    residue, `fogpipe sweep` over AR orders 2..12 x q = {0.1, 1, 10} sigma_e^2 x R = {0.1, 1, 10}
+//    R_k: the best setting's RMS error against the true rate is 0.69 deg/h with the paper's start
+//    and 2.66 deg/h with the steady-state start; on the 30 min 10 Hz record of
+//    the sweep test, 5.9e-6 vs 1.2e-5 rad/s. The slow IMFs have closed-loop radii of 0.999..
+//    0.99999 at small q/R, so the steady-state start's transient (trusting X(0|0) = 0 for
+//    ~1 / (1 - radius) samples) spans much of the record, while the paper's diffuse start locks on
+//    within its first few hundred samples.
+//  - where the closed loop is well damped the two agree to 1e-9 after at most 7409 samples (radii
+//    up to 0.9973), as the radius^k law predicts, and the steady-state start was as accurate.
+//  - speed: the steady-state start has no O(p^2) phase at all; the paper's start costs up to
+//    max_time_varying_steps such steps per filter (measured on that sweep: 6.7 s CPU instead of
+//    3.6 s, against 1.8 s for one `run`; scripts/benchmark_sweep.sh, 1 thread).
+// Accuracy against the truth decides: the paper's start is the default, the steady-state start is
+// the fast option (fogpipe sweep --kalman-start steady).
 //
 // Optionally the fixed-interval Rauch-Tung-Striebel smoother is run (rts_smoother.h).
 #pragma once
 
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "algorithms/common/status.h"
 #include "algorithms/kalman/riccati.h"
@@ -96,9 +97,9 @@ struct ArKalmanOptions {
   double r_scale = 1.0;
   /// The AR model's mean (ArModel::mean): removed from z before filtering, added back after.
   double mean = 0.0;
-  /// P(0|0): the steady-state start (default) or the paper's sample-variance start. Why the
+  /// P(0|0): the paper's sample-variance start (default) or the steady-state start. Why the
   /// default: see "Choice of the default" above.
-  InitialCovariance initial_covariance = InitialCovariance::kSteadyState;
+  InitialCovariance initial_covariance = InitialCovariance::kSampleVariance;
   /// With kSampleVariance: P(0|0) = initial_variance * I. < 0: the sample variance of z.
   double initial_variance = -1.0;
   /// Use the constant-gain O(p) loop once the gain is (or starts) at the steady state. false runs
@@ -179,5 +180,17 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
                         double innovation_variance, double white_noise_variance,
                         const ArKalmanOptions& options = ArKalmanOptions(),
                         Eigen::VectorXd* reuse = nullptr);
+
+/// The same AR model filtered under several option sets (the q/R settings of a sweep), output i
+/// added to sums[i][0..n) (plus its smoothed series instead when options[i].smooth). Option sets
+/// that start in steady state run side by side in one pass over z (AddSteadyStateFilters,
+/// steady_state_filter.h), the others through FilterAr's path; output i equals
+/// FilterAr(z, phi, ..., options[i]).filtered up to rounding. Returns the summaries; a sum whose
+/// summary has no result is left untouched.
+std::vector<ArKalmanSummary> FilterArAndAdd(const Eigen::Ref<const Eigen::VectorXd>& z,
+                                            const Eigen::VectorXd& phi, double innovation_variance,
+                                            double white_noise_variance,
+                                            const std::vector<ArKalmanOptions>& options,
+                                            const std::vector<double*>& sums);
 
 }  // namespace fogpipe::kalman

@@ -103,16 +103,35 @@ struct Doubled {
   bool finite = true;
 };
 
-// The SDA iteration (see riccati.h) for R = 1, Q = diag(q_over_r, 0, ...), in Scalar arithmetic.
+// The difference (delta-operator) basis of the companion state, Delta^i x(k) = sum_j (-1)^j C(i,j)
+// x(k-j): T(i, j) = (-1)^j C(i, j). T is an involution (T T = I: x(k-i) = (1 - Delta)^i x(k)).
+Eigen::MatrixXd DeltaBasis(Eigen::Index p) {
+  Eigen::MatrixXd t = Eigen::MatrixXd::Zero(p, p);
+  for (Eigen::Index i = 0; i < p; ++i) {
+    double binomial = 1.0;  // C(i, j)
+    for (Eigen::Index j = 0; j <= i; ++j) {
+      t(i, j) = (j % 2 ? -1.0 : 1.0) * binomial;
+      binomial = binomial * static_cast<double>(i - j) / static_cast<double>(j + 1);
+    }
+  }
+  return t;
+}
+
+// The SDA iteration (see riccati.h) for R = 1, Q = diag(q_over_r, 0, ...), in Scalar arithmetic,
+// in the companion basis or in the difference basis (A -> T A T^-1 = T A T, Q -> T Q T', H T^-1 =
+// H); the returned P is in the companion basis.
 template <typename Scalar>
-Doubled Doubling(const Eigen::VectorXd& phi, double q_over_r, const DareOptions& options) {
+Doubled Doubling(const Eigen::VectorXd& phi, double q_over_r, bool delta_basis,
+                 const DareOptions& options) {
   using Matrix = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
   const Eigen::Index p = phi.size();
-  Matrix ak = CompanionMatrix(phi).transpose().cast<Scalar>();
+  const Eigen::MatrixXd t = delta_basis ? DeltaBasis(p) : Eigen::MatrixXd::Identity(p, p);
+  Matrix ak = (t * CompanionMatrix(phi) * t).transpose().cast<Scalar>();
   Matrix gk = Matrix::Zero(p, p);
   gk(0, 0) = Scalar(1);
-  Matrix hk = Matrix::Zero(p, p);
-  hk(0, 0) = Scalar(q_over_r);
+  // Q = q e1 e1' -> q (T e1)(T e1)'.
+  const Eigen::VectorXd te1 = t.col(0);
+  Matrix hk = (q_over_r * te1 * te1.transpose()).cast<Scalar>();
   const Matrix identity = Matrix::Identity(p, p);
   Doubled out;
   while (out.iterations < options.max_iterations) {
@@ -138,20 +157,46 @@ Doubled Doubling(const Eigen::VectorXd& phi, double q_over_r, const DareOptions&
       break;
     }
   }
-  out.h = hk.template cast<double>();
+  out.h = t * hk.template cast<double>() * t.transpose();
   return out;
 }
 
-double ClosedLoopSpectralRadius(const Eigen::MatrixXd& a, const Eigen::VectorXd& gain) {
-  Eigen::MatrixXd closed_loop = a;
-  closed_loop -= (a * gain) * Eigen::RowVectorXd::Unit(a.rows(), 0);
-  return Eigen::EigenSolver<Eigen::MatrixXd>(closed_loop, false)
-      .eigenvalues()
-      .cwiseAbs()
-      .maxCoeff();
+// Whether the powers of m decay: squares m until its norm is below 1e-8 (stable), or non-finite,
+// or 64 squarings (2^64 steps) have not brought it down. Unlike the eigenvalues, which for the
+// clustered near-unit roots of slow components are only accurate to ~1e-5 (eps^(1/m) for an
+// m-fold cluster), this measures what the loop does to its state. Squared in the companion basis
+// and, if that does not show the decay, in the difference basis, where near-unit modes are well
+// scaled (but whose binomial entries, up to C(p-1, (p-1)/2), make it poorly conditioned for high
+// orders such as a direct AR(20)); rounding makes powers grow, not decay, so either showing the
+// decay is evidence of stability.
+bool PowersDecayIn(Eigen::MatrixXd power) {
+  for (int it = 0; it < 64; ++it) {
+    const double norm = power.norm();
+    if (!std::isfinite(norm) || norm > 1e150) return false;
+    if (norm < 1e-8) return true;
+    power = (power * power).eval();
+  }
+  return false;
+}
+
+bool PowersDecay(const Eigen::MatrixXd& m) {
+  if (PowersDecayIn(m)) return true;
+  const Eigen::MatrixXd t = DeltaBasis(m.rows());
+  return PowersDecayIn(t * m * t);
 }
 
 }  // namespace
+
+Eigen::MatrixXd ClosedLoopMatrix(const Eigen::VectorXd& phi, const Eigen::VectorXd& gain) {
+  const Eigen::MatrixXd a = CompanionMatrix(phi);
+  Eigen::MatrixXd closed_loop = a;
+  closed_loop -= (a * gain) * Eigen::RowVectorXd::Unit(a.rows(), 0);
+  return closed_loop;
+}
+
+bool IsStableLoop(const Eigen::VectorXd& phi, const Eigen::VectorXd& gain) {
+  return PowersDecay(ClosedLoopMatrix(phi, gain));
+}
 
 DareSolution SolveDare(const Eigen::VectorXd& phi, double q, double r, const DareOptions& options) {
   DareSolution out;
@@ -168,16 +213,17 @@ DareSolution SolveDare(const Eigen::VectorXd& phi, double q, double r, const Dar
     out.summary.message = "need finite q >= 0 and r > 0";
     return out;
   }
-  const Eigen::MatrixXd a = CompanionMatrix(phi);
 
-  // Normalised problem: R = 1, Q = q / r. First in double; if that does not give a stabilizing
-  // solution at a small residual, once more in extended precision (see riccati.h).
-  for (const bool extended : {false, true}) {
-    if (extended && !options.extended_precision_retry) break;
-    const Doubled d = extended ? Doubling<long double>(phi, q / r, options)
-                               : Doubling<double>(phi, q / r, options);
+  // Normalised problem: R = 1, Q = q / r. First in double in the companion basis; if that does not
+  // give a stabilizing solution at a small residual, in the difference basis, then in long double
+  // (see riccati.h).
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    const bool delta_basis = attempt >= 1, extended = attempt == 2;
+    if (attempt > 0 && !options.extended_precision_retry) break;
+    const Doubled d = extended ? Doubling<long double>(phi, q / r, delta_basis, options)
+                               : Doubling<double>(phi, q / r, delta_basis, options);
     if (!d.finite) {
-      if (extended) break;
+      if (attempt > 0) continue;
       out.summary.termination = Termination::kNumericalFailure;
       out.summary.message = "non-finite doubling iterate";
       out.summary.iterations = d.iterations;
@@ -191,22 +237,26 @@ DareSolution SolveDare(const Eigen::VectorXd& phi, double q, double r, const Dar
                                                  &candidate.filtered_covariance);
     candidate.summary.iterations = d.iterations;
     candidate.summary.extended_precision = extended;
+    candidate.summary.difference_basis = delta_basis;
     candidate.summary.relative_residual =
         DareRelativeResidual(phi, q, r, candidate.predicted_covariance);
-    candidate.summary.closed_loop_spectral_radius = ClosedLoopSpectralRadius(a, candidate.gain);
-    const bool stabilizing = candidate.summary.closed_loop_spectral_radius < 1.0;
+    const Eigen::MatrixXd closed_loop = ClosedLoopMatrix(phi, candidate.gain);
+    candidate.summary.closed_loop_spectral_radius =
+        Eigen::EigenSolver<Eigen::MatrixXd>(closed_loop, false).eigenvalues().cwiseAbs().maxCoeff();
+    const bool stabilizing = PowersDecay(closed_loop);
     if (d.converged && stabilizing) {
       candidate.summary.termination = Termination::kSuccess;
       candidate.summary.message = "doubling converged";
     } else if (d.converged) {
       candidate.summary.termination = Termination::kNoConvergence;
       candidate.summary.message =
-          "the solution is not stabilizing (closed-loop spectral radius >= 1)";
+          "the solution is not stabilizing (the closed loop's powers do not decay)";
     } else {
       candidate.summary.termination = Termination::kNoConvergence;
       candidate.summary.message = "doubling hit max_iterations (no stabilizing solution?)";
     }
-    if (extended) candidate.summary.message += " (extended precision)";
+    if (delta_basis) candidate.summary.message += " (difference basis)";
+    if (extended) candidate.summary.message += " (long double)";
     // The extended-precision result replaces the double one when it is a success and the double
     // one was not or had a larger residual, or when the double one has no result at all.
     const bool take = !extended || !HasResult(out.summary.termination) ||

@@ -51,8 +51,8 @@ struct DareOptions {
   double relative_tolerance = 1e-15;
   /// Defect-correction steps after the doubling (stops early when the residual stops shrinking).
   int max_refinement_steps = 6;
-  /// Rerun the doubling in long double when the double result is not a stabilizing solution with
-  /// a relative residual <= retry_residual.
+  /// Rerun the doubling in the difference basis, then in long double, when the first result is not
+  /// a stabilizing solution with a relative residual <= retry_residual.
   bool extended_precision_retry = true;
   double retry_residual = 1e-10;
 
@@ -64,12 +64,14 @@ struct DareSummary {
   std::string message;
   int iterations = 0;               ///< Doubling steps taken.
   int refinement_steps = 0;         ///< Defect-correction steps taken.
+  bool difference_basis = false;    ///< The result comes from the difference-basis rerun.
   bool extended_precision = false;  ///< The result comes from the long double rerun.
   /// ||P - (A P A' - A P H'(H P H'+R)^-1 H P A' + Q)||_F / ||P||_F at the returned P.
   double relative_residual = 0.0;
-  /// Spectral radius of the closed loop A (I - G H): < 1 for the stabilizing solution. It sets the
-  /// filter's memory: errors decay like radius^k. A radius >= 1 (e.g. q = 0 with a unit root,
-  /// where the doubling returns P = 0) is reported as kNoConvergence.
+  /// Spectral radius of the closed loop A (I - G H) (eigenvalues): < 1 for the stabilizing
+  /// solution. It sets the filter's memory: errors decay like radius^k. A loop whose powers do not
+  /// decay (e.g. q = 0 with a unit root, where the doubling returns P = 0) is reported as
+  /// kNoConvergence.
   double closed_loop_spectral_radius = 0.0;
 };
 
@@ -86,6 +88,12 @@ struct DareSolution {
 /// solution); the last iterate is returned and its residual reported.
 DareSolution SolveDare(const Eigen::VectorXd& phi, double q, double r,
                        const DareOptions& options = DareOptions());
+
+/// The closed loop A (I - G H) of a constant gain G.
+Eigen::MatrixXd ClosedLoopMatrix(const Eigen::VectorXd& phi, const Eigen::VectorXd& gain);
+/// Whether the constant-gain loop forgets its state: the powers of A (I - G H) decay (tested by
+/// repeated squaring in the difference basis, see above).
+bool IsStableLoop(const Eigen::VectorXd& phi, const Eigen::VectorXd& gain);
 
 /// The relative Frobenius residual of the DARE at a given a-priori covariance P.
 double DareRelativeResidual(const Eigen::VectorXd& phi, double q, double r,

@@ -21,6 +21,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <vector>
 
 namespace fogpipe::kalman {
 
@@ -30,5 +31,22 @@ namespace fogpipe::kalman {
 void SteadyStateFilter(const double* z, long long n, double mean, const Eigen::VectorXd& phi,
                        const Eigen::VectorXd& gain, const Eigen::VectorXd& state, double* filtered,
                        double* innovations);
+
+/// One filter of AddSteadyStateFilters: its constant gain (size p), the mean removed from z before
+/// filtering and added back, and where its output is added (n doubles).
+struct SteadyStateLane {
+  const Eigen::VectorXd* gain = nullptr;
+  double mean = 0.0;
+  double* sum = nullptr;
+};
+
+/// Several constant-gain filters of the same AR model (e.g. the q/R settings of a sweep) over the
+/// same z, each from X(0|0) = 0, each adding its estimates of x(k) to lane.sum[k]. The filters run
+/// four at a time in one pass: the same recursion as SteadyStateFilter with the four lanes side by
+/// side (one SIMD register on AVX2), so four independent dependency chains overlap and the
+/// per-filter cost drops well below the latency-bound single loop. Each lane's arithmetic is the
+/// single loop's, in the same order.
+void AddSteadyStateFilters(const double* z, long long n, const Eigen::VectorXd& phi,
+                           const std::vector<SteadyStateLane>& lanes);
 
 }  // namespace fogpipe::kalman

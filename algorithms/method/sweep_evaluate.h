@@ -11,10 +11,15 @@
 //     method 1 = sum of the filtered components (eq. 12, component order), its Allan table and
 //     noise terms, and on simulated data the RMS error against the true rate.
 //
-// The settings are independent: they run through `for_each` (the pipeline passes a
-// tbb::parallel_for), each writing only its own slot and summing in a fixed order, so the numbers
-// do not depend on the schedule. Memory: the decomposition plus one signal-length sum per setting
-// in flight.
+// The AR orders run through `for_each` (the pipeline passes a tbb::parallel_for), and within an
+// order the Allan evaluation of its settings too; every setting writes only its own slot and sums
+// its components in component order, so the numbers do not depend on the schedule. All q/R
+// settings of one order are filtered together (kalman::FilterArAndAdd); with the steady-state
+// start (`fogpipe sweep --kalman-start steady`) their filters run side by side in one pass over
+// each component. With the paper's start (the default, as in `run`) each filter's time-varying
+// phase is capped at 4096 steps (sweep_evaluate.cpp says why). Memory: the decomposition plus one
+// signal-length sum per setting of every order in flight (10 settings per order for a 3 x 3 grid:
+// 29 MB per order for 1 h at 100 Hz).
 #pragma once
 
 #include <Eigen/Core>
@@ -46,7 +51,8 @@ struct SweepPoint {
   /// RMS of (method 1 + removed mean) - true rate over the analysed samples, units of the input;
   /// NaN without a truth.
   double rms_error = 0.0;
-  /// Wall time of this setting (filtering, reconstruction, Allan, noise fit), s.
+  /// Wall time of this setting, s: its share of its order's filtering and reconstruction (all
+  /// settings of an order are filtered together), plus its own Allan and noise fit.
   double seconds = 0.0;
   Termination termination = Termination::kInvalidOptions;
   std::string message;

@@ -25,6 +25,7 @@ struct SweepConfig {
   std::string r_scale = "0.1,1,10";
   std::string emd_sifts = "10";
   std::string rank_by = "rms_error";
+  std::string kalman_start = "paper";
   int threads = 0;
   int top = 5;
 };
@@ -44,6 +45,11 @@ int RunSweepCommand(CLI::App* cmd, const SweepConfig& config) {
   }
   graph::SweepRunOptions options;
   options.sweep.method = campaign.method;
+  // The Kalman start (algorithms/kalman/ar_kalman.h): the paper's (default, more accurate on the
+  // slow IMFs) or the steady-state start (faster, no time-varying phase).
+  options.sweep.method.component.kalman.initial_covariance =
+      config.kalman_start == "steady" ? kalman::InitialCovariance::kSteadyState
+                                      : kalman::InitialCovariance::kSampleVariance;
   options.read = campaign.read;
   options.threads = campaign.threads;
   options.output_dir = config.output_dir;
@@ -90,6 +96,10 @@ void AddSweepCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("--rank-by", c->rank_by,
                   "Ranking criterion (rms_error needs a truth sidecar; else n is used)")
       ->check(CLI::IsMember(method::RankCriteria()));
+  cmd->add_option("--kalman-start", c->kalman_start,
+                  "Kalman P(0|0): paper (var(z) I, eq. 7; more accurate on slow IMFs) or steady "
+                  "(the DARE's steady state; faster, no time-varying phase)")
+      ->check(CLI::IsMember({"paper", "steady"}));
   cmd->add_option("--top", c->top, "Ranked settings printed per axis")
       ->check(CLI::Range(0, 100000));
   cmd->add_option("--threads", c->threads,

@@ -30,10 +30,17 @@ ArKalmanOptions Explicit(double q, double r) {
   return o;
 }
 
-// The paper's start, P(0|0) = var(z) I (method.md eq. 7).
+// The paper's start, P(0|0) = var(z) I (method.md eq. 7), the default.
 ArKalmanOptions PaperStart(double q, double r) {
   ArKalmanOptions o = Explicit(q, r);
   o.initial_covariance = InitialCovariance::kSampleVariance;
+  return o;
+}
+
+// The steady-state start, P(0|0) = the DARE's P(k|k).
+ArKalmanOptions SteadyStart(double q, double r) {
+  ArKalmanOptions o = Explicit(q, r);
+  o.initial_covariance = InitialCovariance::kSteadyState;
   return o;
 }
 
@@ -276,8 +283,7 @@ TEST(FilterAr, SteadyStateStartEqualsTheTimeVaryingRecursionFromTheSameCovarianc
        {std::pair{Phi({0.95}), 0.25}, std::pair{Phi({1.5, -0.7}), 0.1},
         std::pair{models[1].phi, 0.2}, std::pair{models[2].phi, 0.01}}) {
     const testing::ArSimulation sim = SimulateArPlusNoise(phi, q_over_r, 1.0, 20000, 61);
-    ArKalmanOptions o = Explicit(q_over_r, 1.0);
-    ASSERT_EQ(o.initial_covariance, InitialCovariance::kSteadyState);  // the default
+    ArKalmanOptions o = SteadyStart(q_over_r, 1.0);
     const ArKalmanResult fast = FilterAr(sim.z, phi, -1, -1, o);
     o.steady_state_switch = false;
     const ArKalmanResult slow = FilterAr(sim.z, phi, -1, -1, o);
@@ -311,7 +317,7 @@ TEST(FilterAr, PaperAndSteadyStateStartsDifferByATransientDecayingLikeTheClosedL
     ArKalmanOptions o = PaperStart(q_over_r, 1.0);
     o.steady_state_switch = false;  // the paper's filter exactly, no switch
     const ArKalmanResult paper = FilterAr(sim.z, phi, -1, -1, o);
-    const ArKalmanResult steady = FilterAr(sim.z, phi, -1, -1, Explicit(q_over_r, 1.0));
+    const ArKalmanResult steady = FilterAr(sim.z, phi, -1, -1, SteadyStart(q_over_r, 1.0));
     ASSERT_EQ(steady.summary.gain_switch, GainSwitch::kFromStart);
     const double radius = SolveDare(phi, q_over_r, 1.0).summary.closed_loop_spectral_radius;
     ASSERT_LT(radius, 1.0);
@@ -347,7 +353,7 @@ TEST(FilterAr, PaperAndSteadyStateStartsDifferByATransientDecayingLikeTheClosedL
 TEST(FilterAr, ZeroProcessNoiseWithAStableModelGivesTheMeanFromTheSteadyStateStart) {
   const Eigen::VectorXd phi = Phi({1.5, -0.7});  // poles at radius sqrt(0.7)
   const testing::ArSimulation sim = SimulateArPlusNoise(phi, 1.0, 1.0, 3000, 81);
-  ArKalmanOptions o = Explicit(0.0, 1.0);
+  ArKalmanOptions o = SteadyStart(0.0, 1.0);
   o.mean = 2.5;
   const Eigen::VectorXd z = sim.z.array() + 2.5;
   const ArKalmanResult steady = FilterAr(z, phi, -1, -1, o);
@@ -374,7 +380,7 @@ TEST(FilterAr, UnitRootWithZeroProcessNoiseFallsBackToThePapersStartAndFreezesAt
   const double level = 3.0, r = 4.0;
   const testing::ArSimulation noise = SimulateArPlusNoise(Phi({0.0}), 0.0, r, n, 91, 0);
   const Eigen::VectorXd z = noise.z.array() + level;
-  ArKalmanOptions o = Explicit(0.0, r);
+  ArKalmanOptions o = SteadyStart(0.0, r);
   o.max_time_varying_steps = 0;  // no cap: the running mean to the end
   const ArKalmanResult full = FilterAr(z, phi, -1, -1, o);
   EXPECT_EQ(full.summary.termination, Termination::kNoConvergence);
@@ -479,6 +485,41 @@ TEST(FilterAr, NamesOfStartsAndSwitchesAreStable) {
   o.max_time_varying_steps = -1;
   std::string error;
   EXPECT_FALSE(o.IsValid(&error));
+}
+
+// The sweep's batch entry: several option sets on one model, outputs added to sums. Each sum must
+// equal FilterAr's output for the same options (steady-state lanes run side by side, 4 at a time,
+// the rest through FilterAr's own path); the same arithmetic per lane, so equal up to a few ulps of
+// the signal (the side-by-side loop may contract multiply-adds differently): 1e-13 relative.
+TEST(FilterArAndAdd, EachSumEqualsFilterArForItsOptions) {
+  const auto models = PaperTable2Models();
+  // Orders 1 and 4 (fixed kernels up to 8), 11 (the sweep's 9..12 kernels) and 40 (one lane at a
+  // time above the side-by-side limit); 11 and 40 are imf3's model padded with zeros.
+  Eigen::VectorXd padded11 = Eigen::VectorXd::Zero(11), padded40 = Eigen::VectorXd::Zero(40);
+  padded11.head(4) = models[2].phi;
+  padded40.head(4) = models[2].phi;
+  for (const Eigen::VectorXd& model : {Phi({0.9}), models[1].phi, padded11, padded40}) {
+    const testing::ArSimulation sim = SimulateArPlusNoise(model, 0.1, 1.0, 5000, 111);
+    std::vector<ArKalmanOptions> options;
+    for (double q : {0.01, 0.1, 1.0})
+      for (double r : {0.5, 1.0, 2.0}) options.push_back(SteadyStart(q, r));
+    options.push_back(PaperStart(0.1, 1.0));  // through FilterAr's time-varying path
+    options.back().mean = 0.25;
+    std::vector<Eigen::VectorXd> sums(options.size(), Eigen::VectorXd::Constant(5000, 1.0));
+    std::vector<double*> pointers;
+    for (auto& v : sums) pointers.push_back(v.data());
+    const std::vector<ArKalmanSummary> summaries =
+        FilterArAndAdd(sim.z, model, -1, -1, options, pointers);
+    ASSERT_EQ(summaries.size(), options.size());
+    for (std::size_t i = 0; i < options.size(); ++i) {
+      const ArKalmanResult single = FilterAr(sim.z, model, -1, -1, options[i]);
+      ASSERT_EQ(summaries[i].termination, Termination::kSuccess) << summaries[i].message;
+      EXPECT_EQ(summaries[i].gain_switch, single.summary.gain_switch);
+      const double scale = single.filtered.cwiseAbs().maxCoeff();
+      EXPECT_LE((sums[i].array() - 1.0 - single.filtered.array()).abs().maxCoeff(), 1e-13 * scale)
+          << "p = " << model.size() << " option set " << i;
+    }
+  }
 }
 
 }  // namespace

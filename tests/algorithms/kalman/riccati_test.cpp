@@ -4,6 +4,7 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <cstdio>
 
 #include "algorithms/kalman/companion.h"
 #include "tests/algorithms/kalman/paper_models.h"
@@ -87,6 +88,51 @@ TEST(SolveDare, ResidualIsAtRoundingLevelForThePaperModels) {
       EXPECT_GT(d.predicted_covariance.ldlt().vectorD().minCoeff(), 0.0) << m.name;
     }
   }
+}
+
+// The slow components of a long record: AR roots clustered within 1e-3 of z = 1 and tiny q/R. The
+// DARE's stabilizing solution is unique, so a P with a rounding-level residual whose closed loop
+// forgets its state (the powers of A (I - G H) decay; checked here by simulating the loop's free
+// response, independently of IsStableLoop's squaring) is the solution. In the companion basis the
+// doubling misses it; the difference-basis rerun finds it (riccati.h).
+TEST(SolveDare, ClusteredNearUnitRootsAreSolvedInTheDifferenceBasis) {
+  // (1 - 0.9995 B)(1 - 0.999 B)(1 - 0.9985 B)(1 - 0.998 B) expanded into recursion coefficients.
+  Eigen::VectorXd poly = Eigen::VectorXd::Zero(5);
+  poly[0] = 1.0;
+  for (double root : {0.9995, 0.999, 0.9985, 0.998}) {
+    for (int i = 4; i >= 1; --i) poly[i] -= root * poly[i - 1];
+  }
+  const Eigen::VectorXd phi = -poly.tail(4);
+  const double q = 1e-16, r = 1.0;
+  DareOptions companion_only;
+  companion_only.extended_precision_retry = false;
+  const DareSolution plain = SolveDare(phi, q, r, companion_only);
+  const DareSolution d = SolveDare(phi, q, r);
+  std::printf("  companion basis: %s, residual %.2e; with the rerun: %s, residual %.2e\n",
+              plain.summary.message.c_str(), plain.summary.relative_residual,
+              d.summary.message.c_str(), d.summary.relative_residual);
+  EXPECT_FALSE(plain.summary.termination == Termination::kSuccess &&
+               plain.summary.relative_residual <= 1e-10);  // the reason for the rerun
+  ASSERT_EQ(d.summary.termination, Termination::kSuccess) << d.summary.message;
+  EXPECT_TRUE(d.summary.difference_basis);
+  EXPECT_LE(d.summary.relative_residual, 1e-10);
+  // Free response of the closed loop from every unit state: decays by 1e-6 within 3e5 steps
+  // (the slowest closed-loop mode is at most the slowest open-loop one, 1 - 5e-4: e^-150).
+  const Eigen::MatrixXd a = CompanionMatrix(phi);
+  Eigen::MatrixXd l = a;
+  l.col(0) -= a * d.gain;
+  Eigen::MatrixXd state = Eigen::MatrixXd::Identity(4, 4);
+  double peak = 0.0;
+  for (int k = 0; k < 300000; ++k) {
+    state = l * state;
+    peak = std::max(peak, state.cwiseAbs().maxCoeff());
+  }
+  EXPECT_LE(state.cwiseAbs().maxCoeff(), 1e-6 * std::max(1.0, peak));
+  EXPECT_TRUE(IsStableLoop(phi, d.gain));
+  // And the squaring test itself: AR(1) loops just inside and just outside the unit circle.
+  EXPECT_TRUE(IsStableLoop(Eigen::VectorXd::Constant(1, 1.0 - 1e-7), Eigen::VectorXd::Zero(1)));
+  EXPECT_FALSE(IsStableLoop(Eigen::VectorXd::Constant(1, 1.0 + 1e-7), Eigen::VectorXd::Zero(1)));
+  EXPECT_FALSE(IsStableLoop(Eigen::VectorXd::Constant(1, 1.0), Eigen::VectorXd::Zero(1)));
 }
 
 TEST(SolveDare, ReportsInvalidInputAsData) {
