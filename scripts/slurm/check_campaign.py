@@ -71,10 +71,15 @@ def main():
             bad = {p: s for p, s in per_file.items() if s != {"ok"}}
             if bad:
                 errors.append(f"not ok: {bad}")
-            for col in ("raw_N", "method1_N", "duration_s"):
+            for col in ("raw_N", "duration_s"):
                 values = c[col][()]
                 if not np.all(np.isfinite(values)) or not np.all(values > 0):
                     errors.append(f"{col} not finite and positive: {values}")
+            # Method 1 may remove the white noise entirely (its fast IMFs judged pure noise), so
+            # its fitted N may be 0; it must be finite, non-negative and not above raw's.
+            m1, raw = c["method1_N"][()], c["raw_N"][()]
+            if not np.all(np.isfinite(m1)) or not np.all(m1 >= 0) or not np.all(m1 <= raw):
+                errors.append(f"method1_N not finite, >= 0 and <= raw_N: {m1} vs {raw}")
             for path, name in zip(inputs, files):
                 if not name:
                     continue  # no results file: already reported as not ok
