@@ -191,12 +191,16 @@ void RunFilter(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd
       options.initial_covariance == InitialCovariance::kSteadyState && dare_ok;
   s.initial_covariance =
       steady_start ? InitialCovariance::kSteadyState : InitialCovariance::kSampleVariance;
+  const double p0 = options.initial_variance >= 0.0 ? options.initial_variance : z_variance;
   if (steady_start) {
     pf = dare.filtered_covariance;
   } else {
-    const double p0 = options.initial_variance >= 0.0 ? options.initial_variance : z_variance;
     pf = p0 * Eigen::MatrixXd::Identity(p, p);  // P(0|0) = var(x0) I (eq. 7)
   }
+  // q = 0 from P(0|0) = 0: P(k|k-1) = A 0 A' + 0 = 0 at every step, so the gain is exactly 0 from
+  // the first sample and the estimate is the mean, whatever the DARE says (it is ill-posed at
+  // q = 0 on the near-unit-root models of slow IMFs and would leave the loop time-varying).
+  const bool zero_covariance = !steady_start && result.q == 0.0 && p0 == 0.0;
 
   if (reuse != nullptr && reuse->size() == n) result.filtered.swap(*reuse);
   result.filtered.resize(n);
@@ -211,6 +215,12 @@ void RunFilter(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd
   if (steady_start && options.steady_state_switch) {
     // P0 is the fixed point: G(k) = G_inf for every k.
     SummarizeSteadyStart(phi, dare, result.q, result.r, &s);
+  } else if (zero_covariance) {
+    constant_gain = Eigen::VectorXd::Zero(p);
+    constant_innovation_variance = result.r;
+    s.gain_switch = GainSwitch::kFromStart;
+    s.switched_at_sample = 0;
+    s.gain_distance_at_switch = 0.0;
   } else {
     // Time-varying filter (eqs. 8-11), Joseph form, until the gain has converged, stalled or
     // reached the cap.
@@ -290,7 +300,7 @@ void RunFilter(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd
     result = Fail(std::move(result), Termination::kNumericalFailure, "non-finite filter output");
     return;
   }
-  s.termination = dare_ok ? Termination::kSuccess : Termination::kNoConvergence;
+  s.termination = dare_ok || zero_covariance ? Termination::kSuccess : Termination::kNoConvergence;
   switch (s.gain_switch) {
     case GainSwitch::kNever:
       s.message = "time-varying filter to the end";
@@ -310,7 +320,9 @@ void RunFilter(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd
       s.message = "gain frozen at the time-varying step cap";
       break;
   }
-  if (!dare_ok) {
+  if (zero_covariance) {
+    s.message = "q = 0 and P(0|0) = 0: gain 0 at every sample, the estimate is the mean";
+  } else if (!dare_ok) {
     s.message = "DARE did not converge (" + dare.summary.message + ")" +
                 (options.initial_covariance == InitialCovariance::kSteadyState
                      ? "; no steady-state start, started from the sample variance"

@@ -26,7 +26,9 @@
 //    running free from its first estimates, which decays to the same at radius(A)^k. With a unit
 //    or explosive root and q = 0 there is no stabilizing DARE solution: the filter then falls back
 //    to the paper's start and time-varying path (ArKalmanSummary::initial_covariance says which
-//    start was used, and the termination is kNoConvergence).
+//    start was used, and the termination is kNoConvergence). The one exception is q = 0 from
+//    P(0|0) = 0 (initial_variance = 0): P stays exactly 0 whatever the model, so the gain is 0
+//    from the first sample and the output is the mean, without a time-varying phase.
 //
 // The time-varying phase is bounded in any case by max_time_varying_steps: when q/R is tiny the
 // gain converges like radius^(2k) with radius close to 1, or (q = 0, unit root) like 1/k, and
@@ -76,7 +78,7 @@ const char* ToString(InitialCovariance initial_covariance);
 /// How the filter reached its constant-gain loop.
 enum class GainSwitch {
   kNever,      ///< Time-varying to the end (switch off, or no usable constant gain).
-  kFromStart,  ///< Steady-state start: G_inf from the first sample.
+  kFromStart,  ///< G_inf from the first sample (steady-state start), or 0 when q = 0, P0 = 0.
   kConverged,  ///< |G(k) - G_inf| within gain_tolerance.
   kStalled,    ///< The gain distance stalled at the recursion's rounding floor (stall_tolerance).
   kCapped,     ///< max_time_varying_steps reached; switched to G_inf.

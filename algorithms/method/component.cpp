@@ -36,29 +36,12 @@ ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_varia
   const FilterNoise noise =
       ComponentFilterNoise(options.noise_rule, white_noise_variance, variance, sigma_e2);
   if (kalman_options.q < 0.0 && kalman_options.r < 0.0) {
-    if (noise.pure_noise) {
-      out.kalman = PureNoiseFilter(x.size(), out.fit.model.phi.size(), out.fit.model.mean, noise.r,
-                                   kalman_options.smooth);
-      return out;
-    }
     kalman_options.q = noise.q;
+    // Pure noise (white_noise.h, step 3): q = 0 from P(0|0) = 0, so the gain is 0 and the
+    // output is the mean (ar_kalman.h).
+    if (noise.pure_noise) kalman_options.initial_variance = 0.0;
   }
   out.kalman = kalman::FilterAr(x, out.fit.model.phi, sigma_e2, noise.r, kalman_options);
-  return out;
-}
-
-kalman::ArKalmanResult PureNoiseFilter(Eigen::Index n, Eigen::Index order, double mean, double r,
-                                       bool smooth) {
-  kalman::ArKalmanResult out;
-  out.filtered = Eigen::VectorXd::Constant(n, mean);
-  if (smooth) out.smoothed = out.filtered;
-  out.q = 0.0;
-  out.r = r;
-  out.steady_state_gain = Eigen::VectorXd::Zero(order);
-  out.summary.termination = Termination::kSuccess;
-  out.summary.message = "pure white noise (white share >= variance): q = 0, output = mean";
-  out.summary.switched_at_sample = 0;
-  out.summary.samples = n;
   return out;
 }
 

@@ -45,12 +45,4 @@ struct ComponentModel {
 ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_variance,
                               const ComponentOptions& options);
 
-/// The filter of a component judged pure white noise (white_noise.h, step 3): with q = 0 and
-/// P(0|0) = 0 the gain is 0 from the first sample, so the estimate is the AR model's mean at
-/// every sample (q = 0, R = r, gain 0). Written out directly in O(n): the DARE at q = 0 is
-/// ill-posed on the near-unit-root models of slow IMFs (measured: it made the filter run
-/// time-varying, O(p^2) per sample, over 8 IMFs of a 24 h record).
-kalman::ArKalmanResult PureNoiseFilter(Eigen::Index n, Eigen::Index order, double mean, double r,
-                                       bool smooth);
-
 }  // namespace fogpipe::method

@@ -409,6 +409,26 @@ TEST(FilterAr, UnitRootWithZeroProcessNoiseFallsBackToThePapersStartAndFreezesAt
   EXPECT_NEAR(empirical / expected, 1.0, 5.0 * se) << "se " << se;
 }
 
+// q = 0 from P(0|0) = 0 (a component judged pure noise, method/white_noise.h): P stays exactly 0,
+// so the gain is 0 from the first sample and the estimate is the mean. This must hold where the
+// DARE has no stabilizing solution (a unit root; a Burg model just outside the unit circle), which
+// would otherwise keep the filter time-varying, O(p^2) per sample.
+TEST(FilterAr, ZeroProcessNoiseFromZeroCovarianceGivesTheMeanWithoutATimeVaryingPhase) {
+  const long long n = 5000;
+  const testing::ArSimulation noise = SimulateArPlusNoise(Phi({0.0}), 0.0, 1.0, n, 93, 0);
+  const Eigen::VectorXd z = noise.z.array() + 1.5;
+  for (const Eigen::VectorXd& phi : {Phi({1.0}), Phi({1.0001}), Phi({1.5, -0.7})}) {
+    ArKalmanOptions o = PaperStart(0.0, 1.0);
+    o.initial_variance = 0.0;
+    o.mean = 1.5;
+    const ArKalmanResult r = FilterAr(z, phi, -1, -1, o);
+    ASSERT_EQ(r.summary.termination, Termination::kSuccess) << r.summary.message;
+    EXPECT_EQ(r.summary.gain_switch, GainSwitch::kFromStart);
+    EXPECT_EQ(r.summary.switched_at_sample, 0);
+    EXPECT_EQ((r.filtered.array() - 1.5).abs().maxCoeff(), 0.0);
+  }
+}
+
 // The cap on the time-varying phase: a slowly converging model (poles at radius 0.999, q/R = 1e-6)
 // switches to G_inf at the cap, with the gain distance recorded. The output difference against the
 // time-varying filter run to the end obeys d(k) = L d(k-1) + (G(k) - G_inf) e(k), L the closed loop
