@@ -8,10 +8,11 @@
 # 3. simulates NUM_RECORDINGS short recordings (10 min at 10 Hz), plans them, submits the array in
 #    4 shards plus the afterany merge job (scripts/slurm/submit_campaign.sh), waits by polling
 #    `scontrol show job` (no sacct without slurmdbd) and checks campaign.h5 with h5py;
-# 4. the killed shard: a second campaign where shard 1 gets SIGKILL (scancel -s KILL) after its
-#    first results file, the merge then lists its unfinished files as missing; only index 1 is
-#    resubmitted, and the merged table is complete with every recording exactly once, and every
-#    recording analysed exactly once (status.jsonl);
+# 4. the killed shard: a second campaign (1 h at 100 Hz recordings, so that a shard is still busy
+#    when it is killed) where shard 1 gets SIGKILL (scancel -s KILL) after its first results
+#    file; the merge then lists its unfinished files as missing; only index 1 is resubmitted,
+#    and the merged table is complete with every recording exactly once, and every recording
+#    analysed exactly once (status.jsonl);
 # 5. stops every daemon it started, by PID, in an EXIT trap.
 # Exit 77 (ctest: skipped) when Slurm is missing and cannot be installed (not root).
 set -euo pipefail
@@ -81,7 +82,13 @@ $PY "$here/slurm/check_campaign.py" "$out_a/campaign.h5" "$out_a/manifest.txt" -
 out_b="$work/campaign-b"
 victim=1
 mkdir -p "$out_b/slurm-logs"
-"$FOGPIPE" plan "$data" -o "$out_b/manifest.txt"
+# Longer recordings (1 h at 100 Hz, about 1 s of analysis each on one CPU) than campaign a's: with
+# 10-minute ones a shard finished its remaining files between the poll that saw its first results
+# file and the scancel, and the kill scenario did not happen.
+data_b="$work/recordings-b"
+"$FOGPIPE" simulate -o "$data_b" --files "$NUM_RECORDINGS" --profile paper --duration-s 3600 \
+  --sample-rate-hz 100 --seed 31 --instrument "SIM-FOG" >/dev/null
+"$FOGPIPE" plan "$data_b" -o "$out_b/manifest.txt"
 "$FOGPIPE" plan --manifest "$out_b/manifest.txt" --shard "$victim" --num-shards "$NUM_SHARDS" \
   -o "$work/victim.txt" 2>/dev/null
 mapfile -t victim_files < <(grep -v '^#' "$work/victim.txt" | awk '{print $1}')
