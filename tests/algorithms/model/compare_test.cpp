@@ -9,8 +9,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <limits>
+#include <sstream>
 
 #include "algorithms/common/units.h"
+#include "algorithms/simulation/navigation_grade.h"
 #include "hidden_effects.h"
 
 namespace fogpipe::model {
@@ -35,49 +40,46 @@ bool Blames(const CompareResult& r, Term t) {
 }
 
 // Parameters of the first suggestion against the truth: coefficients and amplitudes 10 %,
-// frequency 2 %, step time 1 % of the record, correlation time and warm-up constant 25 %.
-void ExpectParametersNearTruth(sim::Term effect, const sim::SimulatedRecording& rec,
-                               const std::vector<Parameter>& p) {
+// frequency 2 %, step time 1 % of the record, correlation time and warm-up constant 25 %. Each
+// entry: name, |estimate - truth| / tolerance (the criterion holds when < 1).
+std::vector<std::pair<std::string, double>> ParameterErrors(sim::Term effect,
+                                                            const sim::SimulatedRecording& rec,
+                                                            const std::vector<Parameter>& p) {
   const auto& e = rec.truth.options.errors;
   const double record = rec.truth.options.duration_s;
+  auto rel = [&](const char* name, double truth, double tol) {
+    const Parameter* q = Param(p, name);
+    return std::make_pair(std::string(name),
+                          q ? RelErr(q->value, truth) / tol : std::numeric_limits<double>::max());
+  };
   switch (effect) {
     case sim::Term::kTemperature:
-      EXPECT_LT(
-          RelErr(Param(p, "coefficient")->value, DegH(e.temperature->coefficient_rad_s_per_degC)),
-          0.10);
-      break;
+      return {rel("coefficient", DegH(e.temperature->coefficient_rad_s_per_degC), 0.10)};
     case sim::Term::kTemperatureRate:
-      EXPECT_LT(RelErr(Param(p, "coefficient")->value,
-                       DegH(e.temperature_rate->coefficient_rad_s_per_degC_per_s)),
-                0.10);
-      break;
+      return {rel("coefficient", DegH(e.temperature_rate->coefficient_rad_s_per_degC_per_s), 0.10)};
     case sim::Term::kSinusoid:
-      EXPECT_LT(RelErr(Param(p, "frequency")->value, e.sinusoids[0].frequency_hz), 0.02);
-      EXPECT_LT(
-          RelErr(Param(p, "amplitude")->value, DegH(std::abs(e.sinusoids[0].amplitude_rad_s))),
-          0.10);
-      break;
+      return {rel("frequency", e.sinusoids[0].frequency_hz, 0.02),
+              rel("amplitude", DegH(std::abs(e.sinusoids[0].amplitude_rad_s)), 0.10)};
     case sim::Term::kGaussMarkov:
-      EXPECT_LT(RelErr(Param(p, "correlation_time")->value, e.gauss_markov[0].correlation_time_s),
-                0.25);
-      EXPECT_LT(RelErr(Param(p, "sigma")->value, DegH(e.gauss_markov[0].sigma_rad_s)), 0.10);
-      break;
-    case sim::Term::kBiasStep:
-      EXPECT_LT(std::abs(Param(p, "time")->value - e.bias_steps[0].time_s), 0.01 * record);
-      EXPECT_LT(RelErr(Param(p, "size")->value, DegH(e.bias_steps[0].size_rad_s)), 0.10);
-      break;
+      return {rel("correlation_time", e.gauss_markov[0].correlation_time_s, 0.25),
+              rel("sigma", DegH(e.gauss_markov[0].sigma_rad_s), 0.10)};
+    case sim::Term::kBiasStep: {
+      const Parameter* t = Param(p, "time");
+      return {{"time", t ? std::abs(t->value - e.bias_steps[0].time_s) / (0.01 * record)
+                         : std::numeric_limits<double>::max()},
+              rel("size", DegH(e.bias_steps[0].size_rad_s), 0.10)};
+    }
     case sim::Term::kWarmup:
-      EXPECT_LT(RelErr(Param(p, "amplitude")->value, DegH(e.warmup->amplitude_rad_s)), 0.10);
-      EXPECT_LT(RelErr(Param(p, "time_constant")->value, e.warmup->time_constant_s), 0.25);
-      break;
+      return {rel("amplitude", DegH(e.warmup->amplitude_rad_s), 0.10),
+              rel("time_constant", e.warmup->time_constant_s, 0.25)};
     default:
-      FAIL();
+      return {};
   }
 }
 
 // The failures point to the right place.
-void ExpectFailuresPointAt(sim::Term effect, const sim::SimulatedRecording& rec,
-                           const std::vector<Failure>& failures) {
+bool FailuresPointAt(sim::Term effect, const sim::SimulatedRecording& rec,
+                     const std::vector<Failure>& failures) {
   const auto& e = rec.truth.options.errors;
   bool found = false;
   for (const auto& f : failures) {
@@ -113,7 +115,48 @@ void ExpectFailuresPointAt(sim::Term effect, const sim::SimulatedRecording& rec,
         break;
     }
   }
-  EXPECT_TRUE(found) << "no failure at the hidden " << sim::ToString(effect);
+  return found;
+}
+
+// Every criterion of issue 4's hidden-effect proof on one recording.
+struct ProofScore {
+  bool default_inconsistent = false;
+  bool first_is_hidden = false;
+  std::string first;  // the first suggestion's term, "none" without one
+  std::vector<std::pair<std::string, double>> parameter_errors;  // error / tolerance
+  bool failures_point_at_it = false;
+  double error_before = 0, error_after = 0;
+  bool error_falls_3x = false;
+  bool consistent_after = false;
+  bool ParametersNearTruth() const {
+    if (parameter_errors.empty()) return false;
+    for (const auto& [name, x] : parameter_errors)
+      if (!(x < 1.0)) return false;
+    return true;
+  }
+};
+
+ProofScore ScoreProof(sim::Term effect, const testing::HiddenCase& c) {
+  ProofScore s;
+  const CompareOptions options;
+  const CompareResult before = Compare(c.input, DefaultTerms(), options);
+  if (!HasResult(before.summary.termination)) return s;
+  s.error_before = before.base.views.error;
+  s.default_inconsistent = !before.base.views.consistent;
+  s.failures_point_at_it = FailuresPointAt(effect, c.recording, before.base.views.failures);
+  const Term hidden = testing::AnalysisTerm(effect);
+  s.first = before.suggestions.empty() ? "none" : ToString(before.suggestions[0].term);
+  s.first_is_hidden = !before.suggestions.empty() && before.suggestions[0].term == hidden;
+  // The parameters and the error after adding the effect are scored whatever was suggested: the
+  // trial of the hidden term is the model the engineer would fit once told what to add.
+  std::vector<Term> terms = DefaultTerms();
+  terms.push_back(hidden);
+  const Evaluation after = EvaluateModel(c.input, terms, options);
+  s.parameter_errors = ParameterErrors(effect, c.recording, ParametersOf(after, hidden));
+  s.error_after = after.views.error;
+  s.error_falls_3x = 3.0 * after.views.error <= before.base.views.error;
+  s.consistent_after = after.views.consistent;
+  return s;
 }
 
 class HiddenEffect : public ::testing::TestWithParam<std::tuple<sim::Term, int>> {};
@@ -121,23 +164,15 @@ class HiddenEffect : public ::testing::TestWithParam<std::tuple<sim::Term, int>>
 TEST_P(HiddenEffect, IsFoundNamedEstimatedAndFixed) {
   const auto [effect, seed] = GetParam();
   const auto c = MakeHiddenCase(seed, {effect});
-  const CompareOptions options;
-  const CompareResult before = Compare(c.input, DefaultTerms(), options);
-  ASSERT_TRUE(HasResult(before.summary.termination)) << before.summary.message;
-  EXPECT_FALSE(before.base.views.consistent) << "error " << before.base.views.error;
-  ASSERT_FALSE(before.suggestions.empty());
-  const Term hidden = testing::AnalysisTerm(effect);
-  EXPECT_EQ(before.suggestions[0].term, hidden)
-      << "first: " << ToString(before.suggestions[0].term);
-  if (before.suggestions[0].term != hidden) return;
-  ExpectParametersNearTruth(effect, c.recording, before.suggestions[0].parameters);
-  ExpectFailuresPointAt(effect, c.recording, before.base.views.failures);
-  std::vector<Term> terms = DefaultTerms();
-  terms.push_back(hidden);
-  const Evaluation after = EvaluateModel(c.input, terms, options);
-  EXPECT_LE(3.0 * after.views.error, before.base.views.error)
-      << before.base.views.error << " -> " << after.views.error;
-  EXPECT_TRUE(after.views.consistent) << "error after " << after.views.error;
+  const ProofScore s = ScoreProof(effect, c);
+  EXPECT_TRUE(s.default_inconsistent) << "error " << s.error_before;
+  EXPECT_TRUE(s.first_is_hidden) << "first: " << s.first;
+  EXPECT_FALSE(s.parameter_errors.empty());
+  for (const auto& [name, x] : s.parameter_errors)
+    EXPECT_LT(x, 1.0) << name << ": error " << x << " x its tolerance";
+  EXPECT_TRUE(s.failures_point_at_it) << "no failure at the hidden " << sim::ToString(effect);
+  EXPECT_TRUE(s.error_falls_3x) << s.error_before << " -> " << s.error_after;
+  EXPECT_TRUE(s.consistent_after) << "error after " << s.error_after;
 }
 
 std::string Name(const ::testing::TestParamInfo<std::tuple<sim::Term, int>>& info) {
@@ -152,6 +187,43 @@ INSTANTIATE_TEST_SUITE_P(
                                          sim::Term::kBiasStep, sim::Term::kWarmup),
                        ::testing::Values(101, 102, 103)),
     Name);
+
+// The size claim of hidden_effects.h, measured: each hidden effect's peak Allan signature over
+// the noise model's Allan deviation (PeakAllanSignature), for the CI seeds. The ranges are the
+// design's (measured over design seeds 1-20, hidden_effects.h); a resizing that leaves them fails
+// here. The signature of a simulated step is also checked against its closed form.
+TEST(HiddenEffectSize, IsAFewTimesTheNoiseFloorAtTheTauWhereItShows) {
+  struct Range {
+    sim::Term effect;
+    double lo, hi;
+  };
+  int closed_form_checks = 0;
+  for (const Range& r :
+       {Range{sim::Term::kSinusoid, 1.4, 2.5}, Range{sim::Term::kWarmup, 1.5, 4.0},
+        Range{sim::Term::kTemperature, 3.0, 6.5}, Range{sim::Term::kTemperatureRate, 4.5, 7.5},
+        Range{sim::Term::kBiasStep, 5.5, 8.5}, Range{sim::Term::kGaussMarkov, 7.5, 16.0}}) {
+    for (int seed = 101; seed <= 103; ++seed) {
+      const sim::GyroSimulatorOptions o = testing::HiddenEffectOptions(seed, {r.effect});
+      const testing::AllanSignature s = testing::PeakAllanSignature(o, r.effect);
+      EXPECT_GE(s.ratio, r.lo) << sim::ToString(r.effect) << " seed " << seed;
+      EXPECT_LE(s.ratio, r.hi) << sim::ToString(r.effect) << " seed " << seed;
+      const double step_s = r.effect == sim::Term::kBiasStep ? o.errors.bias_steps[0].time_s : 0;
+      if (r.effect == sim::Term::kBiasStep && step_s >= 2 * s.tau_s &&
+          o.duration_s - step_s >= 2 * s.tau_s) {
+        // Overlapping Allan variance of a step D at least 2m samples from either end, n rate
+        // samples, averaging factor m: only the 2m - 1 differences that straddle it are non-zero,
+        // a triangle of peak D, so sigma^2 = D^2 (2 m^2 + 1) / (6 m (n - 2 m + 1)).
+        const double n = static_cast<double>(o.NumSamples());
+        const double m = std::round(s.tau_s * o.sample_rate_hz);
+        const double d = o.errors.bias_steps[0].size_rad_s;
+        const double closed = std::abs(d) * std::sqrt((2 * m * m + 1) / (6 * m * (n - 2 * m + 1)));
+        EXPECT_NEAR(s.effect_adev_rad_s / closed, 1.0, 1e-6) << "seed " << seed;
+        ++closed_form_checks;
+      }
+    }
+  }
+  EXPECT_GE(closed_form_checks, 1);
+}
 
 TEST(Compare, TheDefaultModelIsConsistentWithoutHiddenEffects) {
   // Control over 20 seeds: something is suggested in at most 10 % of them (2), temperature in at
@@ -208,6 +280,59 @@ TEST(Compare, TwoHiddenEffectsAreFoundOneAfterTheOther) {
     terms.push_back(b);
     const Evaluation last = EvaluateModel(c.input, terms, o);
     EXPECT_TRUE(last.views.consistent) << "error " << last.views.error;
+  }
+}
+
+// The seed study behind the sizes of hidden_effects.h (not run by ctest; one process, ~1.3 s of
+// CPU per recording):
+//   FOGPIPE_STUDY_EFFECT=bias_step FOGPIPE_STUDY_RATIOS=2,3,5 FOGPIPE_STUDY_SEEDS=1-20
+//   model_compare_test --gtest_also_run_disabled_tests --gtest_filter='*Study*'
+// Ratio 0 keeps the CI sizing; any other value rescales the effect so that its peak Allan
+// signature (PeakAllanSignature) is that many times the noise model's Allan deviation.
+// FOGPIPE_STUDY_SIGNATURE_ONLY=1 prints the signatures without running compare.
+// One line per recording: effect, seed, ratio, tau of the peak, pass/fail of each criterion.
+TEST(HiddenEffectStudy, DISABLED_PassRatesAgainstTheSignatureRatio) {
+  const char* name = std::getenv("FOGPIPE_STUDY_EFFECT");
+  const char* ratios = std::getenv("FOGPIPE_STUDY_RATIOS");
+  const char* seeds = std::getenv("FOGPIPE_STUDY_SEEDS");
+  ASSERT_TRUE(name && ratios && seeds);
+  sim::Term effect = sim::Term::kWhite;
+  for (sim::Term t : {sim::Term::kTemperature, sim::Term::kTemperatureRate, sim::Term::kSinusoid,
+                      sim::Term::kGaussMarkov, sim::Term::kBiasStep, sim::Term::kWarmup})
+    if (std::string(sim::ToString(t)) == name) effect = t;
+  ASSERT_NE(effect, sim::Term::kWhite) << name;
+  int seed0 = 0, seed1 = 0;
+  ASSERT_EQ(std::sscanf(seeds, "%d-%d", &seed0, &seed1), 2);
+  std::vector<double> rho;
+  std::stringstream ss(ratios);
+  for (std::string tok; std::getline(ss, tok, ',');) rho.push_back(std::stod(tok));
+  for (double r : rho) {
+    for (int seed = seed0; seed <= seed1; ++seed) {
+      sim::GyroSimulatorOptions o = testing::HiddenEffectOptions(seed, {effect});
+      testing::AllanSignature sig = testing::PeakAllanSignature(o, effect);
+      if (r > 0) {
+        testing::ScaleEffect(effect, r / sig.ratio, &o);
+        sig = testing::PeakAllanSignature(o, effect);
+      }
+      if (std::getenv("FOGPIPE_STUDY_SIGNATURE_ONLY")) {
+        std::printf("SIGNATURE %s seed %d ratio %.3f tau %.1f effect/0.664B %.3f\n", name, seed,
+                    sig.ratio, sig.tau_s,
+                    sig.effect_adev_rad_s / sim::BiasInstabilityFloor(o.errors.b_rad_s));
+        continue;
+      }
+      const auto c = testing::MakeHiddenCase(o);
+      const ProofScore s = ScoreProof(effect, c);
+      std::printf(
+          "STUDY %s seed %d target %.1f ratio %.3f tau %.1f floorB %.3f | incons %d first %d "
+          "(%s) params %d [",
+          name, seed, r, sig.ratio, sig.tau_s,
+          sig.effect_adev_rad_s / sim::BiasInstabilityFloor(o.errors.b_rad_s),
+          s.default_inconsistent, s.first_is_hidden, s.first.c_str(), s.ParametersNearTruth());
+      for (const auto& [pn, x] : s.parameter_errors) std::printf(" %s=%.2f", pn.c_str(), x);
+      std::printf(" ] fail %d falls3x %d (%.2f->%.2f) consistent %d\n", s.failures_point_at_it,
+                  s.error_falls_3x, s.error_before, s.error_after, s.consistent_after);
+      std::fflush(stdout);
+    }
   }
 }
 

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <random>
 
+#include "algorithms/allan/allan.h"
+#include "algorithms/allan/noise_model.h"
 #include "algorithms/simulation/navigation_grade.h"
 
 namespace fogpipe::model::testing {
@@ -35,7 +37,7 @@ simulation::GyroSimulatorOptions HiddenEffectOptions(std::uint64_t seed,
     switch (t) {
       case Term::kSinusoid: {
         auto& s = e.sinusoids.back();
-        s.amplitude_rad_s = Sign(s.amplitude_rad_s) * k(t, 2, 4) *
+        s.amplitude_rad_s = Sign(s.amplitude_rad_s) * k(t, 1.4, 2.2) *
                             NoiseAllanDeviation(e, 0.371 / s.frequency_hz) / 0.725;
         break;
       }
@@ -54,7 +56,7 @@ simulation::GyroSimulatorOptions HiddenEffectOptions(std::uint64_t seed,
       }
       case Term::kTemperatureRate: {
         const double amp =
-            k(t, 4, 6) * NoiseAllanDeviation(e, 0.371 * o.temperature->period_s) / 0.725;
+            k(t, 9, 12) * NoiseAllanDeviation(e, 0.371 * o.temperature->period_s) / 0.725;
         e.temperature_rate->coefficient_rad_s_per_degC_per_s =
             Sign(e.temperature_rate->coefficient_rad_s_per_degC_per_s) * amp /
             simulation::MaxAbsTemperatureRate(*o.temperature);
@@ -62,7 +64,7 @@ simulation::GyroSimulatorOptions HiddenEffectOptions(std::uint64_t seed,
       }
       case Term::kBiasStep: {
         auto& b = e.bias_steps.back();
-        b.size_rad_s = Sign(b.size_rad_s) * k(t, 25, 35) * std::sqrt(2.0) *
+        b.size_rad_s = Sign(b.size_rad_s) * k(t, 20, 26) * std::sqrt(2.0) *
                        NoiseAllanDeviation(e, record / 8.0);
         break;
       }
@@ -78,14 +80,115 @@ simulation::GyroSimulatorOptions HiddenEffectOptions(std::uint64_t seed,
   return o;
 }
 
-HiddenCase MakeHiddenCase(std::uint64_t seed, const std::vector<simulation::Term>& effects) {
+void ScaleEffect(simulation::Term effect, double factor, simulation::GyroSimulatorOptions* o) {
+  using simulation::Term;
+  auto& e = o->errors;
+  switch (effect) {
+    case Term::kSinusoid:
+      e.sinusoids.back().amplitude_rad_s *= factor;
+      break;
+    case Term::kGaussMarkov:
+      e.gauss_markov.back().sigma_rad_s *= factor;
+      break;
+    case Term::kTemperature:
+      e.temperature->coefficient_rad_s_per_degC *= factor;
+      break;
+    case Term::kTemperatureRate:
+      e.temperature_rate->coefficient_rad_s_per_degC_per_s *= factor;
+      break;
+    case Term::kBiasStep:
+      e.bias_steps.back().size_rad_s *= factor;
+      break;
+    case Term::kWarmup:
+      e.warmup->amplitude_rad_s *= factor;
+      break;
+    default:
+      break;
+  }
+}
+
+AllanSignature PeakAllanSignature(const simulation::GyroSimulatorOptions& o,
+                                  simulation::Term effect) {
+  using simulation::Term;
+  // The effect alone: every other term of the error model removed (the last instance of a term
+  // that may occur several times is the one kept).
+  simulation::GyroSimulatorOptions alone = o;
+  simulation::GyroErrorModel& a = alone.errors;
+  a = simulation::GyroErrorModel{};
+  const auto& e = o.errors;
+  switch (effect) {
+    case Term::kSinusoid:
+      a.sinusoids = {e.sinusoids.back()};
+      break;
+    case Term::kGaussMarkov:
+      a.gauss_markov = {e.gauss_markov.back()};
+      break;
+    case Term::kTemperature:
+      a.temperature = e.temperature;
+      break;
+    case Term::kTemperatureRate:
+      a.temperature_rate = e.temperature_rate;
+      break;
+    case Term::kBiasStep:
+      a.bias_steps = {e.bias_steps.back()};
+      break;
+    case Term::kWarmup:
+      a.warmup = e.warmup;
+      break;
+    default:
+      break;
+  }
+  const long n = static_cast<long>(o.NumSamples());
+  const double fs = o.sample_rate_hz;
+  // Taus: 10 per decade up to record / 8, the longest tau of the compare's Allan view
+  // (ViewOptions::max_tau_fraction), where the overlapping estimate still has EDF >= ~4.
+  allan::TauGridOptions grid;
+  grid.kind = allan::TauGridKind::kDecade;
+  grid.per_decade = 10;
+  const std::vector<long long> m = allan::AveragingFactors(grid, n / 8);
+  std::vector<double> tau, avar;
+  if (effect == Term::kGaussMarkov) {
+    // A stochastic term: its expected Allan variance (IEEE Std 952-1997 Annex C), not one
+    // realisation's.
+    allan::TermParams p;
+    p.amplitude = a.gauss_markov[0].sigma_rad_s;
+    p.correlation_time_s = a.gauss_markov[0].correlation_time_s;
+    for (long long k : m) {
+      tau.push_back(k / fs);
+      avar.push_back(allan::TermAllanVariance(allan::Term::kGaussMarkov, p, tau.back()));
+    }
+  } else {
+    const simulation::SimulatedRecording rec = simulation::SimulateGyro(alone);
+    allan::AllanOptions ao;
+    ao.grid.kind = allan::TauGridKind::kExplicit;
+    ao.grid.explicit_m = m;
+    ao.confidence_intervals = false;
+    const allan::AllanResult r = allan::ComputeAllan(rec.rate_rad_s, fs, ao);
+    for (size_t i = 0; i < r.table.size(); ++i) {
+      tau.push_back(r.table.tau_s[i]);
+      avar.push_back(r.table.sigma[i] * r.table.sigma[i]);
+    }
+  }
+  AllanSignature best;
+  for (size_t i = 0; i < tau.size(); ++i) {
+    const double noise = NoiseAllanDeviation(o.errors, tau[i]);
+    const double ratio = std::sqrt(avar[i]) / noise;
+    if (ratio > best.ratio) best = {tau[i], std::sqrt(avar[i]), noise, ratio};
+  }
+  return best;
+}
+
+HiddenCase MakeHiddenCase(const simulation::GyroSimulatorOptions& options) {
   HiddenCase c;
-  const auto o = HiddenEffectOptions(seed, effects);
-  c.recording = simulation::SimulateGyro(o);
+  c.recording = simulation::SimulateGyro(options);
   c.input.rate_rad_s = &c.recording.rate_rad_s;
-  c.input.sample_rate_hz = o.sample_rate_hz;
+  c.input.sample_rate_hz = options.sample_rate_hz;
   c.input.aux.push_back({"temperature", "degC", c.recording.temperature_degC});
   return c;
+}
+
+HiddenCase MakeHiddenCase(std::uint64_t seed, const std::vector<simulation::Term>& effects) {
+  return MakeHiddenCase(HiddenEffectOptions(seed, effects));
 }
 
 Term AnalysisTerm(simulation::Term t) { return *ParseTerm(simulation::ToString(t)); }

@@ -3,45 +3,56 @@
 // score; the analysis (fogpipe::model) sees the rate and the aux temperature only.
 //
 // Effect sizes. The issue asks for "each effect a few times the bias-instability floor at the tau
-// where it shows". At navigation grade the Allan curve is not at that floor at those taus: the
-// angle random walk dominates up to tau ~ (N / 0.664 B)^2, 0.4 to 9 h for the seeds' N and B, so
-// effects sized on the floor are below what any estimator can see in 6 h (white-noise matched-
-// filter SNR of a warm-up ~2-4, of a bias step against rate random walk ~2-3; see the report).
-// We therefore size each effect against the Allan deviation sigma_noise(tau) of the seed's own
-// noise (N, Q, B, K, from the truth) at the tau where the effect shows, with the simulator's own
-// draws for everything else (frequency, correlation time, step time, time constant, sign, phase,
-// temperature cycle):
-//   sinusoid           0.725 W      = k sigma_noise(0.371 / f0),  k in [2, 4]
-//   gauss_markov       0.62 sigma   = k sigma_noise(1.89 Tc),     k in [6, 10]
-//   temperature        0.725 c (p-p / 2)     = k sigma_noise(0.371 period), k in [3, 5]
-//   temperature_rate   0.725 c max|dT/dt|    = k sigma_noise(0.371 period), k in [4, 6]
-//   bias_step          |D| = k sqrt(2) sigma_noise(record / 8),   k in [25, 35]
-//   warmup             |A| = k sigma_noise(tau_w),                k in [50, 70]
-// k is drawn per (seed, effect) from its own stream. The 10 % accuracy asked of a coefficient
-// needs its z-score near 20 (relative SE = 1 / z); temperature_rate spreads its energy over the
-// steep parts of the cycle only, hence its larger k (with k in [3, 5] one of the three test seeds
-// missed 10 % by 0.9 %).
-// Step, warm-up and Gauss-Markov are sized by the accuracy the issue asks of their parameters,
-// from the Cramer-Rao bound in white noise (N, per-sample sd N sqrt(fs)):
-//   - warm-up A exp(-t / tau) with A, tau (and the bias) unknown: the Fisher matrix of (A, ln
-//     tau) is (fs / (N^2 fs)) [[tau / 2, A tau / 4], [A tau / 4, A^2 tau / 4]], so SE(A) / A =
-//     2 N / (A sqrt(tau)) <= 2 / k and SE(ln tau) = 2 sqrt(2) N / (A sqrt(tau)) <= 2.8 / k. 10 %
-//     on A at 2.5 standard errors needs k >= 50 (k in [8, 12], the previous sizing, gives SE 17-25
-//     %: the amplitude test would be a coin toss). Design seeds 1-20: |A error| <= 7.3 %, |tau
-//     error| <= 21.8 %.
-//   - step D at t_s: SE(D) ~ sqrt(2) min_L sigma_noise(L) (local means either side; rate random
-//     walk limits L), so SE(D) / D ~ 1 / k; 10 % at 2.5 SE needs k >= 25 (k in [6, 10] gave
-//     errors up to 38 % on design seeds 1-20; now <= 9.2 %, step time <= 0.01 % of the record).
-//   - Gauss-Markov: sigma cannot be known better than SE(sigma) / sigma = sqrt(Tc / (2 T)) (the
-//     variance of a record of T / Tc correlation times), 2.6-8.3 % for Tc in [30, 300] s and T =
-//     6 h, whatever the amplitude; larger k only removes the confusion with white noise and bias
-//     instability of the Allan fit (k in [3, 5]: 4 of 20 design seeds off by more than 10 % in
-//     sigma; k in [6, 10]: 3 of 20, all with Tc above 100 s).
-// Against the bias-instability floor F = 0.664 B that the issue names ("a few times F"), these
-// are far larger (measured over seeds 1-20, 101-103, 401-403): the Gauss-Markov Allan peak 0.62
-// sigma is 32-170 F (k in [3, 5] gave half that), a step 68-233 F (k in [6, 10]: 18-62 F), a
-// warm-up 165-590 F (k in [8, 12]: 27-98 F). The simulator's own navigation-grade sizes (2-20 F)
-// are below what any estimator can measure to 10 % in 6 h at navigation-grade white noise.
+// where it shows". We measure exactly that (PeakAllanSignature, asserted in compare_test.cpp): the
+// effect's own overlapping Allan deviation (the effect simulated alone, no noise, through
+// fogpipe::allan; for the stochastic gauss_markov its closed-form expected ADEV, IEEE Std 952
+// Annex C) over the noise model's Allan deviation sigma_noise(tau) (N, Q, B, K of the seed's
+// truth: the floor the effect has to rise above), at the tau in [1/fs, record/8] that maximises
+// the ratio. (At navigation grade the white noise dominates sigma_noise below ~0.4-9 h, so that
+// floor is above the flat 0.664 B; against 0.664 B the same effects are 6-130 times.)
+// A step or a warm-up moves only the Allan differences that straddle it: a step D has
+// sigma^2 = D^2 (2 m^2 + 1) / (6 m (n - 2 m + 1)) (0.24 D at tau = record/8), a warm-up of
+// amplitude A and time constant tau_w at most ~0.2 A sqrt(tau_w / record) (near tau = 1.3 tau_w),
+// so their signatures are far below their amplitudes.
+//
+// Sizing rule (k drawn per (seed, effect) from its own stream; frequency, correlation time, step
+// time, time constant, sign, phase and the temperature cycle are the simulator's own draws), and
+// the resulting signature ratio over design seeds 1-20 / CI seeds 101-103:
+//   sinusoid          0.725 W = k sigma_noise(0.371 / f0), k in [1.4, 2.2]    1.5-2.2 / 1.5-2.1
+//   warmup            |A| = k sigma_noise(tau_w), k in [50, 70]               2.0-3.8 / 1.8-2.9
+//   temperature       0.725 c (p-p / 2) = k sigma_noise(0.371 P), k in [3, 5] 3.6-5.9 / 4.3-5.6
+//   temperature_rate  0.725 c max|dT/dt| = k sigma_noise(0.371 P), k [9, 12] 5.0-7.0 / 5.6-6.8
+//   bias_step         |D| = k sqrt(2) sigma_noise(record / 8), k in [20, 26]  6.2-8.1 / 6.5-7.8
+//   gauss_markov      0.62 sigma = k sigma_noise(1.89 Tc), k in [6, 10]      8.3-14.1 / 10.5-15.2
+//
+// Why these sizes: the seed study (compare_test.cpp, HiddenEffectStudy) rescales each effect to
+// a fixed signature ratio on design seeds 1-20 and scores every criterion of the issue. Pass
+// counts out of 20 (inconsistent before / first suggestion / parameters / failures point at it /
+// error falls 3x / consistent after):
+//   sinusoid          1x: 20 20 18 20 20 19;  1.25x, 1.5x, design 1.5-2.2 (and the previous
+//                     2.2-4.0): 20 20 20 20 20 19
+//   warmup            1.5x: 20 20 16 20 17 18;  design 2.0-3.8: 20 20 20 20 20 18
+//   temperature       3x: 20 20 15 20 16 19;  design 3.6-5.9: 20 20 20 20 19 19
+//   temperature_rate  previous 2.2-3.5: 20 20 15 20 20 19;  5x: 20 20 19 20 20 19;  7x and
+//                     design 5.0-7.0: 20 20 20 20 20 19
+//   bias_step         3x: 20 19 12 19 6 19;  5x: 20 20 18 20 18 19;  6x, 7x, design 6.2-8.1:
+//                     20 20 19 20 20 19 (previous 7.8-10.8: 20 20 20 20 20 19)
+//   gauss_markov      5x: 20 20 15 20 17 18;  design 8.3-14.1: 20 20 17 20 20 16
+// The limiting criteria are the 10 % on a coefficient or amplitude (temperature_rate, bias_step,
+// warmup, temperature) and "the error falls at least 3x" (temperature, warmup, bias_step: the
+// error before must reach ~3 times the consistent level). "Consistent after" fails on seed 14
+// for every effect: the seed's noise alone is a 5 % false alarm (alpha), so no size gets that
+// criterion above ~95 %.
+// Cramer-Rao bound (Whittle Fisher information sum |X(f)|^2 / (n fs S(f)) of the regressor under
+// the noise PSD S: N 0.003-0.0055 deg/sqrt(h), B 0.004 deg/h, K 0.002-0.010 deg/h/sqrt(h), Q
+// 0.125 arcsec; computed with numpy for this design, not a test): ordinary least squares
+// is within 1.0-1.4x of the bound for the step size and the warm-up amplitude, so a generalised
+// least-squares fit would gain little; the bound itself gives P(|D error| < 10 %) = 0.85-0.89 at a
+// 3x step signature and 0.98-0.99 at 5x, P(|A error| < 10 %) >= 0.92 for a 2x warm-up.
+// Gauss-Markov cannot meet 10 % on sigma in >= 95 % of 6 h records at any size: even observed
+// without noise, SE(sigma) / sigma = sqrt(Tc / (2 T)) and SE(ln Tc) = sqrt(2 Tc / T) (AR(1) with
+// phi -> 1), 2.6-8.3 % and 5-17 % for Tc in [30, 300] s, so P(both within tolerance) averages
+// 0.91 over the drawn Tc (sigma alone: 0.77 at Tc = 300 s); the design sizes reach 17 of 20.
 #pragma once
 
 #include <cstdint>
@@ -61,12 +72,29 @@ double NoiseAllanDeviation(const simulation::GyroErrorModel& e, double tau_s);
 simulation::GyroSimulatorOptions HiddenEffectOptions(std::uint64_t seed,
                                                      const std::vector<simulation::Term>& effects);
 
+/// The peak of an effect's Allan signature against the floor: the effect's overlapping Allan
+/// deviation alone (simulated without any other term and computed by fogpipe::allan; the
+/// expected, closed-form one for gauss_markov) over the noise model's, NoiseAllanDeviation, at the
+/// tau that maximises their ratio. Taus 10 per decade up to record / 8.
+struct AllanSignature {
+  double tau_s = 0;
+  double effect_adev_rad_s = 0;
+  double noise_adev_rad_s = 0;
+  double ratio = 0;
+};
+AllanSignature PeakAllanSignature(const simulation::GyroSimulatorOptions& options,
+                                  simulation::Term effect);
+
+/// Multiplies the size (amplitude, sigma, coefficient, step size) of the last `effect` by factor.
+void ScaleEffect(simulation::Term effect, double factor, simulation::GyroSimulatorOptions* options);
+
 /// A simulated recording and the analysis input pointing at it.
 struct HiddenCase {
   simulation::SimulatedRecording recording;
   CompareInput input;
 };
 HiddenCase MakeHiddenCase(std::uint64_t seed, const std::vector<simulation::Term>& effects);
+HiddenCase MakeHiddenCase(const simulation::GyroSimulatorOptions& options);
 
 /// The analysis' name of a simulator term (same catalog names).
 Term AnalysisTerm(simulation::Term t);
