@@ -1,10 +1,11 @@
 // Tests of the IMF view (algorithms/model/imf_view.cpp) against known truth:
 //   - the expected energies it derives from the measured EMD filter bank follow the white-noise
 //     dyadic law of Wu & Huang (2004), E_k T_k = const, and add up to the white variance;
-//   - pure white noise and the effect-free navigation-grade control flag no IMF, over seeds;
+//   - pure white noise and the effect-free navigation-grade control flag an IMF on no more
+//     records than the family-wise 5 % allows (binomial bound over seeds);
 //   - a hidden sinusoid flags the IMF whose mean period matches 1 / f0;
-//   - a hidden thermal effect flags the IMF of the temperature cycle, and that IMF correlates with
-//     the aux temperature.
+//   - a hidden thermal effect flags the IMF of the temperature cycle through the right aux test
+//     (temperature for `temperature`, its derivative for `temperature_rate`).
 // Recordings from fogpipe::simulation (hidden_effects.h); the truth is read only to score.
 #include "algorithms/model/imf_view.h"
 
@@ -94,6 +95,7 @@ TEST(ImfView, PureWhiteNoiseFlagsNoImfOverSeeds) {
   const int seeds = 8;
   int seeds_with_flags = 0;
   std::vector<double> sum_log(6, 0.0), edf(6, 0.0);
+  double lambda = 0;
   for (int seed = 1; seed <= seeds; ++seed) {
     const ImfView v = ComputeImfView(WhiteRate(seed, n, fs), fs, {}, WhiteModel(kN), o);
     ASSERT_EQ(v.summary.termination, Termination::kSuccess);
@@ -103,44 +105,50 @@ TEST(ImfView, PureWhiteNoiseFlagsNoImfOverSeeds) {
       sum_log[k] += std::log(v.ratio[k]);
       edf[k] = v.edf[k];
     }
+    lambda = v.log_variance_ratio;
   }
   EXPECT_LE(seeds_with_flags, 1);
   // Calibration of the expected energies, IMFs 1-6 (hundreds of cycles each): the mean of
   // ln(energy / expected) over the seeds is 0 within 3 standard errors, the data's sampling error
-  // sqrt(2 / nu / seeds) and the reference's sqrt(2 / nu / R) (common to all seeds).
+  // sqrt(lambda 2 / nu / seeds) and the reference's sqrt(lambda 2 / nu / R) (common to all
+  // seeds; the model is the truth here, so the reference's mean of ln energy is unbiased).
   for (int k = 0; k < 6; ++k) {
-    const double se = std::sqrt(2.0 / edf[k] * (1.0 / seeds + 1.0 / o.reference_realizations));
+    const double se =
+        std::sqrt(lambda * 2.0 / edf[k] * (1.0 / seeds + 1.0 / o.reference_realizations));
     EXPECT_LT(std::abs(sum_log[k] / seeds), 3.0 * se) << "imf " << k + 1;
   }
 }
 
 TEST(ImfView, AnImfWithTooMuchEnergyIsFlagged) {
   // White noise against a model with half its N: every IMF has 4x the expected energy, z =
-  // ln 4 / sqrt(2 / nu (1 + 1/R) + c^2) ~ 9 > critical for the well-sampled ones. The ratio is 4
-  // within the reference's and the data's sampling error (nu > 2000 for IMFs 1-5: < 5 %) and the
-  // mode-mixing scatter c = 0.15: 4 exp(+-0.16) -> [3.4, 4.7].
+  // ln 4 / sqrt(lambda 2 / nu (1 + 1/R)) >> critical for the well-sampled ones. The ratio is 4
+  // within 4 of its predicted standard deviations log_sd (the reference's and the data's
+  // sampling error; the model has no parameter error here): a false failure has probability
+  // 6e-5 per IMF.
   const double fs = 10.0;
   const ImfView v =
       ComputeImfView(WhiteRate(3, 1L << 15, fs), fs, {}, WhiteModel(0.5 * kN), ImfViewOptions());
   ASSERT_EQ(v.summary.termination, Termination::kSuccess);
   for (int k = 0; k < 5; ++k) {
-    EXPECT_NEAR(std::log(v.ratio[k] / 4.0), 0.0, 0.16) << k;
+    EXPECT_NEAR(std::log(v.ratio[k] / 4.0), 0.0, 4.0 * v.log_sd[k]) << k;
     EXPECT_EQ(v.flagged[k], 1) << k;
   }
 }
 
-TEST(ImfView, TheNavigationGradeControlRarelyFlagsAnImf) {
-  // Effect-free recordings (N, Q, B, K; aux temperature innocent), the default model. Measured
-  // on the development seeds 1-20: 3 of 20 flag an IMF, always one of the lowest scored IMFs
-  // (periods 1000-2700 s), where flicker and random-walk energy scatter most (one of the three
-  // models is not consistent anyway). Over these 10 disjoint seeds at most 2 (1.5 expected).
+TEST(ImfView, EffectFreeNavigationGradeRecordsAreFlaggedAtMostAtTheNominalRate) {
+  // Calibration of the whole view (energy and aux tests of every scored IMF, Holm at 5 % per
+  // record) on effect-free recordings (N, Q, B, K; the aux temperature cycles but does not act
+  // on the rate), analysed with the fitted default model as compare does. If the per-record rate
+  // were exactly 5 %, P(>= 5 flagged records of 40) = 4.8 % (binomial): more than 4 fails the
+  // test. Seeds 1001-1040 are disjoint from the development seeds 1-200 (0 of 200 flagged).
+  const int seeds = 40;
   int seeds_with_flags = 0;
-  for (std::uint64_t seed = 201; seed <= 210; ++seed) {
+  for (std::uint64_t seed = 1001; seed < 1001 + seeds; ++seed) {
     const Evaluated e = EvaluateDefault(seed, {});
     ASSERT_EQ(e.base.imf.summary.termination, Termination::kSuccess);
     seeds_with_flags += e.base.imf.summary.num_flagged > 0;
   }
-  EXPECT_LE(seeds_with_flags, 2);
+  EXPECT_LE(seeds_with_flags, 4);
 }
 
 TEST(ImfView, AHiddenSinusoidFlagsTheImfOfItsPeriod) {
@@ -157,25 +165,46 @@ TEST(ImfView, AHiddenSinusoidFlagsTheImfOfItsPeriod) {
   }
 }
 
-TEST(ImfView, AHiddenThermalEffectFlagsTheImfOfTheCycleThatFollowsTemperature) {
-  // The cycle (1-2 h) completes only 3-6 times in 6 h, so its IMF has ~10 degrees of freedom and
-  // mode mixing may share the effect between two neighbouring IMFs: we ask for a flagged IMF
-  // within a factor 2 of the temperature period that follows the temperature, |r| > 0.6 (noise
-  // gives r with standard error ~ 1 / sqrt(nu) ~ 0.3), in at least 3 of 4 seeds.
+// Counts the seeds on which an IMF within a factor 2 of the temperature period is flagged by the
+// aux test of the channel's value (derivative = false) or of its derivative.
+int SeedsFlaggedOnTheThermalImf(const std::vector<std::uint64_t>& seeds, sim::Term effect,
+                                bool derivative) {
   int found = 0;
-  for (std::uint64_t seed : {101, 102, 201, 202}) {
-    const Evaluated e = EvaluateDefault(seed, {sim::Term::kTemperature});
+  for (std::uint64_t seed : seeds) {
+    const Evaluated e = EvaluateDefault(seed, {effect});
     const ImfView& v = e.base.imf;
-    ASSERT_EQ(v.summary.termination, Termination::kSuccess);
-    ASSERT_EQ(v.aux_names.size(), 1u);
+    EXPECT_EQ(v.summary.termination, Termination::kSuccess);
+    EXPECT_EQ(v.aux_names.size(), 1u);
+    if (v.aux_names.size() != 1u) continue;
     const double period = e.hidden.recording.truth.options.temperature->period_s;
+    const std::vector<double>& z = derivative ? v.aux_z_derivative[0] : v.aux_z[0];
     bool ok = false;
     for (int k = 0; k < v.summary.num_imfs; ++k)
       ok = ok || (v.flagged[k] && std::abs(std::log(v.mean_period_s[k] / period)) < std::log(2.0) &&
-                  std::abs(v.aux_r[0][k]) > 0.6);
+                  std::abs(z[k]) > v.aux_critical);
     found += ok;
   }
-  EXPECT_GE(found, 3);
+  return found;
+}
+
+TEST(ImfView, AHiddenThermalEffectFlagsTheImfOfTheCycleThroughTheTemperatureTest) {
+  // The cycle (1-2 h) completes only 3-6 times in 6 h: the slow IMF and the temperature share
+  // ~10-60 independent values (n_eff), which limits the power. Measured on the development seeds
+  // 1-40: 25 of 40 (62 %) flag an IMF within a factor 2 of the period through the temperature
+  // test. On the disjoint seeds 101-110 at least 3 of 10: at a true rate of 62 %, fewer has
+  // probability 0.9 % (binomial).
+  std::vector<std::uint64_t> seeds;
+  for (std::uint64_t s = 101; s <= 110; ++s) seeds.push_back(s);
+  EXPECT_GE(SeedsFlaggedOnTheThermalImf(seeds, sim::Term::kTemperature, false), 3);
+}
+
+TEST(ImfView, AHiddenTemperatureRateEffectFlagsTheImfOfTheCycleThroughTheDerivativeTest) {
+  // As above for the Shupe term (bias proportional to dT/dt), through the test of the smoothed
+  // derivative: 18 of 40 (45 %) on the development seeds 1-40. On seeds 101-110 at least 2 of 10:
+  // at 45 %, fewer has probability 2.3 %.
+  std::vector<std::uint64_t> seeds;
+  for (std::uint64_t s = 101; s <= 110; ++s) seeds.push_back(s);
+  EXPECT_GE(SeedsFlaggedOnTheThermalImf(seeds, sim::Term::kTemperatureRate, true), 2);
 }
 
 TEST(ImfView, ComputeIsDeterministicAndInvalidOptionsAreReported) {
