@@ -40,7 +40,7 @@ struct ComponentModels {
   double white_noise = 0.0;         ///< white-noise share (white_noise.h), x^2
   double variance = 0.0;            ///< the component's variance, x^2
   std::vector<ar::ArModel> models;  ///< models[p - 1]; fewer when the recursion stopped early
-  std::vector<double> fit_one_step, fit_simulation;  ///< per order, %
+  std::vector<double> fit_one_step, fit_simulation;  ///< per order, % (NaN: no setting uses it)
 };
 
 /// The model used for order p: p itself, or the highest order the recursion reached when the
@@ -108,9 +108,18 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
     for (int p = 1; p <= sequence.orders_completed; ++p) {
       m.models.push_back(ar::MakeArModel(sequence.phi[p - 1], sequence.innovation_variance(p - 1),
                                          mean, c.size()));
-      const ar::ArDiagnostics d = ar::ComputeDiagnostics(c, m.models.back());
-      m.fit_one_step.push_back(d.fit_one_step_percent);
-      m.fit_simulation.push_back(d.fit_simulation_percent);
+    }
+    // Fit % (two passes over the component each, one of them a latency-bound simulation) only for
+    // the orders some setting uses: min(p, orders reached) for every p of the grid.
+    const int reached = static_cast<int>(m.models.size());
+    m.fit_one_step.assign(reached, kNaN);
+    m.fit_simulation.assign(reached, kNaN);
+    for (int order : options.grid.ar_orders) {
+      const int used = std::min(order, reached);
+      if (used < 1 || !std::isnan(m.fit_one_step[used - 1])) continue;
+      const ar::ArDiagnostics d = ar::ComputeDiagnostics(c, m.models[used - 1]);
+      m.fit_one_step[used - 1] = d.fit_one_step_percent;
+      m.fit_simulation[used - 1] = d.fit_simulation_percent;
     }
   });
   out.summary.models_seconds = SecondsSince(start);
