@@ -131,9 +131,9 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
     }
   }
 
-  // Per AR order, every q/R setting of that order at once: the settings share the models, so
-  // FilterArAndAdd runs their steady-state filters side by side in one pass over each component
-  // (ar_kalman.h) and adds each output to its setting's method-1 sum, in component order.
+  // Per AR order, every q/R setting of that order at once: the settings share the models, so one
+  // kalman::ArFilterBank per component runs their constant-gain loops side by side (ar_kalman.h)
+  // and adds each output to its setting's method-1 sum, in component order.
   const std::vector<SweepSetting> settings = GridSettings(options.grid);
   out.points.resize(settings.size());
   std::vector<std::pair<int, int>> blocks;  // [begin, end) of each order's settings
