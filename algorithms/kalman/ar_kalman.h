@@ -50,8 +50,8 @@
 //  - where the closed loop is well damped the two agree to 1e-9 after at most 7409 samples (radii
 //    up to 0.9973), as the radius^k law predicts, and the steady-state start was as accurate.
 //  - speed: the steady-state start has no O(p^2) phase at all; the paper's start costs up to
-//    max_time_varying_steps such steps per filter (measured on that sweep: 6.7 s CPU instead of
-//    3.6 s, against 1.8 s for one `run`; scripts/benchmark_sweep.sh, 1 thread).
+//    max_time_varying_steps such steps per filter (measured on that sweep with ArFilterBank:
+//    3.3 s CPU instead of 2.7 s, against 1.06 s for one `run`; 1 thread, medians of 3).
 // Accuracy against the truth decides: the paper's start is the default, the steady-state start is
 // the fast option (fogpipe sweep --kalman-start steady).
 //
