@@ -153,12 +153,6 @@ bool PrepareFilter(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::Vect
   return true;
 }
 
-// Whether the filter runs with G_inf from the first sample.
-bool StartsInSteadyState(const ArKalmanOptions& options, const DareSolution& dare) {
-  return options.initial_covariance == InitialCovariance::kSteadyState &&
-         dare.summary.termination == Termination::kSuccess && options.steady_state_switch;
-}
-
 // The summary of a steady-state start; gain_distance_at_switch from one Riccati step from P0.
 void SummarizeSteadyStart(const Eigen::VectorXd& phi, const DareSolution& dare, double q, double r,
                           ArKalmanSummary* s) {
@@ -174,17 +168,33 @@ void SummarizeSteadyStart(const Eigen::VectorXd& phi, const DareSolution& dare, 
   s->message = "steady-state start: steady-state gain from the first sample";
 }
 
-// The filter itself, after PrepareFilter.
-void RunFilter(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
-               const ArKalmanOptions& options, const DareSolution& dare, double z_variance,
-               ArKalmanResult* result_out, Eigen::VectorXd* reuse) {
+// Where the time-varying phase leaves the filter: the constant-gain loop starts at sample `k`
+// (n if it never does) from X(k-1|k-1) = x, with `constant_gain` (G_inf, a frozen gain or 0).
+struct PhaseEnd {
+  long long k = 0;
+  Eigen::VectorXd x;
+  Eigen::VectorXd constant_gain;
+  double constant_innovation_variance = 0.0;
+  bool zero_covariance = false;
+};
+
+// The filter from X(0|0) = 0 up to its constant-gain loop, after PrepareFilter: the start P(0|0),
+// then the time-varying recursion (eqs. 8-11, Joseph form) until the gain has converged, stalled
+// or reached the cap. emit(k, estimate, e, gain, innovation_variance) receives every sample of
+// the time-varying phase. Fills the summary's start and switch fields.
+template <typename Emit>
+PhaseEnd RunTimeVaryingPhase(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
+                             const ArKalmanOptions& options, const DareSolution& dare,
+                             double z_variance, ArKalmanResult* result_out, Emit&& emit) {
   ArKalmanResult& result = *result_out;
   ArKalmanSummary& s = result.summary;
   const long long n = z.size();
   const bool dare_ok = dare.summary.termination == Termination::kSuccess;
   const Eigen::Index p = phi.size();
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(p);  // X(0|0) = 0 (eq. 7)
-  Eigen::MatrixXd pf(p, p), pp(p, p);            // P(k-1|k-1), P(k|k-1)
+  PhaseEnd end;
+  Eigen::VectorXd& x = end.x;
+  x = Eigen::VectorXd::Zero(p);        // X(0|0) = 0 (eq. 7)
+  Eigen::MatrixXd pf(p, p), pp(p, p);  // P(k-1|k-1), P(k|k-1)
   Eigen::VectorXd g(p);
   // The steady-state start needs a stabilizing DARE solution; without one, the paper's start.
   const bool steady_start =
@@ -200,24 +210,18 @@ void RunFilter(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd
   // q = 0 from P(0|0) = 0: P(k|k-1) = A 0 A' + 0 = 0 at every step, so the gain is exactly 0 from
   // the first sample and the estimate is the mean, whatever the DARE says (it is ill-posed at
   // q = 0 on the near-unit-root models of slow IMFs and would leave the loop time-varying).
-  const bool zero_covariance = !steady_start && result.q == 0.0 && p0 == 0.0;
-
-  if (reuse != nullptr && reuse->size() == n) result.filtered.swap(*reuse);
-  result.filtered.resize(n);
-  Eigen::VectorXd innovations;
-  FilterGainHistory history;
-  if (options.smooth) innovations.resize(n);
+  end.zero_covariance = !steady_start && result.q == 0.0 && p0 == 0.0;
 
   // The constant gain of the O(p) loop and its innovation variance: G_inf, or a frozen gain.
-  Eigen::VectorXd constant_gain = dare.gain;
-  double constant_innovation_variance = dare.innovation_variance;
+  end.constant_gain = dare.gain;
+  end.constant_innovation_variance = dare.innovation_variance;
   long long k = 0;
   if (steady_start && options.steady_state_switch) {
     // P0 is the fixed point: G(k) = G_inf for every k.
     SummarizeSteadyStart(phi, dare, result.q, result.r, &s);
-  } else if (zero_covariance) {
-    constant_gain = Eigen::VectorXd::Zero(p);
-    constant_innovation_variance = result.r;
+  } else if (end.zero_covariance) {
+    end.constant_gain = Eigen::VectorXd::Zero(p);
+    end.constant_innovation_variance = result.r;
     s.gain_switch = GainSwitch::kFromStart;
     s.switched_at_sample = 0;
     s.gain_distance_at_switch = 0.0;
@@ -260,8 +264,8 @@ void RunFilter(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd
         // time-varying gain of a decreasing Riccati iterate does; Bitmead, Gevers & Wertz 1985,
         // the "fake algebraic Riccati equation"), else stay time-varying to the end.
         if (IsStableLoop(phi, g)) {
-          constant_gain = g;
-          constant_innovation_variance = innovation_var;
+          end.constant_gain = g;
+          end.constant_innovation_variance = innovation_var;
           s.gain_switch = GainSwitch::kFrozen;
           s.switched_at_sample = k;
           s.gain_distance_at_switch = GainDistance(gain_at_half_cap, g);
@@ -273,33 +277,18 @@ void RunFilter(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd
       const double e = (z[k] - options.mean) - pred;
       for (Eigen::Index i = p - 1; i >= 1; --i) x[i] = x[i - 1] + g[i] * e;
       x[0] = pred + g[0] * e;
-      result.filtered[k] = x[0] + options.mean;
-      if (options.smooth) {
-        innovations[k] = e;
-        history.time_varying_gains.insert(history.time_varying_gains.end(), g.data(), g.data() + p);
-        history.time_varying_innovation_variances.push_back(innovation_var);
-      }
+      emit(k, x[0] + options.mean, e, g, innovation_var);
     }
   }
-  history.time_varying_steps = k;
-  if (k < n) {
-    SteadyStateFilter(z.data() + k, n - k, options.mean, phi, constant_gain, x,
-                      result.filtered.data() + k,
-                      options.smooth ? innovations.data() + k : nullptr);
-  }
+  end.k = k;
+  return end;
+}
 
-  if (options.smooth) {
-    history.steady_state_gain = constant_gain;
-    history.steady_state_innovation_variance = constant_innovation_variance;
-    RtsSmoothInPlace(z, options.mean, phi, history, &innovations);
-    result.smoothed = std::move(innovations);
-    result.steady_state_smoothed_error_variance = SteadyStateSmoothedVariance(phi, dare);
-  }
-
-  if (!result.filtered.allFinite()) {
-    result = Fail(std::move(result), Termination::kNumericalFailure, "non-finite filter output");
-    return;
-  }
+// Termination and message of a filter that ran (FilterAr and ArFilterBank alike).
+void FinishSummary(const ArKalmanOptions& options, const DareSolution& dare, bool zero_covariance,
+                   ArKalmanSummary* summary) {
+  ArKalmanSummary& s = *summary;
+  const bool dare_ok = dare.summary.termination == Termination::kSuccess;
   s.termination = dare_ok || zero_covariance ? Termination::kSuccess : Termination::kNoConvergence;
   switch (s.gain_switch) {
     case GainSwitch::kNever:
@@ -331,6 +320,52 @@ void RunFilter(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd
   }
 }
 
+// The whole filter (and smoother), after PrepareFilter.
+void RunFilter(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
+               const ArKalmanOptions& options, const DareSolution& dare, double z_variance,
+               ArKalmanResult* result_out, Eigen::VectorXd* reuse) {
+  ArKalmanResult& result = *result_out;
+  const long long n = z.size();
+  const Eigen::Index p = phi.size();
+  if (reuse != nullptr && reuse->size() == n) result.filtered.swap(*reuse);
+  result.filtered.resize(n);
+  Eigen::VectorXd innovations;
+  FilterGainHistory history;
+  if (options.smooth) innovations.resize(n);
+  const PhaseEnd end = RunTimeVaryingPhase(
+      z, phi, options, dare, z_variance, &result,
+      [&](long long k, double estimate, double e, const Eigen::VectorXd& g, double innovation_var) {
+        result.filtered[k] = estimate;
+        if (options.smooth) {
+          innovations[k] = e;
+          history.time_varying_gains.insert(history.time_varying_gains.end(), g.data(),
+                                            g.data() + p);
+          history.time_varying_innovation_variances.push_back(innovation_var);
+        }
+      });
+  const long long k = end.k;
+  history.time_varying_steps = k;
+  if (k < n) {
+    SteadyStateFilter(z.data() + k, n - k, options.mean, phi, end.constant_gain, end.x,
+                      result.filtered.data() + k,
+                      options.smooth ? innovations.data() + k : nullptr);
+  }
+
+  if (options.smooth) {
+    history.steady_state_gain = end.constant_gain;
+    history.steady_state_innovation_variance = end.constant_innovation_variance;
+    RtsSmoothInPlace(z, options.mean, phi, history, &innovations);
+    result.smoothed = std::move(innovations);
+    result.steady_state_smoothed_error_variance = SteadyStateSmoothedVariance(phi, dare);
+  }
+
+  if (!result.filtered.allFinite()) {
+    result = Fail(std::move(result), Termination::kNumericalFailure, "non-finite filter output");
+    return;
+  }
+  FinishSummary(options, dare, end.zero_covariance, &result.summary);
+}
+
 }  // namespace
 
 ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
@@ -346,39 +381,99 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
   return result;
 }
 
+ArFilterBank::ArFilterBank(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
+                           double innovation_variance, double white_noise_variance,
+                           const std::vector<ArKalmanOptions>& options)
+    : z_(z.data()), n_(z.size()), phi_(phi), filters_(options.size()) {
+  double z_variance = 0.0;
+  const bool z_ok = z.size() > 0 && SampleVarianceIfFinite(z, &z_variance);
+  std::vector<PhaseEnd> ends(options.size());
+  std::vector<bool> lane(options.size(), false);
+  lanes_start_ = 0;
+  for (std::size_t i = 0; i < options.size(); ++i) {
+    Filter& f = filters_[i];
+    ArKalmanResult result;
+    DareSolution dare;
+    if (!PrepareFilter(z, phi, innovation_variance, white_noise_variance, options[i], !z_ok,
+                       &result, &dare, &z_variance)) {
+      f.summary = std::move(result.summary);
+      continue;
+    }
+    f.mean = options[i].mean;
+    if (options[i].smooth) {
+      // The smoother needs the whole series: FilterAr's path, kept as the head.
+      RunFilter(z, phi, options[i], dare, z_variance, &result, nullptr);
+      f.summary = std::move(result.summary);
+      if (HasResult(f.summary.termination)) {
+        f.head.assign(result.smoothed.data(), result.smoothed.data() + n_);
+      }
+      continue;
+    }
+    ends[i] = RunTimeVaryingPhase(z, phi, options[i], dare, z_variance, &result,
+                                  [&](long long, double estimate, double, const Eigen::VectorXd&,
+                                      double) { f.head.push_back(estimate); });
+    f.summary = std::move(result.summary);
+    FinishSummary(options[i], dare, ends[i].zero_covariance, &f.summary);
+    if (ends[i].k < n_) {
+      lane[i] = true;
+      lanes_start_ = std::max(lanes_start_, ends[i].k);
+    }
+  }
+  // Every constant-gain filter continues alone up to the latest switch, then all side by side.
+  const int p = static_cast<int>(phi.size());
+  for (std::size_t i = 0; i < options.size(); ++i) {
+    Filter& f = filters_[i];
+    if (lane[i]) {
+      f.gain = std::move(ends[i].constant_gain);
+      f.partial.resize(static_cast<std::size_t>(p));
+      PartialPredictions(phi_, ends[i].x, f.partial.data());
+      const long long k = ends[i].k;
+      f.head.resize(static_cast<std::size_t>(lanes_start_));
+      SteadyStateFilterFromPartial(z_ + k, lanes_start_ - k, f.mean, phi_, f.gain, f.partial.data(),
+                                   f.head.data() + k, nullptr);
+    }
+    if (!HasResult(f.summary.termination)) continue;
+    // The constant-gain loops are stable (G_inf stabilizes, a frozen gain is checked) and z is
+    // finite, so only the time-varying head can overflow.
+    if (!std::all_of(f.head.begin(), f.head.end(), [](double v) { return std::isfinite(v); })) {
+      f.summary.termination = Termination::kNumericalFailure;
+      f.summary.message = "non-finite filter output";
+      f.head.clear();
+      lane[i] = false;
+    }
+    f.lane = lane[i];
+  }
+}
+
+void ArFilterBank::AddRange(long long begin, long long end, const std::vector<double*>& sums) {
+  std::vector<SteadyStateLane> lanes;
+  const long long lanes_begin = std::max(begin, lanes_start_);
+  for (std::size_t i = 0; i < filters_.size(); ++i) {
+    Filter& f = filters_[i];
+    if (!HasResult(f.summary.termination)) continue;
+    const long long head_end = std::min<long long>(end, static_cast<long long>(f.head.size()));
+    for (long long k = begin; k < head_end; ++k) sums[i][k] += f.head[k];
+    if (f.lane && lanes_begin < end) {
+      lanes.push_back({&f.gain, f.mean, sums[i] + lanes_begin, f.partial.data()});
+    }
+  }
+  if (!lanes.empty()) AddSteadyStateFilters(z_ + lanes_begin, end - lanes_begin, phi_, lanes);
+}
+
+std::vector<ArKalmanSummary> ArFilterBank::summaries() const {
+  std::vector<ArKalmanSummary> out;
+  for (const Filter& f : filters_) out.push_back(f.summary);
+  return out;
+}
+
 std::vector<ArKalmanSummary> FilterArAndAdd(const Eigen::Ref<const Eigen::VectorXd>& z,
                                             const Eigen::VectorXd& phi, double innovation_variance,
                                             double white_noise_variance,
                                             const std::vector<ArKalmanOptions>& options,
                                             const std::vector<double*>& sums) {
-  std::vector<ArKalmanSummary> summaries(options.size());
-  double z_variance = 0.0;
-  const bool z_ok = z.size() > 0 && SampleVarianceIfFinite(z, &z_variance);
-  std::vector<SteadyStateLane> lanes;
-  std::vector<DareSolution> dares(options.size());
-  Eigen::VectorXd scratch;
-  for (std::size_t i = 0; i < options.size(); ++i) {
-    ArKalmanResult result;
-    if (!PrepareFilter(z, phi, innovation_variance, white_noise_variance, options[i], !z_ok,
-                       &result, &dares[i], &z_variance)) {
-      summaries[i] = std::move(result.summary);
-      continue;
-    }
-    if (StartsInSteadyState(options[i], dares[i]) && !options[i].smooth) {
-      SummarizeSteadyStart(phi, dares[i], result.q, result.r, &result.summary);
-      summaries[i] = std::move(result.summary);
-      lanes.push_back({&dares[i].gain, options[i].mean, sums[i]});
-      continue;
-    }
-    RunFilter(z, phi, options[i], dares[i], z_variance, &result, &scratch);
-    summaries[i] = result.summary;
-    if (!HasResult(result.summary.termination)) continue;
-    const Eigen::VectorXd& out = options[i].smooth ? result.smoothed : result.filtered;
-    Eigen::Map<Eigen::VectorXd>(sums[i], z.size()) += out;
-    scratch = std::move(result.filtered);
-  }
-  AddSteadyStateFilters(z.data(), z.size(), phi, lanes);
-  return summaries;
+  ArFilterBank bank(z, phi, innovation_variance, white_noise_variance, options);
+  bank.AddRange(0, z.size(), sums);
+  return bank.summaries();
 }
 
 }  // namespace fogpipe::kalman

@@ -50,8 +50,8 @@
 //  - where the closed loop is well damped the two agree to 1e-9 after at most 7409 samples (radii
 //    up to 0.9973), as the radius^k law predicts, and the steady-state start was as accurate.
 //  - speed: the steady-state start has no O(p^2) phase at all; the paper's start costs up to
-//    max_time_varying_steps such steps per filter (measured on that sweep: 6.7 s CPU instead of
-//    3.6 s, against 1.8 s for one `run`; scripts/benchmark_sweep.sh, 1 thread).
+//    max_time_varying_steps such steps per filter (measured on that sweep with ArFilterBank:
+//    3.3 s CPU instead of 2.7 s, against 1.06 s for one `run`; 1 thread, medians of 3).
 // Accuracy against the truth decides: the paper's start is the default, the steady-state start is
 // the fast option (fogpipe sweep --kalman-start steady).
 //
@@ -183,12 +183,46 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
                         const ArKalmanOptions& options = ArKalmanOptions(),
                         Eigen::VectorXd* reuse = nullptr);
 
-/// The same AR model filtered under several option sets (the q/R settings of a sweep), output i
-/// added to sums[i][0..n) (plus its smoothed series instead when options[i].smooth). Option sets
-/// that start in steady state run side by side in one pass over z (AddSteadyStateFilters,
-/// steady_state_filter.h), the others through FilterAr's path; output i equals
-/// FilterAr(z, phi, ..., options[i]).filtered up to rounding. Returns the summaries; a sum whose
-/// summary has no result is left untouched.
+/// One AR model filtered under several option sets (the q/R settings of a sweep) over the same z,
+/// output i added to a sum range by range, so that a caller can interleave the banks of many
+/// components over one cache-sized range of their sums at a time. Construction runs every
+/// filter's start alone: PrepareFilter (options, noise levels, DARE) and its time-varying phase
+/// (FilterAr's code); each filter that reaches a constant-gain loop at sample k_i continues alone
+/// (SteadyStateFilterFromPartial) up to K = max_i k_i, and from K all of them run side by side
+/// (AddSteadyStateFilters). Option sets with the smoother, or that never reach a constant gain,
+/// are computed whole at construction. Output i equals FilterAr(z, phi, ..., options[i]).filtered
+/// (its smoothed series when options[i].smooth) to the last bit: the same arithmetic in the same
+/// order (tested). Memory: the time-varying heads (K doubles per filter; n for the others).
+/// z must outlive the bank.
+class ArFilterBank {
+ public:
+  ArFilterBank(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
+               double innovation_variance, double white_noise_variance,
+               const std::vector<ArKalmanOptions>& options);
+  /// Adds output i's samples [begin, end) to sums[i][begin, end). Successive calls must cover
+  /// [0, n) in order (the side-by-side filters carry their state from one range to the next).
+  /// A sum whose summary has no result is left untouched.
+  void AddRange(long long begin, long long end, const std::vector<double*>& sums);
+  std::vector<ArKalmanSummary> summaries() const;
+
+ private:
+  struct Filter {
+    ArKalmanSummary summary;
+    double mean = 0.0;
+    std::vector<double> head;     ///< Outputs [0, head.size()).
+    bool lane = false;            ///< Continued side by side from lanes_start_.
+    Eigen::VectorXd gain;         ///< Constant gain of the side-by-side loop.
+    std::vector<double> partial;  ///< Its loop state (steady_state_filter.h).
+  };
+  const double* z_;
+  long long n_;
+  Eigen::VectorXd phi_;
+  std::vector<Filter> filters_;
+  long long lanes_start_ = 0;
+};
+
+/// ArFilterBank over the whole series at once: output i added to sums[i][0..n). Returns the
+/// summaries; a sum whose summary has no result is left untouched.
 std::vector<ArKalmanSummary> FilterArAndAdd(const Eigen::Ref<const Eigen::VectorXd>& z,
                                             const Eigen::VectorXd& phi, double innovation_variance,
                                             double white_noise_variance,

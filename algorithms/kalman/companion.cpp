@@ -40,13 +40,15 @@ double JosephUpdate(const Eigen::MatrixXd& predicted, double r, Eigen::VectorXd*
   g = predicted.col(0) / s;
   Eigen::MatrixXd& out = *filtered;
   out.resize(p, p);
+  // The lower triangle column by column (contiguous), then mirrored: the same value per element.
   for (Eigen::Index j = 0; j < p; ++j) {
     const double cj = predicted(j, 0);
     for (Eigen::Index i = j; i < p; ++i) {
-      const double v = predicted(i, j) - g[i] * cj - predicted(i, 0) * g[j] + s * g[i] * g[j];
-      out(i, j) = v;
-      out(j, i) = v;
+      out(i, j) = predicted(i, j) - g[i] * cj - predicted(i, 0) * g[j] + s * g[i] * g[j];
     }
+  }
+  for (Eigen::Index j = 0; j < p; ++j) {
+    for (Eigen::Index i = j + 1; i < p; ++i) out(j, i) = out(i, j);
   }
   return s;
 }

@@ -1,5 +1,6 @@
 #include "algorithms/kalman/steady_state_filter.h"
 
+#include <algorithm>
 #include <vector>
 
 #include "algorithms/kalman/fixed_order.h"
@@ -9,23 +10,27 @@ namespace {
 
 using internal::Buffer;
 
+// beta_m = sum_{i=m}^{p-1} phi_i G_{i-m} (see the header), in one fixed order for every caller.
+inline void Betas(const double* phi, const double* gain, int p, double* beta, int stride) {
+  for (int m = 0; m < p; ++m) {
+    double b = 0.0;
+    for (int i = m; i < p; ++i) b += phi[i] * gain[i - m];
+    beta[m * stride] = b;
+  }
+}
+
 template <int P, bool kStoreInnovations>
 void Kernel(const double* z, long long n, double mean, const double* phi_in, const double* gain,
-            const double* state, int p_runtime, double* filtered, double* innovations) {
+            double* partial, int p_runtime, double* filtered, double* innovations) {
   const int p = P > 0 ? P : p_runtime;
   Buffer<P> phi_buf(p), beta_buf(p), s_buf(p);
   double* phi = phi_buf.get();
   double* beta = beta_buf.get();
   double* s = s_buf.get();
+  Betas(phi_in, gain, p, beta, 1);
   for (int m = 0; m < p; ++m) {
     phi[m] = phi_in[m];
-    double b = 0.0, sm = 0.0;
-    for (int i = m; i < p; ++i) {
-      b += phi_in[i] * gain[i - m];
-      sm += phi_in[i] * state[i - m];
-    }
-    beta[m] = b;
-    s[m] = sm;
+    s[m] = partial[m];
   }
   const double g0 = gain[0];
   for (long long k = 0; k < n; ++k) {
@@ -36,51 +41,54 @@ void Kernel(const double* z, long long n, double mean, const double* phi_in, con
     for (int m = 0; m + 1 < p; ++m) s[m] = (phi[m] * pred + s[m + 1]) + beta[m] * e;
     s[p - 1] = phi[p - 1] * pred + beta[p - 1] * e;
   }
+  for (int m = 0; m < p; ++m) partial[m] = s[m];
 }
 
 // Orders up to this run side by side (state on the stack); higher ones one lane at a time.
 constexpr int kMaxLaneOrder = 32;
+constexpr int kLanes = 4;
+// Four doubles, one per lane (GCC/Clang vector extension: one AVX2 register; element-wise IEEE
+// arithmetic, so each lane computes exactly what the scalar Kernel computes).
+typedef double Lanes __attribute__((vector_size(kLanes * sizeof(double))));
 
-// L filters side by side; state and beta lane-minor (index j * L + lane) so that every update over
-// the lanes is one contiguous vector operation. They live in local arrays, which the compiler
-// knows the output stores cannot alias, so the state stays in registers across the stores.
-// P > 0: the order at compile time (loops unrolled, state in registers); P == 0: runtime p.
-template <int L, int P>
+// Up to four filters side by side, `active` of them real (the others have gain 0 and no output).
+// The state s_j of all four lanes is one vector, so every update of the recursion is one vector
+// operation and the state stays in registers. P > 0: the order at compile time (loops unrolled);
+// P == 0: runtime p.
+template <int P>
 void AddLanes(const double* z, long long n, const double* phi, int p_runtime,
-              const SteadyStateLane* lanes) {
+              const SteadyStateLane* lanes, int active) {
   const int p = P > 0 ? P : p_runtime;
-  double s[kMaxLaneOrder * L] = {}, beta[kMaxLaneOrder * L], g0[L], mean[L];
-  double* out[L];
-  for (int m = 0; m < L; ++m) {
+  Lanes s[kMaxLaneOrder], beta[kMaxLaneOrder], phi_v[kMaxLaneOrder];
+  Lanes g0 = {}, mean = {};
+  double* out[kLanes] = {};
+  for (int j = 0; j < p; ++j) {
+    s[j] = Lanes{};
+    beta[j] = Lanes{};
+    phi_v[j] = Lanes{} + phi[j];
+  }
+  for (int m = 0; m < active; ++m) {
     const double* gain = lanes[m].gain->data();
+    double b[kMaxLaneOrder];
+    Betas(phi, gain, p, b, 1);
     g0[m] = gain[0];
     mean[m] = lanes[m].mean;
     out[m] = lanes[m].sum;
     for (int j = 0; j < p; ++j) {
-      double b = 0.0;
-      for (int i = j; i < p; ++i) b += phi[i] * gain[i - j];
-      beta[j * L + m] = b;
+      beta[j][m] = b[j];
+      s[j][m] = lanes[m].partial[j];
     }
   }
-  double phi_local[kMaxLaneOrder];
-  for (int j = 0; j < p; ++j) phi_local[j] = phi[j];
   for (long long k = 0; k < n; ++k) {
-    double pred[L], e[L], est[L];
-    const double zk = z[k];
-    for (int m = 0; m < L; ++m) {
-      pred[m] = s[m];
-      e[m] = (zk - mean[m]) - pred[m];
-      est[m] = (pred[m] + g0[m] * e[m]) + mean[m];
-    }
-    for (int j = 0; j + 1 < p; ++j) {
-      for (int m = 0; m < L; ++m) {
-        s[j * L + m] = (phi_local[j] * pred[m] + s[(j + 1) * L + m]) + beta[j * L + m] * e[m];
-      }
-    }
-    for (int m = 0; m < L; ++m) {
-      s[(p - 1) * L + m] = phi_local[p - 1] * pred[m] + beta[(p - 1) * L + m] * e[m];
-    }
-    for (int m = 0; m < L; ++m) out[m][k] += est[m];
+    const Lanes pred = s[0];
+    const Lanes e = (z[k] - mean) - pred;
+    const Lanes est = (pred + g0 * e) + mean;
+    for (int j = 0; j + 1 < p; ++j) s[j] = (phi_v[j] * pred + s[j + 1]) + beta[j] * e;
+    s[p - 1] = phi_v[p - 1] * pred + beta[p - 1] * e;
+    for (int m = 0; m < active; ++m) out[m][k] += est[m];
+  }
+  for (int m = 0; m < active; ++m) {
+    for (int j = 0; j < p; ++j) lanes[m].partial[j] = s[j][m];
   }
 }
 
@@ -110,29 +118,41 @@ void AddSteadyStateFilters(const double* z, long long n, const Eigen::VectorXd& 
   const int p = static_cast<int>(phi.size());
   if (p > kMaxLaneOrder) {
     std::vector<double> estimates(static_cast<std::size_t>(n));
-    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p);
     for (const SteadyStateLane& lane : lanes) {
-      SteadyStateFilter(z, n, lane.mean, phi, *lane.gain, zero, estimates.data(), nullptr);
+      SteadyStateFilterFromPartial(z, n, lane.mean, phi, *lane.gain, lane.partial, estimates.data(),
+                                   nullptr);
       for (long long k = 0; k < n; ++k) lane.sum[k] += estimates[k];
     }
     return;
   }
   WithLaneOrder(p, [&](auto order) {
     constexpr int kP = decltype(order)::value;
-    std::size_t i = 0;
-    for (; i + 4 <= lanes.size(); i += 4) AddLanes<4, kP>(z, n, phi.data(), p, lanes.data() + i);
-    switch (lanes.size() - i) {
-      case 3:
-        AddLanes<3, kP>(z, n, phi.data(), p, lanes.data() + i);
-        break;
-      case 2:
-        AddLanes<2, kP>(z, n, phi.data(), p, lanes.data() + i);
-        break;
-      case 1:
-        AddLanes<1, kP>(z, n, phi.data(), p, lanes.data() + i);
-        break;
-      default:
-        break;
+    for (std::size_t i = 0; i < lanes.size(); i += kLanes) {
+      const int active = static_cast<int>(std::min<std::size_t>(kLanes, lanes.size() - i));
+      AddLanes<kP>(z, n, phi.data(), p, lanes.data() + i, active);
+    }
+  });
+}
+
+void PartialPredictions(const Eigen::VectorXd& phi, const Eigen::VectorXd& state, double* partial) {
+  const int p = static_cast<int>(phi.size());
+  for (int m = 0; m < p; ++m) {
+    double sm = 0.0;
+    for (int i = m; i < p; ++i) sm += phi[i] * state[i - m];
+    partial[m] = sm;
+  }
+}
+
+void SteadyStateFilterFromPartial(const double* z, long long n, double mean,
+                                  const Eigen::VectorXd& phi, const Eigen::VectorXd& gain,
+                                  double* partial, double* filtered, double* innovations) {
+  const int p = static_cast<int>(phi.size());
+  internal::WithFixedOrder(p, [&](auto order) {
+    constexpr int kP = decltype(order)::value;
+    if (innovations) {
+      Kernel<kP, true>(z, n, mean, phi.data(), gain.data(), partial, p, filtered, innovations);
+    } else {
+      Kernel<kP, false>(z, n, mean, phi.data(), gain.data(), partial, p, filtered, nullptr);
     }
   });
 }
@@ -140,15 +160,9 @@ void AddSteadyStateFilters(const double* z, long long n, const Eigen::VectorXd& 
 void SteadyStateFilter(const double* z, long long n, double mean, const Eigen::VectorXd& phi,
                        const Eigen::VectorXd& gain, const Eigen::VectorXd& state, double* filtered,
                        double* innovations) {
-  const int p = static_cast<int>(phi.size());
-  internal::WithFixedOrder(p, [&](auto order) {
-    constexpr int kP = decltype(order)::value;
-    if (innovations) {
-      Kernel<kP, true>(z, n, mean, phi.data(), gain.data(), state.data(), p, filtered, innovations);
-    } else {
-      Kernel<kP, false>(z, n, mean, phi.data(), gain.data(), state.data(), p, filtered, nullptr);
-    }
-  });
+  std::vector<double> partial(static_cast<std::size_t>(phi.size()));
+  PartialPredictions(phi, state, partial.data());
+  SteadyStateFilterFromPartial(z, n, mean, phi, gain, partial.data(), filtered, innovations);
 }
 
 }  // namespace fogpipe::kalman

@@ -27,25 +27,37 @@ namespace fogpipe::kalman {
 
 /// Runs the loop over n samples of z from the state X(k-1|k-1) = `state` (size p). `filtered`
 /// receives n estimates of x(k); `innovations`, if not null, the n e(k) (for the smoother).
-/// phi and gain have size p >= 1.
+/// phi and gain have size p >= 1. Equals PartialPredictions + SteadyStateFilterFromPartial.
 void SteadyStateFilter(const double* z, long long n, double mean, const Eigen::VectorXd& phi,
                        const Eigen::VectorXd& gain, const Eigen::VectorXd& state, double* filtered,
                        double* innovations);
 
+/// The loop's own state for X(k|k) = `state`: partial[m] = s_m(k) (p doubles, see above).
+void PartialPredictions(const Eigen::VectorXd& phi, const Eigen::VectorXd& state, double* partial);
+
+/// SteadyStateFilter carried in the loop's own state: `partial` (p doubles) holds s at entry and is
+/// left holding s after the n samples, so consecutive calls continue one run to the last bit, and
+/// AddSteadyStateFilters can continue it side by side with other filters.
+void SteadyStateFilterFromPartial(const double* z, long long n, double mean,
+                                  const Eigen::VectorXd& phi, const Eigen::VectorXd& gain,
+                                  double* partial, double* filtered, double* innovations);
+
 /// One filter of AddSteadyStateFilters: its constant gain (size p), the mean removed from z before
-/// filtering and added back, and where its output is added (n doubles).
+/// filtering and added back, where its output is added (n doubles), and its loop state `partial`
+/// (p doubles: s at entry, left holding s after the n samples).
 struct SteadyStateLane {
   const Eigen::VectorXd* gain = nullptr;
   double mean = 0.0;
   double* sum = nullptr;
+  double* partial = nullptr;
 };
 
 /// Several constant-gain filters of the same AR model (e.g. the q/R settings of a sweep) over the
-/// same z, each from X(0|0) = 0, each adding its estimates of x(k) to lane.sum[k]. The filters run
-/// four at a time in one pass: the same recursion as SteadyStateFilter with the four lanes side by
-/// side (one SIMD register on AVX2), so four independent dependency chains overlap and the
-/// per-filter cost drops well below the latency-bound single loop. Each lane's arithmetic is the
-/// single loop's, in the same order.
+/// same z, each from its own state, each adding its estimates of x(k) to lane.sum[k]. The filters
+/// run four at a time in one pass: the same recursion as SteadyStateFilterFromPartial with the four
+/// lanes side by side (one SIMD register on AVX2), so four independent dependency chains overlap
+/// and the per-filter cost drops well below the latency-bound single loop. Each lane's arithmetic
+/// is the single loop's, in the same order: the estimates are equal to the last bit (tested).
 void AddSteadyStateFilters(const double* z, long long n, const Eigen::VectorXd& phi,
                            const std::vector<SteadyStateLane>& lanes);
 

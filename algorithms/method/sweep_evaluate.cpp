@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <stdexcept>
 
@@ -24,6 +25,9 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // driven by the recorded gain distance and forgotten at the closed-loop radius^k (tested in
 // ar_kalman_test). 65536 steps would triple the sweep's cost on 1 h at 100 Hz.
 constexpr long long kSweepTimeVaryingSteps = 4096;
+// Samples of every setting's method-1 sum filled by all components before the next range: 10
+// settings x 2048 x 8 bytes = 160 kB stay in the L2 cache while the components add to them.
+constexpr Eigen::Index kSumRange = 2048;
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -36,7 +40,7 @@ struct ComponentModels {
   double white_noise = 0.0;         ///< white-noise share (white_noise.h), x^2
   double variance = 0.0;            ///< the component's variance, x^2
   std::vector<ar::ArModel> models;  ///< models[p - 1]; fewer when the recursion stopped early
-  std::vector<double> fit_one_step, fit_simulation;  ///< per order, %
+  std::vector<double> fit_one_step, fit_simulation;  ///< per order, % (NaN: no setting uses it)
 };
 
 /// The model used for order p: p itself, or the highest order the recursion reached when the
@@ -104,9 +108,18 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
     for (int p = 1; p <= sequence.orders_completed; ++p) {
       m.models.push_back(ar::MakeArModel(sequence.phi[p - 1], sequence.innovation_variance(p - 1),
                                          mean, c.size()));
-      const ar::ArDiagnostics d = ar::ComputeDiagnostics(c, m.models.back());
-      m.fit_one_step.push_back(d.fit_one_step_percent);
-      m.fit_simulation.push_back(d.fit_simulation_percent);
+    }
+    // Fit % (two passes over the component each, one of them a latency-bound simulation) only for
+    // the orders some setting uses: min(p, orders reached) for every p of the grid.
+    const int reached = static_cast<int>(m.models.size());
+    m.fit_one_step.assign(reached, kNaN);
+    m.fit_simulation.assign(reached, kNaN);
+    for (int order : options.grid.ar_orders) {
+      const int used = std::min(order, reached);
+      if (used < 1 || !std::isnan(m.fit_one_step[used - 1])) continue;
+      const ar::ArDiagnostics d = ar::ComputeDiagnostics(c, m.models[used - 1]);
+      m.fit_one_step[used - 1] = d.fit_one_step_percent;
+      m.fit_simulation[used - 1] = d.fit_simulation_percent;
     }
   });
   out.summary.models_seconds = SecondsSince(start);
@@ -118,9 +131,9 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
     }
   }
 
-  // Per AR order, every q/R setting of that order at once: the settings share the models, so
-  // FilterArAndAdd runs their steady-state filters side by side in one pass over each component
-  // (ar_kalman.h) and adds each output to its setting's method-1 sum, in component order.
+  // Per AR order, every q/R setting of that order at once: the settings share the models, so one
+  // kalman::ArFilterBank per component runs their constant-gain loops side by side (ar_kalman.h)
+  // and adds each output to its setting's method-1 sum, in component order.
   const std::vector<SweepSetting> settings = GridSettings(options.grid);
   out.points.resize(settings.size());
   std::vector<std::pair<int, int>> blocks;  // [begin, end) of each order's settings
@@ -141,13 +154,17 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
       out.points[begin + j].setting = settings[begin + j];
       out.points[begin + j].termination = Termination::kSuccess;
     }
+    // Every component's filters of this order (their time-varying phases run here), then the
+    // sums range by range: each range of every setting's sum stays in cache while all components
+    // add to it, in component order (the same additions, in the same order, as one pass per
+    // component: the sums are equal to the last bit).
+    std::vector<std::unique_ptr<kalman::ArFilterBank>> banks(num_components);
     for (int k = 0; k < num_components; ++k) {
       const ComponentModels& m = components[k];
       if (m.constant) {
         for (int j = 0; j < count; ++j) {
           out.points[begin + j].fit_one_step_percent.push_back(kNaN);
           out.points[begin + j].fit_simulation_percent.push_back(kNaN);
-          method1[j] += *m.signal;
         }
         continue;
       }
@@ -175,13 +192,27 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
         out.points[begin + j].fit_one_step_percent.push_back(m.fit_one_step[used - 1]);
         out.points[begin + j].fit_simulation_percent.push_back(m.fit_simulation[used - 1]);
       }
-      const std::vector<kalman::ArKalmanSummary> filtered = kalman::FilterArAndAdd(
-          *m.signal, model.phi, model.innovation_variance, m.white_noise, kalman_options, sums);
+      banks[k] = std::make_unique<kalman::ArFilterBank>(
+          *m.signal, model.phi, model.innovation_variance, m.white_noise, kalman_options);
+      const std::vector<kalman::ArKalmanSummary> filtered = banks[k]->summaries();
       for (int j = 0; j < count; ++j) {
         SweepPoint& point = out.points[begin + j];
         if (HasResult(filtered[j].termination) || !HasResult(point.termination)) continue;
         point.termination = filtered[j].termination;
         point.message = ComponentName(k, num_imfs) + ": Kalman filter: " + filtered[j].message;
+      }
+    }
+    for (Eigen::Index range = 0; range < n; range += kSumRange) {
+      const Eigen::Index end = std::min<Eigen::Index>(n, range + kSumRange);
+      for (int k = 0; k < num_components; ++k) {
+        if (banks[k]) {
+          banks[k]->AddRange(range, end, sums);
+          continue;
+        }
+        for (int j = 0; j < count; ++j) {
+          method1[j].segment(range, end - range) +=
+              components[k].signal->segment(range, end - range);
+        }
       }
     }
     // The shared filtering time, split evenly among the order's settings.

@@ -14,12 +14,15 @@
 // The AR orders run through `for_each` (the pipeline passes a tbb::parallel_for), and within an
 // order the Allan evaluation of its settings too; every setting writes only its own slot and sums
 // its components in component order, so the numbers do not depend on the schedule. All q/R
-// settings of one order are filtered together (kalman::FilterArAndAdd); with the steady-state
-// start (`fogpipe sweep --kalman-start steady`) their filters run side by side in one pass over
-// each component. With the paper's start (the default, as in `run`) each filter's time-varying
-// phase is capped at 4096 steps (sweep_evaluate.cpp says why). Memory: the decomposition plus one
-// signal-length sum per setting of every order in flight (10 settings per order for a 3 x 3 grid:
-// 29 MB per order for 1 h at 100 Hz).
+// settings of one order are filtered together (kalman::ArFilterBank): each filter's start (the
+// time-varying phase of the paper's start, capped at 4096 steps in the sweep, sweep_evaluate.cpp
+// says why) runs alone, then the constant-gain loops of all settings run side by side from their
+// own states, four per vector register. Each setting's output equals kalman::FilterAr's for its
+// options to the last bit (tested in ar_kalman_test). The method-1 sums are filled range by range
+// (2048 samples of every setting and every component, in component order) so that they stay in
+// cache. Memory: the decomposition plus one signal-length sum per setting of every order in
+// flight (10 settings per order for a 3 x 3 grid: 29 MB per order for 1 h at 100 Hz), and the
+// filters' time-varying heads (about 4096 doubles per setting and component).
 #pragma once
 
 #include <Eigen/Core>

@@ -139,8 +139,12 @@ void BM_SideBySide(benchmark::State& state) {
     dares.push_back(fogpipe::kalman::SolveDare(phi, 0.001 * (i + 1), 0.1));
   }
   std::vector<Eigen::VectorXd> sums(filters, Eigen::VectorXd::Zero(kSamples));
+  // Each filter's loop state (from X = 0), carried from one iteration to the next.
+  std::vector<std::vector<double>> partial(filters, std::vector<double>(p, 0.0));
   std::vector<fogpipe::kalman::SteadyStateLane> lanes;
-  for (int i = 0; i < filters; ++i) lanes.push_back({&dares[i].gain, 0.0, sums[i].data()});
+  for (int i = 0; i < filters; ++i) {
+    lanes.push_back({&dares[i].gain, 0.0, sums[i].data(), partial[i].data()});
+  }
   for (auto _ : state) {
     fogpipe::kalman::AddSteadyStateFilters(z.data(), kSamples, phi, lanes);
     benchmark::ClobberMemory();

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <utility>
 
 #include "tests/algorithms/kalman/paper_models.h"
@@ -509,8 +510,8 @@ TEST(FilterAr, NamesOfStartsAndSwitchesAreStable) {
 
 // The sweep's batch entry: several option sets on one model, outputs added to sums. Each sum must
 // equal FilterAr's output for the same options (steady-state lanes run side by side, 4 at a time,
-// the rest through FilterAr's own path); the same arithmetic per lane, so equal up to a few ulps of
-// the signal (the side-by-side loop may contract multiply-adds differently): 1e-13 relative.
+// the rest through FilterAr's own path); the same arithmetic per lane in the same order, so equal
+// to the last bit (the sums start at 1, so the reference is 1 + FilterAr's output).
 TEST(FilterArAndAdd, EachSumEqualsFilterArForItsOptions) {
   const auto models = PaperTable2Models();
   // Orders 1 and 4 (fixed kernels up to 8), 11 (the sweep's 9..12 kernels) and 40 (one lane at a
@@ -535,12 +536,94 @@ TEST(FilterArAndAdd, EachSumEqualsFilterArForItsOptions) {
       const ArKalmanResult single = FilterAr(sim.z, model, -1, -1, options[i]);
       ASSERT_EQ(summaries[i].termination, Termination::kSuccess) << summaries[i].message;
       EXPECT_EQ(summaries[i].gain_switch, single.summary.gain_switch);
-      const double scale = single.filtered.cwiseAbs().maxCoeff();
-      EXPECT_LE((sums[i].array() - 1.0 - single.filtered.array()).abs().maxCoeff(), 1e-13 * scale)
+      EXPECT_EQ((sums[i].array() - (1.0 + single.filtered.array())).abs().maxCoeff(), 0.0)
           << "p = " << model.size() << " option set " << i;
     }
   }
 }
 
+// The sweep's bank (ArFilterBank) against FilterAr alone, option set by option set, to the last
+// bit: the time-varying phases run FilterAr's code, each filter then continues alone to the latest
+// switch and side by side from there, in ranges, with the same arithmetic in the same order.
+// Models: a unit root (random walk) and the paper's residue (roots 1 and 0.9989), the
+// near-unit-root imf6 and imf7, an explosive AR(1) and the paper's slightly explosive imf9 (root
+// modulus 1.00025), a stable AR(1), and imf3 padded with zeros to every order 5..13 (the
+// fixed-order lane kernels 9..12 and the runtime-order one). Option sets: the paper's start over a
+// q/R grid with the sweep's 4096-step cap (capped and converged switches), q/R = 1e-10 uncapped
+// (stalled on the residue), the steady-state start, q = 0 from P(0|0) = 0 (gain 0), q = 0 from the
+// paper's start (on a unit root: frozen or never switching), and the smoother (computed whole).
+TEST(ArFilterBank, EachOutputEqualsFilterArToTheLastBitOnUnitNearUnitAndExplosiveRoots) {
+  const auto paper = PaperTable2Models();
+  std::vector<std::pair<const char*, Eigen::VectorXd>> models = {
+      {"random walk", Phi({1.0})}, {"residue", paper[8].phi},         {"imf6", paper[5].phi},
+      {"imf7", paper[6].phi},      {"explosive AR(1)", Phi({1.002})}, {"imf9", paper[7].phi},
+      {"AR(1) 0.5", Phi({0.5})}};
+  for (int p = 5; p <= 13; ++p) {
+    Eigen::VectorXd padded = Eigen::VectorXd::Zero(p);
+    padded.head(4) = paper[2].phi;
+    models.push_back({"imf3 padded", padded});
+  }
+  // A random walk observed in white noise: bounded enough for every model above over 12000
+  // samples, and a slow signal as the slow IMFs are.
+  const long long n = 12000;
+  const testing::ArSimulation sim = SimulateArPlusNoise(Phi({1.0}), 0.01, 1.0, n, 7, 0);
+  const Eigen::VectorXd z = sim.z.array() + 0.5;
+  std::map<GainSwitch, int> seen;
+  for (const auto& [name, phi] : models) {
+    std::vector<ArKalmanOptions> options;
+    for (double q : {1e-4, 0.01, 1.0}) {
+      for (double r : {0.1, 1.0, 10.0}) {
+        options.push_back(PaperStart(q, r));
+        options.back().max_time_varying_steps = 4096;
+      }
+    }
+    options.push_back(SteadyStart(0.01, 1.0));
+    options.push_back(PaperStart(1e-10, 1.0));  // no cap: the stall rule (the residue)
+    options.back().max_time_varying_steps = 0;
+    options.push_back(PaperStart(0.0, 1.0));
+    options.back().initial_variance = 0.0;
+    options.push_back(PaperStart(0.0, 1.0));
+    options.back().max_time_varying_steps = 4096;
+    options.push_back(PaperStart(0.01, 1.0));
+    options.back().smooth = true;
+    for (ArKalmanOptions& o : options) o.mean = 0.5;
+    const std::vector<ArKalmanOptions> all_options = options;
+    for (std::size_t count : {std::size_t(1), std::size_t(2), std::size_t(3), std::size_t(6),
+                              std::size_t(10), all_options.size()}) {
+      options.assign(all_options.begin(), all_options.begin() + count);
+      std::vector<Eigen::VectorXd> sums(options.size(), Eigen::VectorXd::Constant(n, 1.0));
+      std::vector<double*> pointers;
+      for (auto& v : sums) pointers.push_back(v.data());
+      ArFilterBank bank(z, phi, -1, -1, options);
+      for (long long begin = 0; begin < n; begin += 777) {
+        bank.AddRange(begin, std::min(n, begin + 777), pointers);
+      }
+      const std::vector<ArKalmanSummary> summaries = bank.summaries();
+      ASSERT_EQ(summaries.size(), options.size());
+      for (std::size_t i = 0; i < options.size(); ++i) {
+        const ArKalmanResult single = FilterAr(z, phi, -1, -1, options[i]);
+        ++seen[single.summary.gain_switch];
+        EXPECT_EQ(summaries[i].termination, single.summary.termination) << name << " set " << i;
+        EXPECT_EQ(summaries[i].message, single.summary.message) << name << " set " << i;
+        EXPECT_EQ(summaries[i].gain_switch, single.summary.gain_switch) << name << " set " << i;
+        EXPECT_EQ(summaries[i].switched_at_sample, single.summary.switched_at_sample);
+        if (!HasResult(single.summary.termination)) {
+          EXPECT_EQ((sums[i].array() - 1.0).abs().maxCoeff(), 0.0) << "a failed sum is untouched";
+          continue;
+        }
+        const Eigen::VectorXd& out = options[i].smooth ? single.smoothed : single.filtered;
+        EXPECT_EQ((sums[i].array() - (1.0 + out.array())).abs().maxCoeff(), 0.0)
+            << name << " p = " << phi.size() << " option set " << i << " ("
+            << ToString(single.summary.gain_switch) << " at " << single.summary.switched_at_sample
+            << ")";
+      }
+    }
+  }
+  // Every way of reaching (or not reaching) the constant-gain loop was exercised.
+  for (GainSwitch kind : {GainSwitch::kNever, GainSwitch::kFromStart, GainSwitch::kConverged,
+                          GainSwitch::kStalled, GainSwitch::kCapped, GainSwitch::kFrozen}) {
+    EXPECT_GT(seen[kind], 0) << ToString(kind);
+  }
+}
 }  // namespace
 }  // namespace fogpipe::kalman

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <vector>
+
 #include "algorithms/kalman/riccati.h"
 #include "tests/algorithms/kalman/simulate_ar.h"
 
@@ -55,6 +58,50 @@ TEST(SteadyStateFilter, EqualsThePlainStateSpaceLoopFromAnyState) {
     Eigen::VectorXd out2(z.size());
     SteadyStateFilter(z.data(), z.size(), mean, phi, dare.gain, x0, out2.data(), nullptr);
     EXPECT_EQ((out2 - out).cwiseAbs().maxCoeff(), 0.0);
+  }
+}
+
+// The side-by-side loop continues each filter from its own state (as the sweep does after each
+// filter's time-varying phase) with the single loop's arithmetic in the same order: the sums
+// equal the single loop's estimates to the last bit, and so do the states left behind, whether the
+// run is one call or split into pieces. Orders 1..13 (the fixed-order lane kernels up to 12, the
+// runtime-order one) and 33 (one lane at a time); 1..6 filters (groups of four with idle lanes).
+TEST(AddSteadyStateFilters, EachLaneEqualsTheSingleLoopFromItsOwnStateToTheLastBit) {
+  for (int p : {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 33}) {
+    Eigen::VectorXd phi(p);
+    for (int i = 0; i < p; ++i) phi[i] = (i % 2 ? -1.0 : 1.0) * std::pow(0.5, i + 1);
+    phi *= 0.9 / phi.cwiseAbs().sum();
+    const testing::ArSimulation sim = testing::SimulateArPlusNoise(phi, 0.5, 1.0, 3000, 70 + p);
+    for (int filters = 1; filters <= 6; ++filters) {
+      std::vector<DareSolution> dares;
+      std::vector<std::vector<double>> partial(filters), reference_partial(filters);
+      std::vector<Eigen::VectorXd> sums(filters, Eigen::VectorXd::Zero(sim.z.size()));
+      std::vector<Eigen::VectorXd> reference(filters, Eigen::VectorXd::Zero(sim.z.size()));
+      std::vector<SteadyStateLane> lanes;
+      for (int i = 0; i < filters; ++i) dares.push_back(SolveDare(phi, 0.1 * (i + 1), 1.0));
+      for (int i = 0; i < filters; ++i) {
+        const Eigen::VectorXd x0 = Eigen::VectorXd::LinSpaced(p, 1.0 + i, -2.0);
+        partial[i].resize(p);
+        PartialPredictions(phi, x0, partial[i].data());
+        reference_partial[i] = partial[i];
+        SteadyStateFilterFromPartial(sim.z.data(), sim.z.size(), 0.1 * i, phi, dares[i].gain,
+                                     reference_partial[i].data(), reference[i].data(), nullptr);
+      }
+      // In two pieces: the states carry over.
+      for (long long begin : {0LL, 1234LL}) {
+        const long long end = begin == 0 ? 1234 : sim.z.size();
+        lanes.clear();
+        for (int i = 0; i < filters; ++i) {
+          lanes.push_back({&dares[i].gain, 0.1 * i, sums[i].data() + begin, partial[i].data()});
+        }
+        AddSteadyStateFilters(sim.z.data() + begin, end - begin, phi, lanes);
+      }
+      for (int i = 0; i < filters; ++i) {
+        EXPECT_EQ((sums[i] - reference[i]).cwiseAbs().maxCoeff(), 0.0)
+            << "p = " << p << ", filter " << i << " of " << filters;
+        EXPECT_EQ(partial[i], reference_partial[i]) << "p = " << p << ", filter " << i;
+      }
+    }
   }
 }
 
