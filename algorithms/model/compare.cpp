@@ -361,26 +361,32 @@ CompareResult Compare(const CompareInput& in, const std::vector<Term>& terms,
   r.summary.termination = r.base.termination;
   r.summary.message = r.base.message;
   if (!HasResult(r.base.termination)) return r;
-  // Task 0 is the base model's IMF view (one EMD per compare); tasks 1.. are the trials, needed
-  // only when the base model is not consistent.
+  // Tasks: the trials, those with a nonlinear search (the longest) first so that a parallel
+  // ForEach finishes together, then the base model's IMF view (one EMD per compare). Trials are
+  // needed only when the base model is not consistent. Each task writes only its own slot.
   const std::vector<Term> tt =
       r.base.views.consistent ? std::vector<Term>{} : TrialTerms(in, terms);
   r.trials.resize(tt.size());
-  const auto task = [&](int i) {
-    if (i == 0) {
+  std::vector<int> order(tt.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_partition(order.begin(), order.end(),
+                        [&](int i) { return HasNonlinearParameter(tt[i]); });
+  const int count = 1 + static_cast<int>(tt.size());
+  const auto task = [&](int k) {
+    if (k == count - 1) {
       r.base.imf = ComputeImfView(r.base.deterministic.residual, in.sample_rate_hz, prepared,
                                   r.base.stochastic.model, o.imf);
       return;
     }
+    const int i = order[k];
     std::vector<Term> with = terms;
-    with.push_back(tt[i - 1]);
-    r.trials[i - 1] = EvaluateModel(in, with, o, &prepared);
+    with.push_back(tt[i]);
+    r.trials[i] = EvaluateModel(in, with, o, &prepared);
   };
-  const int count = 1 + static_cast<int>(tt.size());
   if (for_each) {
     for_each(count, task);
   } else {
-    for (int i = 0; i < count; ++i) task(i);
+    for (int k = 0; k < count; ++k) task(k);
   }
   if (r.base.views.consistent) return r;
   r.summary.num_trials = static_cast<int>(tt.size());
