@@ -213,7 +213,10 @@ Evaluation EvaluateModel(const CompareInput& in, const std::vector<Term>& terms,
   DeterministicOptions d = o.deterministic;
   if (std::count_if(terms.begin(), terms.end(), HasNonlinearParameter) <= 1)
     d.refinement_passes = 0;
-  e.deterministic = FitDeterministic(y, fs, temp ? &temp->values : nullptr, terms, d);
+  // The temperature goes to the fit only when a term uses it: FitDeterministic otherwise still
+  // centres it and computes its smoothed derivative (two passes over n samples per trial).
+  const bool thermal = std::any_of(terms.begin(), terms.end(), NeedsTemperature);
+  e.deterministic = FitDeterministic(y, fs, temp && thermal ? &temp->values : nullptr, terms, d);
   if (!HasResult(e.deterministic.summary.termination)) {
     e.termination = e.deterministic.summary.termination;
     e.message = e.deterministic.summary.message;

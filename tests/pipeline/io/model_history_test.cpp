@@ -7,8 +7,11 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <filesystem>
+#include <functional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "algorithms/common/units.h"
@@ -90,6 +93,35 @@ TEST(ModelHistory, StoresEveryTargetedTestFieldWithItsUnits) {
   EXPECT_EQ(history[1].error, v.error);
   std::error_code ec;
   fs::remove_all(dir, ec);
+}
+
+TEST(ModelHistory, TheComparisonIsTheSameOnAnyNumberOfThreads) {
+  // model::Compare runs the trials and the IMF view through a ForEach; each task writes only its
+  // own slot, so a 2-thread schedule (tasks pulled from a shared counter) must give the same JSON.
+  auto o = simulation::NavigationGradeOptions(9);
+  o.duration_s = 7200.0;
+  simulation::TemperatureEffect t;
+  t.coefficient_rad_s_per_degC = units::DegPerHourToRadPerSecond(0.03);
+  t.reference_degC = o.temperature->mean_degC;
+  o.errors.temperature = t;
+  const simulation::SimulatedRecording rec = simulation::SimulateGyro(o);
+  model::CompareInput in;
+  in.rate_rad_s = &rec.rate_rad_s;
+  in.sample_rate_hz = o.sample_rate_hz;
+  in.aux.push_back({"temperature", "degC", rec.temperature_degC});
+  const model::ForEach two_threads = [](int n, const std::function<void(int)>& body) {
+    std::atomic<int> next{0};
+    auto work = [&] {
+      for (int i = next++; i < n; i = next++) body(i);
+    };
+    std::thread other(work);
+    work();
+    other.join();
+  };
+  const model::CompareResult serial = model::Compare(in, model::DefaultTerms(), {});
+  const model::CompareResult parallel = model::Compare(in, model::DefaultTerms(), {}, two_threads);
+  ASSERT_FALSE(serial.suggestions.empty());  // trials ran
+  EXPECT_EQ(io::CompareJson(serial).dump(), io::CompareJson(parallel).dump());
 }
 
 }  // namespace
