@@ -133,7 +133,8 @@ void ComputeFrequencyView(const Eigen::VectorXd& r, double fs, const StochasticM
   // FFT size <= n / welch_segments, 50 % overlap. Under the model each bin is S(f) chi2(nu)/nu
   // with Welch's equivalent dof nu (Percival & Walden 1993, sec. 6.17), so the ratio psd / model
   // gives a one-sided Wilson-Hilferty z. Segments of ~1 M samples keep every FFT in cache: on
-  // 24 h at 100 Hz this costs a quarter of one full-length zero-padded periodogram. Sensitivity:
+  // 24 h at 100 Hz this costs ~0.5 s of CPU against 1.3 s for the 2x zero-padded periodogram (and
+  // 8.6e6 bins of per-bin work it replaced). Sensitivity:
   // a line of amplitude W adds L W^2 / (6 sigma^2) to the ratio of its bin (Hann, white noise of
   // variance sigma^2, L samples per segment), averaged over K ~ 2 n / L segments. At n / L = 8
   // (K = 15, nu = 28.5) on 24 h at 100 Hz the bin is flagged at ratio 3.2 (z_c = 5.47 over 5.4e5
