@@ -18,6 +18,12 @@ const AuxChannel* FindAux(const CompareInput& in, const std::string& name) {
 
 double DegH(double rad_s) { return units::RadPerSecondToDegPerHour(rad_s); }
 
+// Rate-fitted terms with a nonlinear parameter found by a search (frequency, step time, time
+// constant).
+bool HasNonlinearParameter(Term t) {
+  return t == Term::kSinusoid || t == Term::kBiasStep || t == Term::kWarmup;
+}
+
 std::string Format(const char* fmt, double a, double b = 0, double c = 0, double d = 0,
                    double e = 0) {
   char buf[512];
@@ -200,7 +206,17 @@ Evaluation EvaluateModel(const CompareInput& in, const std::vector<Term>& terms,
   const Eigen::VectorXd& y = *in.rate_rad_s;
   const double fs = in.sample_rate_hz;
   const AuxChannel* temp = FindAux(in, "temperature");
-  e.deterministic = FitDeterministic(y, fs, temp ? &temp->values : nullptr, terms, o.deterministic);
+  // Coordinate descent re-searches each nonlinear parameter with the others fixed; with at most
+  // one nonlinear term (every trial of the default model) a pass repeats the first search against
+  // the same fixed design (deterministic_fit.cpp): the warm-up and step searches return the same
+  // value, the sinusoid refinement a value within its golden-section tolerance. Skipped.
+  DeterministicOptions d = o.deterministic;
+  if (std::count_if(terms.begin(), terms.end(), HasNonlinearParameter) <= 1)
+    d.refinement_passes = 0;
+  // The temperature goes to the fit only when a term uses it: FitDeterministic otherwise still
+  // centres it and computes its smoothed derivative (two passes over n samples per trial).
+  const bool thermal = std::any_of(terms.begin(), terms.end(), NeedsTemperature);
+  e.deterministic = FitDeterministic(y, fs, temp && thermal ? &temp->values : nullptr, terms, d);
   if (!HasResult(e.deterministic.summary.termination)) {
     e.termination = e.deterministic.summary.termination;
     e.message = e.deterministic.summary.message;
@@ -335,7 +351,7 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base, const std::vecto
 }
 
 CompareResult Compare(const CompareInput& in, const std::vector<Term>& terms,
-                      const CompareOptions& o) {
+                      const CompareOptions& o, const ForEach& for_each) {
   CompareResult r;
   if (in.rate_rad_s == nullptr) {
     r.summary.termination = Termination::kInvalidOptions;
@@ -345,18 +361,37 @@ CompareResult Compare(const CompareInput& in, const std::vector<Term>& terms,
   const std::vector<PreparedAux> prepared =
       PrepareAux(in.aux, in.rate_rad_s->size(), in.sample_rate_hz, o.views);
   r.base = EvaluateModel(in, terms, o, &prepared);
-  if (HasResult(r.base.termination))
-    r.base.imf = ComputeImfView(r.base.deterministic.residual, in.sample_rate_hz, prepared,
-                                r.base.stochastic.model, o.imf);
   r.summary.termination = r.base.termination;
   r.summary.message = r.base.message;
-  if (!HasResult(r.base.termination) || r.base.views.consistent) return r;
-  const std::vector<Term> tt = TrialTerms(in, terms);
-  for (Term t : tt) {
+  if (!HasResult(r.base.termination)) return r;
+  // Tasks: the trials, those with a nonlinear search (the longest) first so that a parallel
+  // ForEach finishes together, then the base model's IMF view (one EMD per compare). Trials are
+  // needed only when the base model is not consistent. Each task writes only its own slot.
+  const std::vector<Term> tt =
+      r.base.views.consistent ? std::vector<Term>{} : TrialTerms(in, terms);
+  r.trials.resize(tt.size());
+  std::vector<int> order(tt.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_partition(order.begin(), order.end(),
+                        [&](int i) { return HasNonlinearParameter(tt[i]); });
+  const int count = 1 + static_cast<int>(tt.size());
+  const auto task = [&](int k) {
+    if (k == count - 1) {
+      r.base.imf = ComputeImfView(r.base.deterministic.residual, in.sample_rate_hz, prepared,
+                                  r.base.stochastic.model, o.imf);
+      return;
+    }
+    const int i = order[k];
     std::vector<Term> with = terms;
-    with.push_back(t);
-    r.trials.push_back(EvaluateModel(in, with, o, &prepared));
+    with.push_back(tt[i]);
+    r.trials[i] = EvaluateModel(in, with, o, &prepared);
+  };
+  if (for_each) {
+    for_each(count, task);
+  } else {
+    for (int k = 0; k < count; ++k) task(k);
   }
+  if (r.base.views.consistent) return r;
   r.summary.num_trials = static_cast<int>(tt.size());
   r.suggestions = RankSuggestions(r.base, tt, r.trials, o);
   return r;

@@ -5,7 +5,9 @@
 //   EvaluateModel: deterministic least squares (deterministic_fit.h) -> Allan variance of the
 //   residual -> stochastic NNLS fit (stochastic_fit.h) -> views, error, failures (views.h).
 //   TrialTerms / RankSuggestions: every catalog term not in the model is added in turn and the
-//   model re-evaluated (the pipeline runs these trials in parallel; Compare() runs them in order).
+//   model re-evaluated. Compare() runs the trials and the base model's IMF view through a ForEach
+//   (serial by default; the pipeline passes a oneTBB loop); each writes only its own slot, so the
+//   numbers do not depend on the thread count.
 //
 // Ranking. A trial is a candidate when the model is not consistent and the trial lowers the error
 // by at least 10 % (`min_improvement`). Thermal terms must in addition be supported by the aux
@@ -31,6 +33,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -127,10 +130,15 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
                                         const std::vector<Evaluation>& trials,
                                         const CompareOptions& options);
 
-/// EvaluateModel + the base model's IMF view + every trial + RankSuggestions, sequentially.
-/// Trials are run only when the base model is not consistent.
+/// Runs body(i) for i in [0, n); bodies are independent (each writes only its own slot). The
+/// same signature as method::ForEach, so the pipeline's graph::TbbForEach fits.
+using ForEach = std::function<void(int n, const std::function<void(int)>& body)>;
+
+/// EvaluateModel of the base model, then (through for_each, null: in order) the base model's IMF
+/// view and every trial, then RankSuggestions. Trials are run only when the base model is not
+/// consistent.
 CompareResult Compare(const CompareInput& input, const std::vector<Term>& terms,
-                      const CompareOptions& options);
+                      const CompareOptions& options, const ForEach& for_each = nullptr);
 
 /// The parameters of `term` in an evaluation (the last sinusoid for kSinusoid), engineer's units.
 std::vector<Parameter> ParametersOf(const Evaluation& e, Term term);

@@ -25,6 +25,61 @@ long NextFastSize(long n) {
   return best;
 }
 
+}  // namespace
+
+long FastFftSizeAtMost(long n) {
+  long best = 1;
+  for (long p5 = 1; p5 <= n; p5 *= 5)
+    for (long p35 = p5; p35 <= n; p35 *= 3) {
+      long m = p35;
+      while (2 * m <= n) m <<= 1;
+      best = std::max(best, m);
+    }
+  return best;
+}
+
+bool IsFastFftSize(long n) {
+  if (n < 1) return false;
+  for (long p : {2L, 3L, 5L})
+    while (n % p == 0) n /= p;
+  return n == 1;
+}
+
+std::vector<std::complex<double>> RealDftHalf(const std::vector<double>& x) {
+  const long n = static_cast<long>(x.size());
+  std::vector<std::complex<double>> out;
+  if (n == 0) return out;
+  if (IsFastFftSize(n)) {
+    Eigen::FFT<double> fft;
+    fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);  // real input: bins 0 .. n/2 only
+    fft.fwd(out, x);
+    out.resize(n / 2 + 1);
+    return out;
+  }
+  // Bluestein: j k = (j^2 + k^2 - (k - j)^2) / 2, so X_k = w_k^* sum_j (x_j w_j^*) w_{k-j} with the
+  // chirp w_m = exp(i pi m^2 / n): a convolution, done by FFTs of a fast size m >= 2 n - 1. The
+  // chirp's phase uses m^2 mod 2n in exact integer arithmetic (no loss for large m).
+  const long m = NextFastSize(2 * n - 1);
+  std::vector<std::complex<double>> chirp(n), a(m, 0.0), b(m, 0.0), fa, fb, conv;
+  for (long j = 0; j < n; ++j) {
+    const long long q = (static_cast<long long>(j) * j) % (2LL * n);
+    chirp[j] = std::polar(1.0, units::kPi * static_cast<double>(q) / static_cast<double>(n));
+    a[j] = x[j] * std::conj(chirp[j]);
+    b[j] = chirp[j];
+    if (j > 0) b[m - j] = chirp[j];
+  }
+  Eigen::FFT<double> fft;
+  fft.fwd(fa, a);
+  fft.fwd(fb, b);
+  for (long k = 0; k < m; ++k) fa[k] *= fb[k];
+  fft.inv(conv, fa);  // Eigen's inverse is scaled by 1 / m
+  out.resize(n / 2 + 1);
+  for (long k = 0; k <= n / 2; ++k) out[k] = std::conj(chirp[k]) * conv[k];
+  return out;
+}
+
+namespace {
+
 // Inverse standard normal CDF (Acklam's rational approximation, relative error < 1.2e-9).
 double NormalQuantile(double p) {
   static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02,  -2.759285104469687e+02,

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <complex>
 #include <vector>
 
 namespace fogpipe::model {
@@ -18,12 +19,26 @@ struct Spectrum {
   int segment_length = 0;  ///< samples per FFT segment (before zero padding)
 };
 
+/// Largest 2^a 3^b 5^c <= n (n >= 1): a segment length that kissfft transforms with radix 2, 3,
+/// 4, 5 butterflies only.
+long FastFftSizeAtMost(long n);
+
+/// True when n has no prime factor other than 2, 3 and 5.
+bool IsFastFftSize(long n);
+
+/// DFT X_k = sum_j x_j exp(-2 pi i j k / n) of a real series of any length n, bins 0 .. n / 2.
+/// Lengths with a prime factor above 5 (kissfft would fall back to O(n p) butterflies: a 24 h,
+/// 100 Hz record one sample short of 8.64e6 has the prime factor 8639999) go through Bluestein's
+/// (1970) chirp-z convolution on a fast size >= 2 n - 1.
+std::vector<std::complex<double>> RealDftHalf(const std::vector<double>& x);
+
 /// Periodogram of x - mean(x), zero padded to the smallest 2^a 3^b 5^c >= pad_factor * n
 /// (pad_factor >= 1). Rectangular window: best resolution for locating a line's frequency.
 Spectrum Periodogram(const Eigen::VectorXd& x, double sample_rate_hz, int pad_factor);
 
-/// Welch PSD with Hann windows of `segment_length` samples (a power of two is fastest) and 50 %
-/// overlap. dof from Welch (1967) for Hann/50 %: nu = 36 K^2 / (19 K - 1), K segments.
+/// Welch PSD with Hann windows of `segment_length` samples (FastFftSizeAtMost sizes are fast) and
+/// 50 % overlap; each segment's mean is removed. dof from Welch (1967) for Hann/50 %:
+/// nu = 36 K^2 / (19 K - 1), K segments (cf. Percival & Walden 1993, eq. 292b).
 Spectrum WelchPsd(const Eigen::VectorXd& x, double sample_rate_hz, int segment_length);
 
 /// A smooth background for line detection: for each bin, the median of the psd over a band of

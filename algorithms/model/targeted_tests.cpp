@@ -3,10 +3,10 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <unsupported/Eigen/FFT>
 
 #include "algorithms/common/units.h"
 #include "algorithms/model/deterministic_fit.h"
+#include "algorithms/model/spectrum.h"
 
 namespace fogpipe::model {
 namespace {
@@ -23,17 +23,6 @@ double InvertTail(F tail, double alpha) {
     (tail(mid) > alpha ? lo : hi) = mid;
   }
   return 0.5 * (lo + hi);
-}
-
-// The noise model under the alternative: refitted on the Allan variance of `cleaned`.
-StochasticModel Refit(const Eigen::VectorXd& cleaned, double fs, const StochasticModel& model,
-                      const ViewOptions& o) {
-  const AllanData a = ResidualAllan(cleaned, fs, o);
-  StochasticFitOptions so;
-  so.relative_floor = o.relative_floor;
-  const StochasticFit f =
-      FitStochastic(a.tau_s, a.avar, a.edf, fs, cleaned.size() / fs, model.terms, so);
-  return HasResult(f.summary.termination) ? f.model : model;
 }
 
 // DFT of the step regressor x_i = 1{i >= k0}: sum_{i=k0}^{n-1} z^i = (z^k0 - 1) / (1 - z),
@@ -89,15 +78,20 @@ double GaussMarkovArcLength(const std::vector<double>& tau, const std::vector<do
 
 }  // namespace
 
+StochasticModel RefitNoise(const Eigen::VectorXd& x, double fs, const StochasticModel& model,
+                           const ViewOptions& o) {
+  const AllanData a = ResidualAllan(x, fs, o);
+  StochasticFitOptions so;
+  so.relative_floor = o.relative_floor;
+  const StochasticFit f = FitStochastic(a.tau_s, a.avar, a.edf, fs, x.size() / fs, model.terms, so);
+  return HasResult(f.summary.termination) ? f.model : model;
+}
+
 std::vector<std::complex<double>> MeanRemovedDft(const Eigen::VectorXd& x) {
   std::vector<double> in(x.size());
   const double mean = x.mean();
   for (long i = 0; i < x.size(); ++i) in[i] = x[i] - mean;
-  Eigen::FFT<double> fft;
-  fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);  // real input: bins 0 .. nfft/2 only
-  std::vector<std::complex<double>> out;
-  fft.fwd(out, in);
-  return out;
+  return RealDftHalf(in);
 }
 
 std::vector<double> WhittleWeights(const StochasticModel& m, long n, double fs) {
@@ -149,7 +143,7 @@ TargetedTest ScanBiasStep(const Eigen::VectorXd& r, double fs,
   const DeterministicComponent& c = f.model.components[0];
   const long n = r.size();
   const long k0 = std::clamp(static_cast<long>(std::lround(c.nonlinear * fs)), 1L, n - 1);
-  const StochasticModel alt = Refit(f.residual, fs, m, o);
+  const StochasticModel alt = RefitNoise(f.residual, fs, m, o);
   t.z = WhittleScoreZ(r_dft, StepDft(n, k0, n / 2), WhittleWeights(alt, n, fs));
   t.critical = BridgeSupremumCritical(alpha, d.step_margin_fraction);
   t.location = c.nonlinear;
@@ -174,7 +168,7 @@ TargetedTest ScanWarmup(const Eigen::VectorXd& r, double fs,
   if (!HasResult(f.summary.termination) || f.model.components.empty()) return t;
   const DeterministicComponent& c = f.model.components[0];
   const long n = r.size();
-  const StochasticModel alt = Refit(f.residual, fs, m, o);
+  const StochasticModel alt = RefitNoise(f.residual, fs, m, o);
   const double rho = std::exp(-1.0 / (fs * c.nonlinear));
   t.z = WhittleScoreZ(r_dft, DecayDft(n, rho, n / 2), WhittleWeights(alt, n, fs));
   // Arc length of the regressor family in log tau_w: sqrt(lambda_2) L = L / 2.

@@ -45,7 +45,12 @@
 
 namespace fogpipe::model {
 
-/// DFT of x - mean(x), bins 0 .. n/2 (real input: the rest is their conjugate; Eigen FFT).
+/// The terms of `model` refitted on the Allan variance of x (its view taus; `model` itself when
+/// the fit fails): the noise of x under the model's terms.
+StochasticModel RefitNoise(const Eigen::VectorXd& x, double sample_rate_hz,
+                           const StochasticModel& model, const ViewOptions& options);
+
+/// DFT of x - mean(x), bins 0 .. n/2 (real input: the rest is their conjugate; RealDftHalf).
 std::vector<std::complex<double>> MeanRemovedDft(const Eigen::VectorXd& x);
 
 /// Whittle weights w_k = E|R_k|^2 = n fs S(f_k) / 2 for k = 1 .. n/2 - 1 under the one-sided model

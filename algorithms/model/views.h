@@ -6,10 +6,12 @@
 //     z by Wilson & Hilferty (1931), two-sided. Octave spacing limits the correlation of taus.
 //     Plus a targeted Gauss-Markov bump test (targeted_tests.h), whose alternative cannot hide in
 //     bias_instability and white noise; alpha_v is split in two equal parts.
-//   - Frequency ("frequency"): lines. The 2x zero-padded periodogram of the residual over the
-//     model PSD (its shape; the level is scaled so that the median ratio is ln 2): each bin is
-//     S(f) Exp(1) under the model, so the exact tail exp(-ratio) gives a one-sided z. Lines slower
-//     than min_line_cycles per record are left to the Allan view. The Welch PSD is for display.
+//   - Frequency ("frequency"): lines. The Welch PSD of the residual (Hann, 50 % overlap, segments
+//     of n / welch_segments samples) over the model PSD (its shape; the level is scaled so that
+//     the median ratio is the median of chi2(nu)/nu): each bin is S(f) chi2(nu)/nu under the model
+//     with Welch's (1967) equivalent dof nu, so Wilson-Hilferty gives a one-sided z. The lowest
+//     psd_skip_bins bins (Hann leakage) and lines slower than min_line_cycles per record are left
+//     to the Allan view. The same spectrum is displayed.
 //   - Time ("time"): differences of adjacent window means of the residual, at a half-window
 //     stride and windows of record/time_windows x 1, 2, 4, 8, over the root mean square of the
 //     same differences elsewhere in the record (leave-window-out; Student t, reported on the
@@ -20,8 +22,11 @@
 //     and warm-up scans (targeted_tests.h) are reported here too, for ranking only (not scored).
 //   - Aux ("aux"): for each aux channel and its smoothed derivative, the score test of "rate +=
 //     c * channel" under the fitted noise model, in the frequency domain (Whittle 1953): the
-//     generalised least-squares t-statistic of c. For display and the evidence sentences, Pearson
-//     r of the low-frequency residual (block means) with the channel (and its derivative).
+//     generalised least-squares t-statistic of c. Records longer than 2^18 samples are tested on
+//     block means (B = ceil(n / 2^18), the time view's scans too) under the noise model refitted
+//     on them: a thermal effect varies over minutes, not within B / fs (0.33 s at 24 h, 100 Hz).
+//     For display and the evidence sentences, Pearson r of the low-frequency residual (block means)
+//     with the channel (and its derivative).
 //   - IMF: diagnostic only (imf_view.h); not part of the error.
 // Each view's statistic S_v = max |z| (max z for lines) is divided by its family-wise critical
 // value c_v: Bonferroni at level alpha / V over the view's count (V = number of scored views).
@@ -56,12 +61,12 @@ struct ViewOptions {
   double alpha = 0.05;              ///< family-wise false-alarm level of `consistent`
   double relative_floor = 0.05;     ///< Allan model-shape tolerance c (closed forms are idealised)
   double max_tau_fraction = 0.125;  ///< octave taus up to record * this (EDF >= ~4)
-  int welch_segments = 16;          ///< Welch segment ~ n / this, rounded down to a power of two
-  int psd_skip_bins = 4;            ///< lowest Welch bins not displayed (Hann leakage)
-  double min_line_cycles = 3.0;     ///< lines slower than this many cycles per record: Allan view
-  int time_windows = 64;            ///< finest windows of the time view: record / this
-  double aux_block_s = 60.0;        ///< block-mean length of the low-frequency residual
-  double aux_smoothing_s = 120.0;   ///< smoothing before differentiating an aux channel
+  int welch_segments = 8;  ///< Welch segment: largest fast FFT size <= n / this (K ~ 2 x this)
+  int psd_skip_bins = 4;   ///< lowest Welch bins neither tested nor displayed (Hann leakage)
+  double min_line_cycles = 3.0;    ///< lines slower than this many cycles per record: Allan view
+  int time_windows = 64;           ///< finest windows of the time view: record / this
+  double aux_block_s = 60.0;       ///< block-mean length of the low-frequency residual
+  double aux_smoothing_s = 120.0;  ///< smoothing before differentiating an aux channel
   bool IsValid(std::string* error) const;
 };
 
@@ -91,8 +96,10 @@ struct AllanView {
 };
 
 struct FrequencyView {
-  std::vector<double> frequency_hz, psd, model_psd, z;
-  double dof = 2, scale = 1;
+  /// The tested Welch bins: frequency (Hz), psd and scaled model psd ((rad/s)^2/Hz).
+  std::vector<double> frequency_hz, psd, model_psd;
+  double dof = 2;    ///< Welch equivalent degrees of freedom of each psd value
+  double scale = 1;  ///< model psd level factor (median ratio = median of chi2(dof)/dof)
   std::vector<double> line_frequency_hz, line_z;  ///< significant lines (local maxima)
   double statistic = 0, critical = 1;
 };
@@ -148,6 +155,8 @@ AllanData ResidualAllan(const Eigen::VectorXd& residual, double sample_rate_hz,
 struct PreparedAux {
   const AuxChannel* channel = nullptr;
   Eigen::VectorXd derivative;  ///< smoothed d/dt, units/s
+  /// DFTs of the channel and of its derivative as the aux score sees them: of their means over
+  /// blocks of ceil(n / 2^18) samples (the samples themselves on records up to 2^18 samples).
   std::vector<std::complex<double>> dft, dft_derivative;
 };
 

@@ -7,14 +7,11 @@
 // Fits the model (algorithms/model/compare.h), prints the error, the failures and the ranked
 // suggestions (or, with --json, one JSON object with exactly error, consistent, failures,
 // suggestions, model), appends the step to RESULTS and optionally writes the model file that
-// `compare --model` and `run --model` read. The trial fits run in parallel (oneTBB); the numbers
-// do not depend on the thread count.
+// `compare --model` and `run --model` read. The trial fits and the IMF view run in parallel
+// (model::Compare with graph::TbbForEach); the numbers do not depend on the thread count.
 //
 // Exit codes: 0 compared (consistent or not) or history printed; 1 a read/fit/write failed;
 // 2 invalid options.
-#include <tbb/parallel_for.h>
-#include <tbb/task_group.h>
-
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
@@ -23,6 +20,7 @@
 
 #include "algorithms/model/compare.h"
 #include "pipeline/cli/commands.h"
+#include "pipeline/graph/tbb_for_each.h"
 #include "pipeline/io/model_history.h"
 #include "pipeline/io/recording_reader.h"
 
@@ -40,41 +38,6 @@ struct CompareArguments {
   std::string save_model;
   std::string history;
 };
-
-model::CompareResult RunCompare(const model::CompareInput& in,
-                                const std::vector<model::Term>& terms,
-                                const model::CompareOptions& o) {
-  model::CompareResult r;
-  const auto prepared =
-      model::PrepareAux(in.aux, in.rate_rad_s->size(), in.sample_rate_hz, o.views);
-  r.base = model::EvaluateModel(in, terms, o, &prepared);
-  // The IMF view (one EMD of the residual and of the reference simulations) runs alongside the
-  // trial fits; it writes only r.base.imf, which nothing else reads before the wait.
-  tbb::task_group imf_view;
-  if (HasResult(r.base.termination)) {
-    imf_view.run([&] {
-      r.base.imf = model::ComputeImfView(r.base.deterministic.residual, in.sample_rate_hz, prepared,
-                                         r.base.stochastic.model, o.imf);
-    });
-  }
-  r.summary.termination = r.base.termination;
-  r.summary.message = r.base.message;
-  if (!HasResult(r.base.termination) || r.base.views.consistent) {
-    imf_view.wait();
-    return r;
-  }
-  const std::vector<model::Term> tt = model::TrialTerms(in, terms);
-  r.trials.resize(tt.size());
-  tbb::parallel_for(size_t{0}, tt.size(), [&](size_t i) {
-    std::vector<model::Term> with = terms;
-    with.push_back(tt[i]);
-    r.trials[i] = model::EvaluateModel(in, with, o, &prepared);
-  });
-  imf_view.wait();
-  r.summary.num_trials = static_cast<int>(tt.size());
-  r.suggestions = model::RankSuggestions(r.base, tt, r.trials, o);
-  return r;
-}
 
 // The IMF view (diagnostic, not part of the error): one line per IMF, '*' where it carries misfit.
 void PrintImfView(const model::ImfView& v) {
@@ -182,7 +145,7 @@ int Run(const CompareArguments& a) {
     in.aux.push_back({ch.name, ch.units, io::ReadAux(a.recording, ch.name, ao)});
   }
   const model::CompareOptions options;
-  const model::CompareResult r = RunCompare(in, terms, options);
+  const model::CompareResult r = model::Compare(in, terms, options, graph::TbbForEach);
   if (!HasResult(r.summary.termination)) {
     std::cerr << "fogpipe compare: " << ToString(r.summary.termination) << ": " << r.summary.message
               << "\n";

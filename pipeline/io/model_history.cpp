@@ -51,6 +51,12 @@ void WriteText(const fs::path& path, const std::string& text) {
   fs::rename(tmp, path);
 }
 
+// A scalar of a view as a one-element dataset, so that it carries its `units` attribute like
+// every numeric dataset (attributes cannot).
+void WriteScalar(hdf5::Group& g, const std::string& name, double value, const std::string& units) {
+  g.WriteDataset(name, std::vector<double>{value}, units);
+}
+
 void WriteViews(hdf5::Group& g, const model::Evaluation& e) {
   const model::Views& v = e.views;
   hdf5::Group a = g.CreateGroup("allan");
@@ -63,6 +69,11 @@ void WriteViews(hdf5::Group& g, const model::Evaluation& e) {
   a.WriteDataset("z", v.allan.z, "1");
   a.WriteDoubleAttribute("statistic", v.allan.statistic);
   a.WriteDoubleAttribute("critical", v.allan.critical);
+  // The targeted Gauss-Markov bump test (algorithms/model/targeted_tests.h).
+  WriteScalar(a, "gm_z", v.allan.gm_z, "1");
+  WriteScalar(a, "gm_critical", v.allan.gm_critical, "1");
+  WriteScalar(a, "gm_correlation_time_s", v.allan.gm_correlation_time_s, "s");
+  WriteScalar(a, "gm_sigma_rad_s", v.allan.gm_sigma_rad_s, "rad/s");
   hdf5::Group terms = a.CreateGroup("terms");
   for (size_t i = 0; i < v.allan.term_names.size(); ++i)
     terms.WriteDataset(v.allan.term_names[i], v.allan.term_avar[i], "(rad/s)^2");
@@ -74,6 +85,8 @@ void WriteViews(hdf5::Group& g, const model::Evaluation& e) {
   f.WriteDataset("line_z", v.frequency.line_z, "1");
   f.WriteDoubleAttribute("statistic", v.frequency.statistic);
   f.WriteDoubleAttribute("critical", v.frequency.critical);
+  f.WriteDoubleAttribute("dof", v.frequency.dof);
+  f.WriteDoubleAttribute("scale", v.frequency.scale);
   hdf5::Group t = g.CreateGroup("time");
   t.WriteDataset("center_s", v.time.center_s, "s");
   t.WriteDataset("mean", v.time.mean, "rad/s");
@@ -86,6 +99,15 @@ void WriteViews(hdf5::Group& g, const model::Evaluation& e) {
   t.WriteDoubleAttribute("window_s", v.time.window_s);
   t.WriteDoubleAttribute("statistic", v.time.statistic);
   t.WriteDoubleAttribute("critical", v.time.critical);
+  // The targeted bias-step and warm-up scans (not scored; they rank bias_step against warmup).
+  WriteScalar(t, "step_z", v.time.step_z, "1");
+  WriteScalar(t, "step_critical", v.time.step_critical, "1");
+  WriteScalar(t, "step_time_s", v.time.step_time_s, "s");
+  WriteScalar(t, "step_size_rad_s", v.time.step_size_rad_s, "rad/s");
+  WriteScalar(t, "warmup_z", v.time.warmup_z, "1");
+  WriteScalar(t, "warmup_critical", v.time.warmup_critical, "1");
+  WriteScalar(t, "warmup_time_constant_s", v.time.warmup_time_constant_s, "s");
+  WriteScalar(t, "warmup_amplitude_rad_s", v.time.warmup_amplitude_rad_s, "rad/s");
   hdf5::Group x = g.CreateGroup("aux");
   x.WriteDataset("block_center_s", v.aux.block_center_s, "s");
   x.WriteDataset("residual_lowpass", v.aux.residual_lowpass, "rad/s");

@@ -1,11 +1,12 @@
 // fogpipe::model::Compare on simulated navigation-grade recordings with a hidden temperature
 // effect (so the base model is inconsistent and every trial fit runs). BM_Compare: one thread
-// (Compare() runs the trials in order). BM_CompareTwoThreads: the pipeline's schedule
-// (pipeline/cli/compare_command.cpp: base model, then the trial fits in parallel, then the
-// ranking) on two std::threads pulling trials from a shared counter, as oneTBB would.
+// (Compare() runs the trials in order). BM_CompareTwoThreads: the pipeline's schedule (base
+// model, then the IMF view and the trial fits through a ForEach, then the ranking) with a ForEach
+// on two std::threads pulling indices from a shared counter, as oneTBB would.
 #include <benchmark/benchmark.h>
 
 #include <atomic>
+#include <functional>
 #include <thread>
 #include <vector>
 
@@ -50,36 +51,24 @@ void BM_Compare(benchmark::State& state) {
 BENCHMARK(BM_Compare)->Args({6, 10})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Compare)->Args({24, 100})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
-model::CompareResult CompareOnThreads(const model::CompareInput& in, int threads) {
-  const model::CompareOptions o;
-  const std::vector<model::Term> terms = model::DefaultTerms();
-  model::CompareResult r;
-  const auto prepared =
-      model::PrepareAux(in.aux, in.rate_rad_s->size(), in.sample_rate_hz, o.views);
-  r.base = model::EvaluateModel(in, terms, o, &prepared);
-  if (!HasResult(r.base.termination) || r.base.views.consistent) return r;
-  const std::vector<model::Term> tt = model::TrialTerms(in, terms);
-  r.trials.resize(tt.size());
-  std::atomic<size_t> next{0};
-  auto work = [&] {
-    for (size_t i = next++; i < tt.size(); i = next++) {
-      std::vector<model::Term> with = terms;
-      with.push_back(tt[i]);
-      r.trials[i] = model::EvaluateModel(in, with, o, &prepared);
-    }
+// A ForEach on `threads` std::threads pulling indices from a shared counter, as oneTBB would.
+model::ForEach ThreadForEach(int threads) {
+  return [threads](int n, const std::function<void(int)>& body) {
+    std::atomic<int> next{0};
+    auto work = [&] {
+      for (int i = next++; i < n; i = next++) body(i);
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+    work();
+    for (auto& t : pool) t.join();
   };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
-  r.suggestions = model::RankSuggestions(r.base, tt, r.trials, o);
-  return r;
 }
 
 void BM_CompareTwoThreads(benchmark::State& state) {
   const Case c = Make(static_cast<double>(state.range(0)), static_cast<double>(state.range(1)));
   for (auto _ : state) {
-    const auto r = CompareOnThreads(c.in, 2);
+    const auto r = model::Compare(c.in, model::DefaultTerms(), {}, ThreadForEach(2));
     benchmark::DoNotOptimize(r.base.views.error);
   }
   state.counters["samples"] = static_cast<double>(c.rec.rate_rad_s.size());

@@ -5,3 +5,8 @@ fogpipe_add_test(NAME compare_command_test
                  LIBS fogpipe::pipeline LABELS slow)
 add_dependencies(compare_command_test fogpipe)
 target_compile_definitions(compare_command_test PRIVATE FOGPIPE_BINARY="$<TARGET_FILE:fogpipe>")
+
+# The model history round trip (pipeline/io/model_history.*, owner: compare).
+fogpipe_add_test(NAME model_history_test
+                 SOURCES ${CMAKE_CURRENT_LIST_DIR}/io/model_history_test.cpp
+                 LIBS fogpipe::pipeline)

@@ -34,6 +34,64 @@ TEST(Spectrum, WelchPsdOfWhiteNoiseIsTwiceTheVarianceOverTheSampleRate) {
   EXPECT_GT(s.dof, 400.0);  // Welch (1967): ~1.9 K for Hann / 50 %
 }
 
+TEST(Spectrum, WelchBinsOfWhiteNoiseFollowChiSquareWithWelchsDof) {
+  // The frequency view tests each Welch bin as S(f) chi2(nu)/nu with nu = 36 K^2 / (19 K - 1)
+  // (Welch 1967, Hann, 50 % overlap). With the view's segments (n / 8, K = 15, nu = 28.5) the
+  // bins of white noise must have variance 2 / nu relative to their mean, and Wilson-Hilferty
+  // z > 2 in 2.28 % of them.
+  const double fs = 10.0, sigma = 1.5;
+  const long n = 1L << 20;
+  const Spectrum s = WelchPsd(WhiteNoise(n, sigma, 4), fs, static_cast<int>(n / 8));
+  ASSERT_NEAR(s.dof, 36.0 * 225.0 / (19.0 * 15.0 - 1.0), 1e-12);
+  const double level = 2 * sigma * sigma / fs;
+  double sum = 0, sum2 = 0;
+  int count = 0, above = 0;
+  for (size_t k = 4; k + 1 < s.psd.size(); ++k, ++count) {
+    const double r = s.psd[k] / level;
+    sum += r;
+    sum2 += r * r;
+    above += WilsonHilfertyZ(r, s.dof) > 2.0;
+  }
+  const double mean = sum / count, var = sum2 / count - mean * mean;
+  // 65532 bins, adjacent Hann bins correlated (~half as many independent ones): the mean has sd
+  // sqrt(2 / nu / 32000) = 0.15 %, the variance ratio sd ~ sqrt(2 / 32000) ~ 0.8 % (plus excess
+  // kurtosis), the tail fraction sd sqrt(0.0228 / 32000) = 0.08 %: 4 sd each.
+  EXPECT_NEAR(mean, 1.0, 0.006);
+  EXPECT_NEAR(var / (2.0 / s.dof), 1.0, 0.06);
+  EXPECT_NEAR(static_cast<double>(above) / count, 0.02275, 0.0035);
+}
+
+TEST(Spectrum, FastFftSizeAtMostIsTheLargestFiveSmoothSize) {
+  EXPECT_EQ(FastFftSizeAtMost(8640000 / 8), 1080000);  // 24 h at 100 Hz: 2^6 3^3 5^4
+  EXPECT_EQ(FastFftSizeAtMost(1), 1);
+  EXPECT_EQ(FastFftSizeAtMost(7), 6);
+  for (long n = 1; n <= 3000; ++n) {
+    const long m = FastFftSizeAtMost(n);
+    ASSERT_LE(m, n);
+    ASSERT_TRUE(IsFastFftSize(m)) << n;
+    for (long k = m + 1; k <= n; ++k) ASSERT_FALSE(IsFastFftSize(k)) << n;
+  }
+}
+
+TEST(Spectrum, RealDftOfAnyLengthMatchesTheDefinition) {
+  // Smooth lengths go through kissfft, others (prime 1009, 2 x 109 x 7 = 1526, the time view's
+  // 2 x 109 x 1201 pattern) through Bluestein. Reference: the O(n^2) sum with exact integer phase
+  // reduction (j k mod n). Rounding of either is ~eps log2(n) per unit of sum |x_j| = n E|x|, so
+  // 1e-11 relative to n covers it.
+  for (long n : {1000L, 1009L, 1526L, 1L << 12}) {
+    const Eigen::VectorXd x = WhiteNoise(n, 1.0, 5 + n);
+    const std::vector<double> v(x.data(), x.data() + n);
+    const auto fast = RealDftHalf(v);
+    ASSERT_EQ(static_cast<long>(fast.size()), n / 2 + 1);
+    for (long k = 0; k <= n / 2; k += (k < 8 ? 1 : 37)) {
+      std::complex<double> ref = 0;
+      for (long j = 0; j < n; ++j)
+        ref += x[j] * std::polar(1.0, -2.0 * M_PI * static_cast<double>((j * k) % n) / n);
+      EXPECT_NEAR(std::abs(fast[k] - ref), 0.0, 1e-11 * n) << "n " << n << " k " << k;
+    }
+  }
+}
+
 TEST(Spectrum, PeriodogramPeaksAtTheLineFrequency) {
   const double fs = 10.0, f0 = 0.123;
   Eigen::VectorXd x = WhiteNoise(20000, 1.0, 2);
