@@ -5,8 +5,8 @@
 #include <limits>
 #include <vector>
 
-#include "algorithms/common/chi_square.h"
 #include "algorithms/ar/autocorrelation.h"
+#include "algorithms/common/chi_square.h"
 
 namespace fogpipe::ar {
 namespace {
@@ -70,6 +70,59 @@ double SimulationFitPercent(const Eigen::Ref<const Eigen::VectorXd>& x, const Ar
   return FitPercent(error_energy, CenteredEnergy(x.tail(n - p)));
 }
 
+std::vector<double> SimulationFitPercents(const Eigen::Ref<const Eigen::VectorXd>& x,
+                                          const std::vector<const ArModel*>& models) {
+  // Each model keeps SimulationFitPercent's window, cursor and register; only the loops are
+  // interchanged (samples outside, models inside), so every model sees the same operations in the
+  // same order.
+  struct FreeRun {
+    const double* phi = nullptr;
+    int p = 0;
+    double mean = 0.0, prev = 0.0, error_energy = 0.0;
+    Eigen::Index j = 0;  // position in the current block
+    std::vector<double> window;
+  };
+  const Eigen::Index n = x.size();
+  std::vector<FreeRun> runs;
+  runs.reserve(models.size());
+  Eigen::Index first = n;
+  for (const ArModel* model : models) {
+    FreeRun r;
+    r.phi = model->phi.data();
+    r.p = model->order;
+    r.mean = model->mean;
+    r.window.assign(kBlock + r.p, 0.0);
+    for (int i = 0; i < r.p; ++i) r.window[i] = x(i) - r.mean;
+    r.prev = r.p > 0 ? r.window[r.p - 1] : 0.0;
+    first = std::min<Eigen::Index>(first, r.p);
+    runs.push_back(std::move(r));
+  }
+  for (Eigen::Index t = first; t < n; ++t) {
+    const double xt = x(t);
+    for (FreeRun& r : runs) {
+      if (t < r.p) continue;
+      const int p = r.p;
+      double older = 0.0;
+      const double* past = &r.window[r.j + p - 1];
+      for (int i = 1; i < p; ++i) older += r.phi[i] * past[-i];
+      const double s = p > 0 ? r.phi[0] * r.prev + older : 0.0;
+      r.prev = s;
+      r.window[r.j + p] = s;
+      const double d = xt - r.mean - s;
+      r.error_energy += d * d;
+      if (++r.j == kBlock) {
+        std::copy(r.window.begin() + kBlock, r.window.begin() + kBlock + p, r.window.begin());
+        r.j = 0;
+      }
+    }
+  }
+  std::vector<double> fit;
+  fit.reserve(runs.size());
+  for (const FreeRun& r : runs)
+    fit.push_back(FitPercent(r.error_energy, CenteredEnergy(x.tail(n - r.p))));
+  return fit;
+}
+
 namespace {
 
 // Ljung-Box from the lagged products c(0..>=lag) of the n centred residuals.
@@ -104,14 +157,17 @@ LjungBoxTest LjungBox(const Eigen::Ref<const Eigen::VectorXd>& residuals, int la
                                     lag, num_params);
 }
 
+double OneStepFitPercent(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model) {
+  return FitPercent(OneStepResiduals(x, model).squaredNorm(),
+                    CenteredEnergy(x.tail(x.size() - model.order)));
+}
+
 ArDiagnostics ComputeDiagnostics(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model) {
   ArDiagnostics d;
-  const Eigen::Index n = x.size();
   const int p = model.order;
   Eigen::VectorXd e = OneStepResiduals(x, model);
-  const double centered = CenteredEnergy(x.tail(n - p));
   const double error_energy = e.squaredNorm();
-  d.fit_one_step_percent = FitPercent(error_energy, centered);
+  d.fit_one_step_percent = FitPercent(error_energy, CenteredEnergy(x.tail(x.size() - p)));
   d.fit_simulation_percent = SimulationFitPercent(x, model);
   d.residual_variance = error_energy / static_cast<double>(e.size());
   // Both Ljung-Box lags from one pass of lagged products over the residuals, centred in place.

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <vector>
 
 #include "algorithms/ar/ar_model.h"
 
@@ -47,11 +48,21 @@ Eigen::VectorXd OneStepResiduals(const Eigen::Ref<const Eigen::VectorXd>& x, con
 /// Free-run fit percentage (see the file comment).
 double SimulationFitPercent(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model);
 
+/// SimulationFitPercent of every model in one pass over x, equal to it to the last bit (same
+/// arithmetic per model). The free runs are independent recursions, each bound by the latency of
+/// its own multiply-add chain; stepping them together per sample lets the CPU overlap them. A
+/// sweep scores every AR order of a component this way.
+std::vector<double> SimulationFitPercents(const Eigen::Ref<const Eigen::VectorXd>& x,
+                                          const std::vector<const ArModel*>& models);
+
 /// P(chi2_dof > statistic): the Ljung-Box p-value for a statistic and its degrees of freedom.
 double LjungBoxPValue(double statistic, double dof);
 
 /// Ljung-Box test of `residuals` at lag `lag` for a model with `num_params` fitted coefficients.
 LjungBoxTest LjungBox(const Eigen::Ref<const Eigen::VectorXd>& residuals, int lag, int num_params);
+
+/// One-step fit percentage alone (no Ljung-Box), equal to ComputeDiagnostics' to the last bit.
+double OneStepFitPercent(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model);
 
 /// All of the above. Requires x.size() > model.order + 20.
 ArDiagnostics ComputeDiagnostics(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model);

@@ -114,13 +114,19 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
     const int reached = static_cast<int>(m.models.size());
     m.fit_one_step.assign(reached, kNaN);
     m.fit_simulation.assign(reached, kNaN);
+    std::vector<const ar::ArModel*> simulated;
+    std::vector<int> simulated_index;
     for (int order : options.grid.ar_orders) {
       const int used = std::min(order, reached);
       if (used < 1 || !std::isnan(m.fit_one_step[used - 1])) continue;
-      const ar::ArDiagnostics d = ar::ComputeDiagnostics(c, m.models[used - 1]);
-      m.fit_one_step[used - 1] = d.fit_one_step_percent;
-      m.fit_simulation[used - 1] = d.fit_simulation_percent;
+      m.fit_one_step[used - 1] = ar::OneStepFitPercent(c, m.models[used - 1]);
+      simulated.push_back(&m.models[used - 1]);
+      simulated_index.push_back(used - 1);
     }
+    // The simulation fits of all those orders in one pass (latency-bound recursions, overlapped).
+    const std::vector<double> fit_simulation = ar::SimulationFitPercents(c, simulated);
+    for (std::size_t i = 0; i < simulated.size(); ++i)
+      m.fit_simulation[simulated_index[i]] = fit_simulation[i];
   });
   out.summary.models_seconds = SecondsSince(start);
   for (int k = 0; k < num_components; ++k) {

@@ -57,6 +57,32 @@ TEST(Diagnostics, AnExplodingSimulationGivesMinusInfinity) {
   EXPECT_LT(d.fit_simulation_percent, 0.0);
 }
 
+// The sweep scores every AR order with OneStepFitPercent and SimulationFitPercents (one pass for
+// all orders, no Ljung-Box); its numbers must be the ones `run` reports through
+// ComputeDiagnostics, to the last bit: here a stationary AR(2) fitted exactly, a poor AR(1), an
+// exploding model, orders 1-12 of a Burg-like set and a record that is not a multiple of the
+// block length.
+TEST(Diagnostics, FitPercentsAloneEqualTheFullDiagnosticsToTheLastBit) {
+  const Eigen::VectorXd x = testing::SimulateAr(Eigen::Vector2d(1.2, -0.5), 1.0, 50001, 84);
+  std::vector<ArModel> models = {Model({1.2, -0.5}, x.mean()), Model({0.3}), Model({1.5})};
+  for (int p = 1; p <= 12; ++p) {
+    Eigen::VectorXd phi = Eigen::VectorXd::Zero(p);
+    phi(0) = 1.2;
+    if (p > 1) phi(1) = -0.5;
+    for (int i = 2; i < p; ++i) phi(i) = 0.01 / i;
+    models.push_back(MakeArModel(phi, 1.0, x.mean(), x.size()));
+  }
+  std::vector<const ArModel*> pointers;
+  for (const ArModel& m : models) pointers.push_back(&m);
+  const std::vector<double> simulation = SimulationFitPercents(x, pointers);
+  ASSERT_EQ(simulation.size(), models.size());
+  for (std::size_t k = 0; k < models.size(); ++k) {
+    const ArDiagnostics d = ComputeDiagnostics(x, models[k]);
+    EXPECT_EQ(OneStepFitPercent(x, models[k]), d.fit_one_step_percent) << "model " << k;
+    EXPECT_EQ(simulation[k], d.fit_simulation_percent) << "model " << k;
+  }
+}
+
 // The p-value is the chi-square tail (the incomplete gamma itself, both of its branches, is tested
 // with its owner in tests/algorithms/common/chi_square_test.cpp). Closed forms: dof = 2, exp(-x/2);
 // dof = 1, erfc(sqrt(x/2)). The tail is computed directly (not as 1 - CDF), so the accuracy is
