@@ -42,39 +42,17 @@ Eigen::VectorXd OneStepResiduals(const Eigen::Ref<const Eigen::VectorXd>& x, con
 }
 
 double SimulationFitPercent(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model) {
-  const Eigen::Index n = x.size();
-  const int p = model.order;
-  // The free run s_t is written into a window of kBlock + p samples; each window's last p samples
-  // seed the next, so the history is always contiguous and memory stays O(kBlock).
-  std::vector<double> window(kBlock + p);
-  for (int i = 0; i < p; ++i) window[i] = x(i) - model.mean;
-  const double* phi = model.phi.data();
-  double error_energy = 0.0;
-  // s_{t-1} is kept in a register: the loop-carried chain is then one multiply-add per sample, the
-  // older terms (read from the window) are off that chain. 4x faster than summing from memory.
-  double prev = p > 0 ? window[p - 1] : 0.0;
-  for (Eigen::Index t0 = p; t0 < n; t0 += kBlock) {
-    const Eigen::Index len = std::min(kBlock, n - t0);
-    for (Eigen::Index j = 0; j < len; ++j) {
-      double older = 0.0;
-      const double* past = &window[j + p - 1];  // s_{t-1}; s_{t-i} = past[1 - i]
-      for (int i = 1; i < p; ++i) older += phi[i] * past[-i];
-      const double s = p > 0 ? phi[0] * prev + older : 0.0;
-      prev = s;
-      window[j + p] = s;
-      const double d = x(t0 + j) - model.mean - s;
-      error_energy += d * d;
-    }
-    std::copy(window.begin() + len, window.begin() + len + p, window.begin());
-  }
-  return FitPercent(error_energy, CenteredEnergy(x.tail(n - p)));
+  return SimulationFitPercents(x, {&model}).front();
 }
 
 std::vector<double> SimulationFitPercents(const Eigen::Ref<const Eigen::VectorXd>& x,
                                           const std::vector<const ArModel*>& models) {
-  // Each model keeps SimulationFitPercent's window, cursor and register; only the loops are
-  // interchanged (samples outside, models inside), so every model sees the same operations in the
-  // same order.
+  // Each model's free run s_t is written into its own window of kBlock + p samples; each window's
+  // last p samples seed the next, so the history is always contiguous and memory stays O(kBlock).
+  // s_{t-1} is kept in `prev`: the loop-carried chain is then one multiply-add per sample, the
+  // older terms (read from the window) are off that chain. The models step together per sample
+  // (samples outside, models inside): their chains are independent, so the CPU overlaps them,
+  // and each model still sees exactly the operations it would see alone.
   struct FreeRun {
     const double* phi = nullptr;
     int p = 0;
@@ -103,7 +81,7 @@ std::vector<double> SimulationFitPercents(const Eigen::Ref<const Eigen::VectorXd
       if (t < r.p) continue;
       const int p = r.p;
       double older = 0.0;
-      const double* past = &r.window[r.j + p - 1];
+      const double* past = &r.window[r.j + p - 1];  // s_{t-1}; s_{t-i} = past[1 - i]
       for (int i = 1; i < p; ++i) older += r.phi[i] * past[-i];
       const double s = p > 0 ? r.phi[0] * r.prev + older : 0.0;
       r.prev = s;

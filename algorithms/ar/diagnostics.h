@@ -48,10 +48,11 @@ Eigen::VectorXd OneStepResiduals(const Eigen::Ref<const Eigen::VectorXd>& x, con
 /// Free-run fit percentage (see the file comment).
 double SimulationFitPercent(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model);
 
-/// SimulationFitPercent of every model in one pass over x, equal to it to the last bit (same
-/// arithmetic per model). The free runs are independent recursions, each bound by the latency of
-/// its own multiply-add chain; stepping them together per sample lets the CPU overlap them. A
-/// sweep scores every AR order of a component this way.
+/// The free-run fit percentage of every model in one pass over x; each model's value does not
+/// depend on the others (SimulationFitPercent is this with one model). The free runs are
+/// independent recursions, each bound by the latency of its own multiply-add chain; stepping them
+/// together per sample lets the CPU overlap them. A sweep scores every AR order of a component
+/// this way.
 std::vector<double> SimulationFitPercents(const Eigen::Ref<const Eigen::VectorXd>& x,
                                           const std::vector<const ArModel*>& models);
 
