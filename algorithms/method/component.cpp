@@ -12,6 +12,12 @@ std::string ComponentModel::message() const {
   return "";
 }
 
+void ApplyFilterNoise(const FilterNoise& noise, kalman::ArKalmanOptions* kalman) {
+  if (kalman->q >= 0.0 || kalman->r >= 0.0) return;
+  kalman->q = noise.q;
+  if (noise.pure_noise) kalman->initial_variance = 0.0;
+}
+
 ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_variance,
                               const ComponentOptions& options) {
   ComponentModel out;
@@ -35,12 +41,7 @@ ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_varia
   const double variance = (x.array() - x.mean()).square().mean();
   const FilterNoise noise =
       ComponentFilterNoise(options.noise_rule, white_noise_variance, variance, sigma_e2);
-  if (kalman_options.q < 0.0 && kalman_options.r < 0.0) {
-    kalman_options.q = noise.q;
-    // Pure noise (white_noise.h, step 3): q = 0 from P(0|0) = 0, so the gain is 0 and the
-    // output is the mean (ar_kalman.h).
-    if (noise.pure_noise) kalman_options.initial_variance = 0.0;
-  }
+  ApplyFilterNoise(noise, &kalman_options);
   out.kalman = kalman::FilterAr(x, out.fit.model.phi, sigma_e2, noise.r, kalman_options);
   return out;
 }

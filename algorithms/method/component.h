@@ -40,6 +40,12 @@ struct ComponentModel {
   std::string message() const;
 };
 
+/// Puts the noise rule's q into `kalman` unless q or R is given explicitly (>= 0), and for a
+/// pure-noise component P(0|0) = 0 (white_noise.h, step 3: q = 0 from P(0|0) = 0 gives gain 0,
+/// the output is the mean; ar_kalman.h). ModelComponent and the sweep's default-rule setting
+/// configure their filters with it, so the sweep's default row is what `run` does.
+void ApplyFilterNoise(const FilterNoise& noise, kalman::ArKalmanOptions* kalman);
+
 /// Fits the AR model to `x` and runs the Kalman filter on it, q and R from `white_noise_variance`
 /// (the component's white share, units of x^2) by options.noise_rule unless given explicitly.
 ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_variance,

@@ -13,6 +13,7 @@
 #include "algorithms/ar/diagnostics.h"
 #include "algorithms/common/units.h"
 #include "algorithms/kalman/ar_kalman.h"
+#include "algorithms/method/component.h"
 #include "algorithms/method/white_noise.h"
 
 namespace fogpipe::method {
@@ -89,9 +90,9 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
   for (int k = 0; k < num_components; ++k) {
     components[k].signal = k < num_imfs ? &emd_result.imfs[k] : &emd_result.residue;
   }
-  const std::vector<double> r =
-      ShareWhiteNoise(WhiteNoiseVariance(signal), emd_result, signal.size());
   const std::vector<double> variances = ComponentVariances(emd_result);
+  const std::vector<double> r = ShareWhiteNoise(
+      WhiteNoiseVariance(signal), ComponentPeriods(emd_result, signal.size()), variances);
 
   // One Burg recursion per component up to the largest order; fit % per order.
   start = std::chrono::steady_clock::now();
@@ -185,16 +186,17 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
         o.mean = model.mean;
         o.max_time_varying_steps = kSweepTimeVaryingSteps;
         // Grid settings: q referred to sigma_e^2, R to the white share (sweep_grid.h); the
-        // default rule: exactly ModelComponent()'s (white_noise.h).
-        FilterNoise noise{model.innovation_variance, m.white_noise};
+        // default rule: exactly ModelComponent()'s (white_noise.h, ApplyFilterNoise).
         if (setting.default_rule) {
-          noise = ComponentFilterNoise(options.method.component.noise_rule, m.white_noise,
-                                       m.variance, model.innovation_variance);
+          const FilterNoise noise =
+              ComponentFilterNoise(options.method.component.noise_rule, m.white_noise, m.variance,
+                                   model.innovation_variance);
+          ApplyFilterNoise(noise, &o);
+          if (o.r < 0.0) o.r = noise.r;
+        } else {
+          o.q = model.innovation_variance;
+          if (o.r < 0.0) o.r = m.white_noise;
         }
-        o.q = noise.q;
-        if (o.r < 0.0) o.r = noise.r;
-        o.initial_variance =
-            noise.pure_noise ? 0.0 : options.method.component.kalman.initial_variance;
         out.points[begin + j].fit_one_step_percent.push_back(m.fit_one_step[used - 1]);
         out.points[begin + j].fit_simulation_percent.push_back(m.fit_simulation[used - 1]);
       }

@@ -54,15 +54,21 @@ std::vector<double> ComponentVariances(const emd::EmdResult& decomposition) {
   return variances;
 }
 
-std::vector<double> ShareWhiteNoise(double white_noise_variance,
-                                    const emd::EmdResult& decomposition, Eigen::Index num_samples) {
+std::vector<double> ComponentPeriods(const emd::EmdResult& decomposition,
+                                     Eigen::Index num_samples) {
   const int num_imfs = static_cast<int>(decomposition.imfs.size());
   std::vector<double> periods(num_imfs + 1);
   for (int k = 0; k <= num_imfs; ++k) {
     periods[k] = k < num_imfs ? decomposition.imf_info[k].mean_period_samples
                               : static_cast<double>(num_samples);
   }
-  return ShareWhiteNoise(white_noise_variance, periods, ComponentVariances(decomposition));
+  return periods;
+}
+
+std::vector<double> ShareWhiteNoise(double white_noise_variance,
+                                    const emd::EmdResult& decomposition, Eigen::Index num_samples) {
+  return ShareWhiteNoise(white_noise_variance, ComponentPeriods(decomposition, num_samples),
+                         ComponentVariances(decomposition));
 }
 
 const char* ToString(ComponentNoiseRule rule) {

@@ -88,9 +88,12 @@ std::vector<double> ShareWhiteNoise(double white_noise_variance,
                                     const std::vector<double>& mean_period_samples,
                                     const std::vector<double>& imf_variance);
 
+/// Mean period of every IMF, then of the residue, samples. The residue counts as one cycle over
+/// the record (period num_samples), so it gets a tiny share and its filter follows it.
+std::vector<double> ComponentPeriods(const emd::EmdResult& decomposition, Eigen::Index num_samples);
+
 /// Steps 1-2 applied to a decomposition of a signal of `num_samples` samples: R_k for every IMF,
-/// then the residue last. The residue counts as one cycle over the record (period num_samples),
-/// so it gets a tiny share and its filter follows it.
+/// then the residue last (ComponentPeriods, ComponentVariances).
 std::vector<double> ShareWhiteNoise(double white_noise_variance,
                                     const emd::EmdResult& decomposition, Eigen::Index num_samples);
 
