@@ -164,8 +164,6 @@ void SummarizeSteadyStart(const Eigen::VectorXd& phi, const DareSolution& dare, 
   s->gain_switch = GainSwitch::kFromStart;
   s->switched_at_sample = 0;
   s->gain_distance_at_switch = GainDistance(g, dare.gain);
-  s->termination = Termination::kSuccess;
-  s->message = "steady-state start: steady-state gain from the first sample";
 }
 
 // Where the time-varying phase leaves the filter: the constant-gain loop starts at sample `k`
