@@ -19,23 +19,6 @@ double Pearson(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   return (sxx > 0 && syy > 0) ? (x * y).sum() / std::sqrt(sxx * syy) : 0.0;
 }
 
-// Upper tail of the standard normal, P(Z > z).
-double UpperTailP(double z) { return 0.5 * std::erfc(z / std::sqrt(2.0)); }
-
-// Wallace's (1959) normal deviate with the tail probability of Student's t with nu degrees of
-// freedom, z = (8 nu + 1) / (8 nu + 3) sqrt(nu ln(1 + t^2 / nu)) (sign of t), and its inverse;
-// nu = infinity is the normal law itself.
-double StudentToNormal(double t, double nu) {
-  if (!std::isfinite(nu)) return t;
-  const double z = (8.0 * nu + 1.0) / (8.0 * nu + 3.0) * std::sqrt(nu * std::log1p(t * t / nu));
-  return t < 0 ? -z : z;
-}
-double NormalToStudent(double z, double nu) {
-  if (!std::isfinite(nu)) return z;
-  const double a = z * (8.0 * nu + 3.0) / (8.0 * nu + 1.0);
-  return (z < 0 ? -1.0 : 1.0) * std::sqrt(nu * std::expm1(a * a / nu));
-}
-
 // Fractional-octave moving average of a one-sided spectrum: bin j is replaced by the mean over the
 // bins in [f_j 2^(-w/2), f_j 2^(w/2)] (at least bin j itself). Prefix sums: O(bins).
 std::vector<double> OctaveSmooth(const std::vector<double>& p, double octaves) {

@@ -180,6 +180,20 @@ double UpperTailZ(double p) {
   return -NormalQuantile(p);
 }
 
+double UpperTailP(double z) { return 0.5 * std::erfc(z / std::sqrt(2.0)); }
+
+double StudentToNormal(double t, double nu) {
+  if (!std::isfinite(nu)) return t;
+  const double z = (8.0 * nu + 1.0) / (8.0 * nu + 3.0) * std::sqrt(nu * std::log1p(t * t / nu));
+  return t < 0 ? -z : z;
+}
+
+double NormalToStudent(double z, double nu) {
+  if (!std::isfinite(nu)) return z;
+  const double a = z * (8.0 * nu + 3.0) / (8.0 * nu + 1.0);
+  return (z < 0 ? -1.0 : 1.0) * std::sqrt(nu * std::expm1(a * a / nu));
+}
+
 double BonferroniCriticalZ(int count, double alpha) {
   return NormalQuantile(1.0 - alpha / (2.0 * std::max(count, 1)));
 }

@@ -56,6 +56,15 @@ double WilsonHilfertyZ(double ratio, double nu);
 /// z with upper-tail probability p: Phi^{-1}(1 - p), accurate for tiny p.
 double UpperTailZ(double p);
 
+/// Upper tail of the standard normal, P(Z > z): the inverse of UpperTailZ.
+double UpperTailP(double z);
+
+/// Wallace's (1959) normal deviate with the tail probability of Student's t with nu degrees of
+/// freedom, z = (8 nu + 1) / (8 nu + 3) sqrt(nu ln(1 + t^2 / nu)) (sign of t), and its inverse;
+/// nu = infinity is the normal law itself.
+double StudentToNormal(double t, double nu);
+double NormalToStudent(double z, double nu);
+
 /// Two-sided family-wise critical |z| for `count` tests at total level alpha (Bonferroni):
 /// Phi^{-1}(1 - alpha / (2 count)).
 double BonferroniCriticalZ(int count, double alpha);

@@ -12,7 +12,6 @@ namespace fogpipe::model {
 namespace {
 
 double Phi(double x) { return std::exp(-0.5 * x * x) / std::sqrt(2.0 * units::kPi); }
-double UpperTail(double x) { return 0.5 * std::erfc(x / std::sqrt(2.0)); }
 
 // Solves tail(c) = alpha for a decreasing tail on [0.5, 40] by bisection.
 template <typename F>
@@ -127,7 +126,7 @@ double SmoothSupremumCritical(double alpha, double length, bool two_sided) {
   const double k = two_sided ? 2.0 : 1.0;
   return InvertTail(
       [&](double c) {
-        return k * UpperTail(c) + k * length * std::exp(-0.5 * c * c) / (2.0 * units::kPi);
+        return k * UpperTailP(c) + k * length * std::exp(-0.5 * c * c) / (2.0 * units::kPi);
       },
       alpha);
 }

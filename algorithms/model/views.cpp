@@ -65,14 +65,6 @@ Decimated Decimate(const Eigen::VectorXd& r, double fs) {
 // Boundaries whose leave-window-out reference has fewer degrees of freedom are not tested.
 constexpr double kMinDof = 8.0;
 
-// Student's t with nu degrees of freedom that has the tail probability of the normal deviate z
-// > 0, inverting Wallace's (1959) approximation z = (8 nu + 1) / (8 nu + 3) sqrt(nu ln(1 + t^2 /
-// nu)).
-double NormalToStudent(double z, double nu) {
-  const double a = z * (8.0 * nu + 3.0) / (8.0 * nu + 1.0);
-  return std::sqrt(nu * std::expm1(a * a / nu));
-}
-
 double MaxAbs(const std::vector<double>& v, int a, int b) {
   double m = 0;
   for (int i = a; i <= b; ++i) m = std::max(m, std::abs(v[i]));
