@@ -375,6 +375,10 @@ CompareResult Compare(const CompareInput& in, const std::vector<Term>& terms,
   std::stable_partition(order.begin(), order.end(),
                         [&](int i) { return HasNonlinearParameter(tt[i]); });
   const int count = 1 + static_cast<int>(tt.size());
+  // The trials' own step and warm-up scans would never be read (RankSuggestions uses the base
+  // model's), so they are skipped: a FitDeterministic scan and a noise refit each, per trial.
+  CompareOptions trial_options = o;
+  trial_options.views.targeted_scans = false;
   const auto task = [&](int k) {
     if (k == count - 1) {
       r.base.imf = ComputeImfView(r.base.deterministic.residual, in.sample_rate_hz, prepared,
@@ -384,7 +388,7 @@ CompareResult Compare(const CompareInput& in, const std::vector<Term>& terms,
     const int i = order[k];
     std::vector<Term> with = terms;
     with.push_back(tt[i]);
-    r.trials[i] = EvaluateModel(in, with, o, &prepared);
+    r.trials[i] = EvaluateModel(in, with, trial_options, &prepared);
   };
   if (for_each) {
     for_each(count, task);

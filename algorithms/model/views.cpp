@@ -282,6 +282,7 @@ void ComputeTimeView(const Eigen::VectorXd& r, double fs, const Decimated& dec,
   // self-normalised.
   // On long records the scans run on block means (Decimated, below); the noise model is refitted
   // on the block means themselves.
+  if (!o.targeted_scans) return;
   const TargetedTest step =
       ScanBiasStep(dec.x, dec.sample_rate_hz, dec.dft, m, o, alpha_view, v->window_s);
   if (step.evaluated) {

@@ -67,6 +67,10 @@ struct ViewOptions {
   int time_windows = 64;           ///< finest windows of the time view: record / this
   double aux_block_s = 60.0;       ///< block-mean length of the low-frequency residual
   double aux_smoothing_s = 120.0;  ///< smoothing before differentiating an aux channel
+  /// Run the time view's bias-step and warm-up scans. They only name an effect (they are not
+  /// scored), and only the base model's are read (compare.h ranks suggestions with them), so
+  /// Compare turns them off for its trial fits.
+  bool targeted_scans = true;
   bool IsValid(std::string* error) const;
 };
 
