@@ -214,8 +214,11 @@ TEST(ImfView, ComputeIsDeterministicAndInvalidOptionsAreReported) {
   const ImfView b = ComputeImfView(x, fs, {}, WhiteModel(kN), ImfViewOptions());
   EXPECT_EQ(a.energy, b.energy) << "same input + options -> same numbers";
   EXPECT_EQ(a.expected_energy.size(), b.expected_energy.size());
-  for (size_t k = 0; k < a.expected_energy.size(); ++k)
-    if (std::isfinite(a.expected_energy[k])) EXPECT_EQ(a.expected_energy[k], b.expected_energy[k]);
+  for (size_t k = 0; k < a.expected_energy.size(); ++k) {
+    if (std::isfinite(a.expected_energy[k])) {
+      EXPECT_EQ(a.expected_energy[k], b.expected_energy[k]);
+    }
+  }
   ImfViewOptions bad;
   bad.reference_realizations = 0;
   EXPECT_EQ(ComputeImfView(x, fs, {}, WhiteModel(kN), bad).summary.termination,

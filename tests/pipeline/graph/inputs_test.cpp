@@ -17,7 +17,9 @@ namespace fs = std::filesystem;
 class InputsTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    root_ = fs::path(::testing::TempDir()) / "fogpipe_inputs_test";
+    // One folder per process: ctest runs every TEST as its own process, in parallel, and a shared
+    // folder would be removed by one test's TearDown under another.
+    root_ = fs::path(::testing::TempDir()) / ("fogpipe_inputs_test_" + std::to_string(getpid()));
     fs::remove_all(root_);
     fs::create_directories(root_ / "a" / "deep");
     fs::create_directories(root_ / "b");
