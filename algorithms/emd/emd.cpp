@@ -58,10 +58,6 @@ class EnvelopeBuffers {
       SolveMoments(knots, options.spline, knots.moments(),
                    e == 0 ? work_.data() : second_work_.data());
     });
-    if (kind == SiftStatisticsKind::kCauchy) {
-      return SubtractEnvelopeMean(h, n, upper_, lower_, kind, options.rilling_theta1,
-                                  options.rilling_theta2);
-    }
     return SubtractEnvelopeMeanInParts(h, n, upper_, lower_, kind, options.rilling_theta1,
                                        options.rilling_theta2, std::min(parts, kMaxParts),
                                        options.for_each);

@@ -36,6 +36,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/common/for_each.h"
 #include "algorithms/common/status.h"
 #include "algorithms/emd/cubic_spline.h"
 #include "algorithms/emd/stop_rules.h"
@@ -60,7 +61,7 @@ struct EmdOptions : StopCriteria {
   /// once and subtracts the envelope mean in parts of at least 65536 samples
   /// (envelope.h SubtractEnvelopeMeanInParts). The IMFs are bit-identical either way (tested);
   /// with the Cauchy rule the subtraction stays serial (its sums would round differently).
-  std::function<void(int n, const std::function<void(int)>& body)> for_each;
+  ForEach for_each;
 
   bool IsValid(std::string* error) const;
 };

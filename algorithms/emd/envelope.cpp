@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 #include <vector>
 
 #include "algorithms/emd/cubic_spline.h"
@@ -141,10 +140,11 @@ SiftStatistics SubtractEnvelopeMean(double* h, int n, const EnvelopeKnots& upper
 SiftStatistics SubtractEnvelopeMeanInParts(double* h, int n, const EnvelopeKnots& upper,
                                            const EnvelopeKnots& lower, SiftStatisticsKind kind,
                                            double theta1, double theta2, int parts,
-                                           const ForEachPart& for_each) {
+                                           const ForEach& for_each) {
+  // The one place the Cauchy rule is kept serial: its two sums over all samples, added part by
+  // part, would round differently from the serial pass (the IMFs must not depend on threads).
   if (kind == SiftStatisticsKind::kCauchy) {
-    throw std::invalid_argument(
-        "SubtractEnvelopeMeanInParts: the Cauchy sums need the serial pass");
+    return SubtractEnvelopeMean(h, n, upper, lower, kind, theta1, theta2);
   }
   parts = std::clamp(parts, 1, std::max(1, n));
   std::vector<int> begin(parts + 1);

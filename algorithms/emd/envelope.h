@@ -2,8 +2,8 @@
 #pragma once
 
 #include <cstdint>
-#include <functional>
 
+#include "algorithms/common/for_each.h"
 #include "algorithms/emd/extrema.h"
 
 namespace fogpipe::emd {
@@ -33,19 +33,16 @@ SiftStatistics SubtractEnvelopeMean(double* h, int n, const EnvelopeKnots& upper
                                     const EnvelopeKnots& lower, SiftStatisticsKind kind,
                                     double theta1 = 0.0, double theta2 = 0.0);
 
-/// Runs body(i) for i in [0, n), possibly concurrently.
-using ForEachPart = std::function<void(int n, const std::function<void(int)>& body)>;
-
 /// The same pass over `parts` contiguous ranges of samples, run through `for_each`. h is
 /// bit-identical to SubtractEnvelopeMean's whatever the parts and the schedule: every sample is
 /// computed from the same piece by the same arithmetic. Because a part overwrites its samples,
 /// which may be knots of the pieces where a neighbouring part starts or ends, those boundary
-/// pieces are converted to polynomials before any part starts. kCauchy is not accepted (its sums
-/// would be added in another order than the serial pass's; call SubtractEnvelopeMean); the
+/// pieces are converted to polynomials before any part starts. kCauchy runs the serial pass
+/// (SubtractEnvelopeMean) instead: its sums, added part by part, would round differently; the
 /// kRilling counts are exact integers and add up the same.
 SiftStatistics SubtractEnvelopeMeanInParts(double* h, int n, const EnvelopeKnots& upper,
                                            const EnvelopeKnots& lower, SiftStatisticsKind kind,
                                            double theta1, double theta2, int parts,
-                                           const ForEachPart& for_each);
+                                           const ForEach& for_each);
 
 }  // namespace fogpipe::emd

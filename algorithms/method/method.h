@@ -16,6 +16,7 @@
 
 #include "algorithms/allan/allan.h"
 #include "algorithms/allan/noise_fit.h"
+#include "algorithms/common/for_each.h"
 #include "algorithms/common/status.h"
 #include "algorithms/emd/emd.h"
 #include "algorithms/method/component.h"
@@ -61,9 +62,10 @@ struct MethodResult {
   MethodSummary summary;
 };
 
-/// Runs body(i) for i in [0, n). The flow graph passes a tbb::parallel_for; every body writes
-/// only its own slot, so the results are the same for any schedule.
-using ForEach = std::function<void(int n, const std::function<void(int)>& body)>;
+/// Runs body(i) for i in [0, n) (algorithms/common/for_each.h). The flow graph passes a
+/// tbb::parallel_for; every body writes only its own slot, so the results are the same for any
+/// schedule.
+using fogpipe::ForEach;
 /// The serial ForEach.
 void SerialForEach(int n, const std::function<void(int)>& body);
 

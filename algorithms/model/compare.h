@@ -38,6 +38,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/common/for_each.h"
 #include "algorithms/common/status.h"
 #include "algorithms/model/catalog.h"
 #include "algorithms/model/deterministic_fit.h"
@@ -131,8 +132,8 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
                                         const CompareOptions& options);
 
 /// Runs body(i) for i in [0, n); bodies are independent (each writes only its own slot). The
-/// same signature as method::ForEach, so the pipeline's graph::TbbForEach fits.
-using ForEach = std::function<void(int n, const std::function<void(int)>& body)>;
+/// same type as method::ForEach (algorithms/common/for_each.h), so graph::TbbForEach fits.
+using fogpipe::ForEach;
 
 /// EvaluateModel of the base model, then (through for_each, null: in order) the base model's IMF
 /// view and every trial, then RankSuggestions. Trials are run only when the base model is not
