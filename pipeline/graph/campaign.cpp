@@ -45,7 +45,12 @@ struct FileJob {
   // the writer's reads).
   std::string sha256;
   std::string start_time_utc;
-  Eigen::VectorXd temperature_degc;  ///< --model with a thermal term: /aux/temperature
+  /// --model: what model::Compensate adds to every axis, -(the model's effects), rad/s. The
+  /// effects depend on time and on the recording's temperature, not on the axis, so they are
+  /// evaluated once per recording (Compensate of zeros). Empty without --model; on failure empty
+  /// and compensation_error says why.
+  Eigen::VectorXd compensation_rad_s;
+  std::string compensation_error;
   Clock::time_point start;
   // Writer only.
   std::vector<std::shared_ptr<struct AxisWork>> arrived;
@@ -334,6 +339,7 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
       file_error = job->input.path + ": " + e.what();
     }
     const double hash_seconds = Seconds(hash_start);
+    Eigen::VectorXd temperature_degc;  // --model with a thermal term: /aux/temperature
     if (file_error.empty() && options.model && options.model->needs_temperature) {
       // --model with a thermal term: this recording's own temperature drives the compensation.
       try {
@@ -346,10 +352,21 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
         } else {
           io::ReadOptions aux_read = options.read;
           aux_read.reject_constant = false;
-          job->temperature_degc = io::ReadAux(job->input.path, "temperature", aux_read);
+          temperature_degc = io::ReadAux(job->input.path, "temperature", aux_read);
         }
       } catch (const std::exception& e) {
         file_error = job->input.path + ": --model: reading /aux/temperature: " + e.what();
+      }
+    }
+    if (file_error.empty() && options.model) {
+      model::Compensation c =
+          model::Compensate(Eigen::VectorXd::Zero(job->info.samples), job->info.sample_rate_hz,
+                            temperature_degc.size() ? &temperature_degc : nullptr,
+                            options.model->deterministic, model::CompensateOptions());
+      if (HasResult(c.summary.termination)) {
+        job->compensation_rad_s = std::move(c.rate_rad_s);
+      } else {
+        job->compensation_error = c.summary.message;
       }
     }
     for (int a = 0; a < job->info.axis_count; ++a) {
@@ -373,16 +390,19 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
   AxisNode decompose(g, flow::unlimited, [&](AxisPtr w) {
     Guarded(*w, kDecompose, [&] {
       if (options.model) {
-        const Eigen::VectorXd& t = w->job->temperature_degc;
-        model::Compensation c =
-            model::Compensate(w->rate_rad_s, w->job->info.sample_rate_hz, t.size() ? &t : nullptr,
-                              options.model->deterministic, model::CompensateOptions());
-        if (!HasResult(c.summary.termination)) {
-          w->error = AxisError(*w->job, w->axis,
-                               "--model " + options.model->path + ": " + c.summary.message);
+        // rate - effects, as model::Compensate(rate) computes it: rate + (0 - effects) is the
+        // same IEEE operation (equal up to the sign of a zero sample).
+        const FileJob& job = *w->job;
+        std::string error = job.compensation_error;
+        if (error.empty() && job.compensation_rad_s.size() != w->rate_rad_s.size()) {
+          error = "the compensation has " + std::to_string(job.compensation_rad_s.size()) +
+                  " samples, the axis " + std::to_string(w->rate_rad_s.size());
+        }
+        if (!error.empty()) {
+          w->error = AxisError(job, w->axis, "--model " + options.model->path + ": " + error);
           return;
         }
-        w->rate_rad_s = std::move(c.rate_rad_s);
+        w->rate_rad_s += job.compensation_rad_s;
       }
       method::PreprocessAndDecompose(w->rate_rad_s, w->job->info.sample_rate_hz, decompose_options,
                                      &w->result);
