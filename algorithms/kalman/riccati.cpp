@@ -185,6 +185,18 @@ bool PowersDecay(const Eigen::MatrixXd& m) {
   return PowersDecayIn(t * m * t);
 }
 
+// Whether an attempt's solution is better than the best one so far: a result beats none, a
+// stabilizing solution (kSuccess) beats one that is not, and between two of the same standing the
+// smaller residual wins (a NaN residual loses); on a tie the earlier attempt is kept.
+bool Better(const DareSummary& candidate, const DareSummary& best) {
+  if (!HasResult(best.termination)) return HasResult(candidate.termination);
+  const bool candidate_ok = candidate.termination == Termination::kSuccess;
+  const bool best_ok = best.termination == Termination::kSuccess;
+  if (candidate_ok != best_ok) return candidate_ok;
+  if (std::isnan(best.relative_residual)) return !std::isnan(candidate.relative_residual);
+  return candidate.relative_residual < best.relative_residual;
+}
+
 }  // namespace
 
 Eigen::MatrixXd ClosedLoopMatrix(const Eigen::VectorXd& phi, const Eigen::VectorXd& gain) {
@@ -257,13 +269,9 @@ DareSolution SolveDare(const Eigen::VectorXd& phi, double q, double r, const Dar
     }
     if (delta_basis) candidate.summary.message += " (difference basis)";
     if (extended) candidate.summary.message += " (long double)";
-    // The extended-precision result replaces the double one when it is a success and the double
-    // one was not or had a larger residual, or when the double one has no result at all.
-    const bool take = !extended || !HasResult(out.summary.termination) ||
-                      (candidate.summary.termination == Termination::kSuccess &&
-                       (out.summary.termination != Termination::kSuccess ||
-                        candidate.summary.relative_residual < out.summary.relative_residual));
-    if (take) out = std::move(candidate);
+    // A rerun can be worse than the attempt before it (e.g. the difference basis of a high-order,
+    // well-damped model is poorly conditioned, PowersDecay above): keep the best attempt.
+    if (Better(candidate.summary, out.summary)) out = std::move(candidate);
     if (out.summary.termination == Termination::kSuccess &&
         out.summary.relative_residual <= options.retry_residual)
       break;

@@ -52,7 +52,8 @@ struct DareOptions {
   /// Defect-correction steps after the doubling (stops early when the residual stops shrinking).
   int max_refinement_steps = 6;
   /// Rerun the doubling in the difference basis, then in long double, when the first result is not
-  /// a stabilizing solution with a relative residual <= retry_residual.
+  /// a stabilizing solution with a relative residual <= retry_residual. The best attempt is
+  /// returned: a stabilizing one before one that is not, then the smallest residual.
   bool extended_precision_retry = true;
   double retry_residual = 1e-10;
 
