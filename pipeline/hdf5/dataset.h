@@ -34,6 +34,10 @@ struct DatasetOptions {
   /// Datasets with fewer elements are stored contiguous and uncompressed: chunk headers and the
   /// B-tree cost more than compression saves on a few hundred numbers.
   hsize_t min_chunked_elements = 4096;
+  /// Each chunk holds one column (chunk shape [chunk_rows, 1, ...]) instead of whole rows, so that
+  /// reading one column of an [N, K] dataset inflates only that column's chunks (the IMFs of a
+  /// results file, io/column_datasets.h). chunk_rows = 0 then targets 512 KiB of one column.
+  bool chunk_per_column = false;
 
   bool IsValid(std::string* error) const;
 };

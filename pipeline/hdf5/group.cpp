@@ -137,13 +137,16 @@ Dataset Group::CreateNumeric(const std::string& name, const std::vector<hsize_t>
   hsize_t elements = 1;
   for (hsize_t d : dims) elements *= d;
   if (!dims.empty() && dims[0] > 0 && elements >= options.min_chunked_elements) {
-    hsize_t row_elements = elements / dims[0];
+    std::vector<hsize_t> chunk = dims;
+    if (options.chunk_per_column) std::fill(chunk.begin() + 1, chunk.end(), hsize_t{1});
+    hsize_t chunk_row_elements = 1;
+    for (std::size_t d = 1; d < chunk.size(); ++d) chunk_row_elements *= chunk[d];
     hsize_t rows = options.chunk_rows;
     if (rows == 0) {
       const hsize_t target_bytes = 512 * 1024;
-      rows = std::max<hsize_t>(1, target_bytes / (row_elements * StorageBytes(options.storage)));
+      rows = std::max<hsize_t>(1, target_bytes / (std::max<hsize_t>(1, chunk_row_elements) *
+                                                  StorageBytes(options.storage)));
     }
-    std::vector<hsize_t> chunk = dims;
     chunk[0] = std::min(rows, dims[0]);
     CheckC(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()), file_path(),
            full, operation);

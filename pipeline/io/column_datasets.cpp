@@ -9,29 +9,13 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "pipeline/hdf5/detail.h"
+
 namespace fogpipe::io {
 namespace {
 
 std::size_t ElementBytes(hdf5::StorageType type) {
   return type == hdf5::StorageType::kFloat32 ? 4 : 8;
-}
-
-// Closes an HDF5 identifier on scope exit.
-struct IdCloser {
-  hid_t id;
-  herr_t (*close)(hid_t);
-  ~IdCloser() {
-    if (id >= 0) close(id);
-  }
-};
-
-hid_t Checked(hid_t status, const hdf5::Group& group, const std::string& name,
-              const std::string& operation) {
-  if (status < 0) {
-    throw hdf5::Error(group.file_path(), group.path() + "/" + name, operation, "",
-                      hdf5::CurrentErrorStack());
-  }
-  return status;
 }
 
 // A zlib stream (RFC 1950) of `in`, which HDF5's deflate filter decodes with inflate().
@@ -72,10 +56,11 @@ bool ColumnStorage::IsValid(std::string* error) const {
 }
 
 void ShuffleBytes(const unsigned char* in, std::size_t elements, std::size_t element_size,
-                  unsigned char* out) {
+                  unsigned char* out, std::size_t plane_stride) {
+  if (plane_stride == 0) plane_stride = elements;
   for (std::size_t i = 0; i < elements; ++i) {
     const unsigned char* element = in + i * element_size;
-    for (std::size_t b = 0; b < element_size; ++b) out[b * elements + i] = element[b];
+    for (std::size_t b = 0; b < element_size; ++b) out[b * plane_stride + i] = element[b];
   }
 }
 
@@ -83,20 +68,31 @@ std::vector<unsigned char> EncodeChunk(const double* values, std::size_t rows,
                                        const ColumnStorage& storage) {
   const std::size_t element = ElementBytes(storage.type);
   const std::size_t chunk = storage.chunk_rows;
-  std::vector<unsigned char> raw(chunk * element, 0);  // zero padding past `rows`
+  const bool filtered = storage.deflate_level > 0;
+  // The chunk's bytes as the filters see them, zero past `rows` (once shuffled, the padding of an
+  // edge chunk lies at the end of every byte plane). Each value is written once before deflate:
+  // straight into place, or, for a shuffled float32 chunk, converted first (HDF5's conversion:
+  // round to nearest, static_cast<float>).
+  std::vector<unsigned char> bytes(chunk * element, 0);
+  const unsigned char* in = reinterpret_cast<const unsigned char*>(values);
+  std::vector<float> converted;
   if (storage.type == hdf5::StorageType::kFloat32) {
-    for (std::size_t i = 0; i < rows; ++i) {
-      const float v = static_cast<float>(values[i]);
-      std::memcpy(raw.data() + i * 4, &v, 4);
+    if (!filtered) {
+      for (std::size_t i = 0; i < rows; ++i) {
+        const float v = static_cast<float>(values[i]);
+        std::memcpy(bytes.data() + i * 4, &v, 4);
+      }
+      return bytes;
     }
-  } else {
-    std::memcpy(raw.data(), values, rows * 8);
+    converted.assign(values, values + rows);
+    in = reinterpret_cast<const unsigned char*>(converted.data());
+  } else if (!filtered) {
+    std::memcpy(bytes.data(), values, rows * 8);
+    return bytes;
   }
-  if (storage.deflate_level == 0) return raw;
-  std::vector<unsigned char> shuffled(raw.size());
-  ShuffleBytes(raw.data(), chunk, element, shuffled.data());
+  ShuffleBytes(in, rows, element, bytes.data(), chunk);
   std::vector<unsigned char> out;
-  Deflate(shuffled.data(), shuffled.size(), storage.deflate_level, storage.run_length, &out);
+  Deflate(bytes.data(), bytes.size(), storage.deflate_level, storage.run_length, &out);
   return out;
 }
 
@@ -132,30 +128,16 @@ void WriteColumnDataset(hdf5::Group& group, const std::string& name,
   ColumnStorage effective = storage;
   effective.chunk_rows = std::min<unsigned long long>(storage.chunk_rows, n);
   const hsize_t chunk_rows = effective.chunk_rows;
-  {
-    const std::string operation = "create dataset";
-    IdCloser space{Checked(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
-                           group, name, operation),
-                   H5Sclose};
-    IdCloser dcpl{Checked(H5Pcreate(H5P_DATASET_CREATE), group, name, operation), H5Pclose};
-    const std::vector<hsize_t> chunk =
-        matrix ? std::vector<hsize_t>{chunk_rows, 1} : std::vector<hsize_t>{chunk_rows};
-    Checked(H5Pset_chunk(dcpl.id, static_cast<int>(chunk.size()), chunk.data()), group, name,
-            operation);
-    if (effective.deflate_level > 0) {
-      Checked(H5Pset_shuffle(dcpl.id), group, name, operation);
-      Checked(H5Pset_deflate(dcpl.id, static_cast<unsigned>(effective.deflate_level)), group, name,
-              operation);
-    }
-    const hid_t file_type =
-        effective.type == hdf5::StorageType::kFloat32 ? H5T_IEEE_F32LE : H5T_IEEE_F64LE;
-    IdCloser dataset{Checked(H5Dcreate2(group.id(), name.c_str(), file_type, space.id, H5P_DEFAULT,
-                                        dcpl.id, H5P_DEFAULT),
-                             group, name, operation),
-                     H5Dclose};
-  }
-  hdf5::Dataset dataset = group.OpenDataset(name);
-  dataset.WriteStringAttribute("units", units);
+  // The layout the chunks below are encoded for: [chunk_rows, 1] chunks, shuffle + deflate
+  // declared so that every reader decodes them (the writes bypass the filters).
+  hdf5::DatasetOptions layout;
+  layout.storage = effective.type;
+  layout.chunk_rows = chunk_rows;
+  layout.deflate_level = effective.deflate_level;
+  layout.shuffle = true;
+  layout.min_chunked_elements = 0;  // n >= min_chunked_rows: always chunked
+  layout.chunk_per_column = true;
+  hdf5::Dataset dataset = group.CreateDataset(name, dims, units, layout);
 
   // Chunks in file order: column 0 top to bottom, then column 1, ... A pipeline of at most
   // 2 x threads chunks in flight (bounded memory: ~1.5 chunk sizes each): encoded in parallel,
@@ -191,9 +173,10 @@ void WriteColumnDataset(hdf5::Group& group, const std::string& name,
                                      nullptr);  // errors are thrown, not printed
                         const hsize_t row0 = chunk.index % per_column * chunk_rows;
                         const hsize_t offset[2] = {row0, chunk.index / per_column};
-                        Checked(H5Dwrite_chunk(dataset_id, H5P_DEFAULT, 0, offset,
-                                               chunk.bytes.size(), chunk.bytes.data()),
-                                group, name, "write chunk at row " + std::to_string(row0));
+                        hdf5::detail::CheckC(H5Dwrite_chunk(dataset_id, H5P_DEFAULT, 0, offset,
+                                                            chunk.bytes.size(), chunk.bytes.data()),
+                                             dataset.file_path(), dataset.path(),
+                                             "write chunk at row " + std::to_string(row0));
                       }));
 }
 

@@ -59,9 +59,11 @@ struct ColumnStorage {
 };
 
 /// HDF5's shuffle filter (H5Zshuffle.c) on one chunk: byte b of element i goes to
-/// out[b * elements + i]. `in` and `out` hold elements * element_size bytes and do not overlap.
+/// out[b * plane_stride + i] (plane_stride 0: `elements`; a larger one leaves room for the zero
+/// padding of an edge chunk of plane_stride elements). `in` holds elements * element_size bytes,
+/// `out` element_size * plane_stride, and they do not overlap.
 void ShuffleBytes(const unsigned char* in, std::size_t elements, std::size_t element_size,
-                  unsigned char* out);
+                  unsigned char* out, std::size_t plane_stride = 0);
 
 /// One chunk of `rows` values (the last chunk of a column may be short: it is padded with zeros
 /// to chunk_rows, the dataset's fill value, as HDF5 stores edge chunks) converted to the storage

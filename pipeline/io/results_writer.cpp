@@ -25,8 +25,6 @@ ColumnStorage Columns(ImfStorage storage, const ResultsOptions& options) {
   columns.type =
       storage == ImfStorage::kFloat32 ? hdf5::StorageType::kFloat32 : hdf5::StorageType::kFloat64;
   columns.deflate_level = options.deflate_level;
-  columns.run_length = options.run_length_deflate;
-  columns.chunk_rows = options.chunk_rows;
   return columns;
 }
 

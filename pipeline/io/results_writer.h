@@ -23,12 +23,10 @@ struct ResultsOptions {
   /// Also store each component's Kalman output ([N, K+1], same storage as the IMFs).
   bool store_filtered_imfs = false;
   /// The large N-sample datasets (IMFs, residue, filtered components, method 1 and 2) are chunked
-  /// one column per chunk of `chunk_rows` rows, byte-shuffled and deflated at `deflate_level`
-  /// (0: uncompressed) with zlib's run-length strategy when `run_length_deflate`, the chunks
-  /// compressed in parallel (column_datasets.h). Lossless whatever these are.
+  /// one column per chunk, byte-shuffled and deflated at `deflate_level` (0: uncompressed), the
+  /// chunks compressed in parallel (column_datasets.h, whose ColumnStorage defaults give the rest
+  /// of the layout). Lossless whatever the level.
   int deflate_level = 1;
-  bool run_length_deflate = true;
-  unsigned long long chunk_rows = 65536;
 };
 
 /// Where the numbers came from. Stored in /provenance.

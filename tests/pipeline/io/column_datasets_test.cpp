@@ -77,6 +77,13 @@ TEST(ShuffleBytes, PutsByteBOfElementIAtBTimesElementsPlusI) {
   ShuffleBytes(in, 3, 4, out);
   const unsigned char expected[] = {0, 10, 20, 1, 11, 21, 2, 12, 22, 3, 13, 23};
   for (int i = 0; i < 12; ++i) EXPECT_EQ(out[i], expected[i]) << i;
+  // An edge chunk of 5 elements holding 3: each byte plane is 5 long, its last 2 bytes untouched
+  // (the zero padding EncodeChunk leaves there).
+  unsigned char padded[20] = {};
+  ShuffleBytes(in, 3, 4, padded, 5);
+  const unsigned char planes[] = {0, 10, 20, 0, 0, 1, 11, 21, 0, 0,
+                                  2, 12, 22, 0, 0, 3, 13, 23, 0, 0};
+  for (int i = 0; i < 20; ++i) EXPECT_EQ(padded[i], planes[i]) << i;
 }
 
 TEST_F(ColumnDatasetsTest, Float64ColumnsReadBackBitIdenticalThroughHdf5sFilters) {
