@@ -7,11 +7,13 @@
 
 #include "algorithms/ar/autocorrelation.h"
 #include "algorithms/common/chi_square.h"
+#include "algorithms/common/fixed_order.h"
 
 namespace fogpipe::ar {
 namespace {
 
 constexpr Eigen::Index kBlock = 4096;
+constexpr double kSmallestNormal = std::numeric_limits<double>::min();
 
 // ||y - mean(y)||^2 for y = x_t, t = p..N-1.
 double CenteredEnergy(const Eigen::Ref<const Eigen::VectorXd>& y) {
@@ -41,63 +43,130 @@ Eigen::VectorXd OneStepResiduals(const Eigen::Ref<const Eigen::VectorXd>& x, con
   return e;
 }
 
-double SimulationFitPercent(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model) {
-  return SimulationFitPercents(x, {&model}).front();
-}
+namespace {
 
-std::vector<double> SimulationFitPercents(const Eigen::Ref<const Eigen::VectorXd>& x,
-                                          const std::vector<const ArModel*>& models) {
-  // Each model's free run s_t is written into its own window of kBlock + p samples; each window's
-  // last p samples seed the next, so the history is always contiguous and memory stays O(kBlock).
-  // s_{t-1} is kept in `prev`: the loop-carried chain is then one multiply-add per sample, the
-  // older terms (read from the window) are off that chain. The models step together per sample
-  // (samples outside, models inside): their chains are independent, so the CPU overlaps them,
-  // and each model still sees exactly the operations it would see alone.
-  struct FreeRun {
-    const double* phi = nullptr;
-    int p = 0;
-    double mean = 0.0, prev = 0.0, error_energy = 0.0;
-    Eigen::Index j = 0;  // position in the current block
-    std::vector<double> window;
-  };
-  const Eigen::Index n = x.size();
-  std::vector<FreeRun> runs;
-  runs.reserve(models.size());
-  Eigen::Index first = n;
-  for (const ArModel* model : models) {
-    FreeRun r;
-    r.phi = model->phi.data();
-    r.p = model->order;
-    r.mean = model->mean;
-    r.window.assign(kBlock + r.p, 0.0);
-    for (int i = 0; i < r.p; ++i) r.window[i] = x(i) - r.mean;
-    r.prev = r.p > 0 ? r.window[r.p - 1] : 0.0;
-    first = std::min<Eigen::Index>(first, r.p);
-    runs.push_back(std::move(r));
-  }
-  for (Eigen::Index t = first; t < n; ++t) {
-    const double xt = x(t);
-    for (FreeRun& r : runs) {
-      if (t < r.p) continue;
-      const int p = r.p;
-      double older = 0.0;
-      const double* past = &r.window[r.j + p - 1];  // s_{t-1}; s_{t-i} = past[1 - i]
-      for (int i = 1; i < p; ++i) older += r.phi[i] * past[-i];
-      const double s = p > 0 ? r.phi[0] * r.prev + older : 0.0;
-      r.prev = s;
-      r.window[r.j + p] = s;
-      const double d = xt - r.mean - s;
-      r.error_energy += d * d;
-      if (++r.j == kBlock) {
-        std::copy(r.window.begin() + kBlock, r.window.begin() + kBlock + p, r.window.begin());
-        r.j = 0;
-      }
+// Four doubles, one per free run (GCC/Clang vector extension: one AVX2 register; element-wise IEEE
+// arithmetic, so each lane computes exactly what it would compute alone, whatever the others do).
+constexpr int kLanes = 4;
+typedef double Lanes __attribute__((vector_size(kLanes * sizeof(double))));
+
+// sum_t ((x_t - mean) - s_t)^2, t = p..N-1, for the free runs s_t of up to four models of the same
+// order p, each on its own series of n samples (see the header): s_t = x_t - mean for t < p, then
+// s_t = sum_i phi_i s_{t-i}. The last p values are kept in h[0..p-1] = s_{t-1}..s_{t-p}; phi_0
+// s_{t-1} is added last, so the loop-carried chain is one multiply-add per sample and the older
+// terms are off it. The runs step side by side in the lanes of one vector: a lone free run is bound
+// by the latency of that chain, four of them cost about the same (measured on a sweep's 176 models:
+// 3x faster than one run at a time, which was 4x faster than a runtime-order loop). P > 0: the
+// order at compile time (loops unrolled, h in registers). Lanes beyond `count` run on zeros.
+//
+// Gradual underflow: a stable model's free response decays geometrically and, unless rounded to
+// 0, can spend the rest of the record as subnormal numbers (measured on a 1 h 100 Hz sweep: the
+// free runs of most components subnormal for 60-99 % of the record, often in a limit cycle that
+// never reaches 0). Once all p values of a run's state are below the smallest normal double
+// (checked every kBlock samples), they are set to 0: the rest of that free run would stay within a
+// constant factor of 2.2e-308 for a stable model and could not change d = (x_t - mean) - s_t
+// unless |x_t - mean| < 2^53 x 2.2e-308. From then on it is exactly 0. A lane's value does not
+// depend on the lane it runs in or on the other lanes (tested).
+template <int P>
+void FreeRunErrorEnergies(const SimulationFitJob* jobs, int count, int p_runtime, Eigen::Index n,
+                          double* energies) {
+  const int p = P > 0 ? P : p_runtime;
+  const double* x[kLanes];
+  fixed_order::LaneBuffer<P, Lanes> phi_buffer(p), h_buffer(p);
+  Lanes* phi = phi_buffer.get();
+  Lanes* h = h_buffer.get();
+  Lanes mean = {};
+  for (int i = 0; i < p; ++i) phi[i] = h[i] = Lanes{};
+  static const double kZeros[1] = {0.0};
+  for (int m = 0; m < kLanes; ++m) {
+    x[m] = kZeros;
+    if (m >= count) continue;
+    const ArModel& model = *jobs[m].model;
+    x[m] = jobs[m].x;
+    mean[m] = model.mean;
+    for (int i = 0; i < p; ++i) {
+      phi[i][m] = model.phi[i];
+      h[i][m] = x[m][p - 1 - i] - model.mean;
     }
   }
-  std::vector<double> fit;
-  fit.reserve(runs.size());
-  for (const FreeRun& r : runs)
-    fit.push_back(FitPercent(r.error_energy, CenteredEnergy(x.tail(n - r.p))));
+  const Eigen::Index x_step[kLanes] = {count > 0, count > 1, count > 2, count > 3};
+  Lanes error_energy = {};
+  Eigen::Index t = p;
+  bool decayed[kLanes] = {count <= 0, count <= 1, count <= 2, count <= 3};
+  while (t < n) {
+    const Eigen::Index end = std::min(n, t + kBlock);
+    for (; t < end; ++t) {
+      Lanes older = {};
+      for (int i = 1; i < p; ++i) older += phi[i] * h[i];
+      const Lanes s = phi[0] * h[0] + older;
+      for (int i = p - 1; i >= 1; --i) h[i] = h[i - 1];
+      h[0] = s;
+      const Lanes xt = {x[0][t * x_step[0]], x[1][t * x_step[1]], x[2][t * x_step[2]],
+                        x[3][t * x_step[3]]};
+      const Lanes d = xt - mean - s;
+      error_energy += d * d;
+    }
+    bool all_decayed = true;
+    for (int m = 0; m < kLanes; ++m) {
+      if (!decayed[m]) {
+        bool tiny = true;
+        for (int i = 0; i < p; ++i) tiny = tiny && std::fabs(h[i][m]) < kSmallestNormal;
+        if (tiny) {
+          for (int i = 0; i < p; ++i) h[i][m] = 0.0;
+          decayed[m] = true;
+        }
+      }
+      all_decayed = all_decayed && decayed[m];
+    }
+    if (all_decayed) break;
+  }
+  for (; t < n; ++t) {  // every free run is exactly 0: d = (x_t - mean) - 0
+    const Lanes xt = {x[0][t * x_step[0]], x[1][t * x_step[1]], x[2][t * x_step[2]],
+                      x[3][t * x_step[3]]};
+    const Lanes d = xt - mean - Lanes{};
+    error_energy += d * d;
+  }
+  for (int m = 0; m < count; ++m) energies[m] = error_energy[m];
+}
+
+}  // namespace
+
+double SimulationFitPercent(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model) {
+  return SimulationFitPercents({{x.data(), x.size(), &model}}).front();
+}
+
+std::vector<double> SimulationFitPercents(const std::vector<SimulationFitJob>& jobs) {
+  std::vector<double> fit(jobs.size(), std::numeric_limits<double>::quiet_NaN());
+  // Jobs of equal order and length, four at a time in job order.
+  std::vector<bool> done(jobs.size(), false);
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    if (done[i]) continue;
+    std::vector<std::size_t> group = {i};
+    for (std::size_t j = i + 1; j < jobs.size() && group.size() < kLanes; ++j) {
+      if (!done[j] && jobs[j].model->order == jobs[i].model->order && jobs[j].n == jobs[i].n)
+        group.push_back(j);
+    }
+    std::vector<SimulationFitJob> lanes;
+    for (std::size_t j : group) lanes.push_back(jobs[j]), done[j] = true;
+    const int p = jobs[i].model->order;
+    const Eigen::Index n = jobs[i].n;
+    double lane_energy[kLanes];
+    if (p == 0) {
+      for (std::size_t m = 0; m < lanes.size(); ++m) {
+        const Eigen::Map<const Eigen::VectorXd> x(lanes[m].x, n);
+        lane_energy[m] = (x.array() - lanes[m].model->mean).square().sum();
+      }
+    } else {
+      fixed_order::WithWideFixedOrder(p, [&](auto order) {
+        constexpr int kP = decltype(order)::value;
+        FreeRunErrorEnergies<kP>(lanes.data(), static_cast<int>(lanes.size()), p, n, lane_energy);
+      });
+    }
+    for (std::size_t m = 0; m < group.size(); ++m) {
+      const Eigen::Map<const Eigen::VectorXd> x(lanes[m].x, n);
+      fit[group[m]] = FitPercent(lane_energy[m], CenteredEnergy(x.tail(n - p)));
+    }
+  }
   return fit;
 }
 

@@ -48,13 +48,18 @@ Eigen::VectorXd OneStepResiduals(const Eigen::Ref<const Eigen::VectorXd>& x, con
 /// Free-run fit percentage (see the file comment).
 double SimulationFitPercent(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model);
 
-/// The free-run fit percentage of every model in one pass over x; each model's value does not
-/// depend on the others (SimulationFitPercent is this with one model). The free runs are
-/// independent recursions, each bound by the latency of its own multiply-add chain; stepping them
-/// together per sample lets the CPU overlap them. A sweep scores every AR order of a component
-/// this way.
-std::vector<double> SimulationFitPercents(const Eigen::Ref<const Eigen::VectorXd>& x,
-                                          const std::vector<const ArModel*>& models);
+/// A free-run fit to compute: `model` scored on the n samples at x (contiguous, outliving the
+/// call).
+struct SimulationFitJob {
+  const double* x = nullptr;
+  Eigen::Index n = 0;
+  const ArModel* model = nullptr;
+};
+
+/// The free-run fit percentage of every job; each job's value does not depend on the others
+/// (SimulationFitPercent is this with one job). Jobs of the same order and length run side by side,
+/// four at a time: a sweep scores one AR order of all components this way.
+std::vector<double> SimulationFitPercents(const std::vector<SimulationFitJob>& jobs);
 
 /// P(chi2_dof > statistic): the Ljung-Box p-value for a statistic and its degrees of freedom.
 double LjungBoxPValue(double statistic, double dof);

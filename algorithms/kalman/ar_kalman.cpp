@@ -4,7 +4,9 @@
 #include <cmath>
 #include <limits>
 
+#include "algorithms/common/fixed_order.h"
 #include "algorithms/kalman/companion.h"
+#include "algorithms/kalman/covariance_recursion.h"
 #include "algorithms/kalman/noise_defaults.h"
 #include "algorithms/kalman/rts_smoother.h"
 #include "algorithms/kalman/steady_state_filter.h"
@@ -37,7 +39,7 @@ bool SampleVarianceIfFinite(const Eigen::Ref<const Eigen::VectorXd>& z, double* 
 }
 
 // max_i |G_i - G_inf,i| / max_i |G_inf,i| (absolute if G_inf = 0).
-double GainDistance(const Eigen::VectorXd& g, const Eigen::VectorXd& g_inf) {
+double GainDistance(const Eigen::Ref<const Eigen::VectorXd>& g, const Eigen::VectorXd& g_inf) {
   const double scale = g_inf.cwiseAbs().maxCoeff();
   const double diff = (g - g_inf).cwiseAbs().maxCoeff();
   return scale > 0.0 ? diff / scale : diff;
@@ -176,6 +178,79 @@ struct PhaseEnd {
   bool zero_covariance = false;
 };
 
+// The time-varying phase proper (RunTimeVaryingPhase): from X(0|0) = end->x and the recursion at
+// P(0|0), steps until the gain has converged, stalled or reached the cap (filling the summary's
+// switch fields and, for a frozen gain, end's constant gain), or to the end of z. Returns the first
+// sample not filtered.
+template <typename Recursion, typename Emit>
+long long TimeVaryingLoop(Recursion&& recursion, const Eigen::Ref<const Eigen::VectorXd>& z,
+                          const Eigen::VectorXd& phi, const ArKalmanOptions& options,
+                          const DareSolution& dare, ArKalmanSummary* summary, PhaseEnd* end,
+                          Emit&& emit) {
+  ArKalmanSummary& s = *summary;
+  const long long n = z.size();
+  const Eigen::Index p = phi.size();
+  Eigen::VectorXd& x = end->x;
+  const Eigen::Map<const Eigen::VectorXd> g(recursion.gain(), p);
+  const bool may_switch =
+      options.steady_state_switch && dare.summary.termination == Termination::kSuccess;
+  long long cap = options.steady_state_switch && options.max_time_varying_steps > 0
+                      ? options.max_time_varying_steps
+                      : std::numeric_limits<long long>::max();
+  double best_distance = std::numeric_limits<double>::infinity();
+  long long best_at = 0;
+  Eigen::VectorXd gain_at_half_cap;
+  long long k = 0;
+  for (; k < n; ++k) {
+    const double innovation_var = recursion.Step();
+    if (may_switch) {
+      const double distance = GainDistance(g, dare.gain);
+      if (distance < best_distance) {
+        best_distance = distance;
+        best_at = k;
+      }
+      // Converged, or stalled at the rounding floor of the recursion: no new minimum for as
+      // many steps as it took to reach the current one (a converging recursion keeps shrinking
+      // the distance geometrically), while the gain is within stall_tolerance now. (Not only
+      // its best: at its floor the gain wanders, and imf6 of Table 2 at q/R = 1e-10 had drifted
+      // from 1e-9 back to 1.5e-8 when its minimum was 4000 steps old, so a switch there moved
+      // the output by 3.5e-9 relative.)
+      const bool stalled = best_distance <= options.stall_tolerance &&
+                           distance <= options.stall_tolerance && k - best_at > best_at &&
+                           k - best_at >= 64;
+      if (distance <= options.gain_tolerance || stalled || k >= cap) {
+        s.gain_switch = distance <= options.gain_tolerance ? GainSwitch::kConverged
+                        : stalled                          ? GainSwitch::kStalled
+                                                           : GainSwitch::kCapped;
+        s.switched_at_sample = k;
+        s.gain_distance_at_switch = distance;
+        break;
+      }
+    } else if (k == cap / 2) {
+      gain_at_half_cap = g;
+    } else if (k >= cap) {
+      // No steady-state gain to switch to: keep this gain if it stabilizes the loop (the
+      // time-varying gain of a decreasing Riccati iterate does; Bitmead, Gevers & Wertz 1985,
+      // the "fake algebraic Riccati equation"), else stay time-varying to the end.
+      if (IsStableLoop(phi, g)) {
+        end->constant_gain = g;
+        end->constant_innovation_variance = innovation_var;
+        s.gain_switch = GainSwitch::kFrozen;
+        s.switched_at_sample = k;
+        s.gain_distance_at_switch = GainDistance(gain_at_half_cap, g);
+        break;
+      }
+      cap = std::numeric_limits<long long>::max();
+    }
+    const double pred = phi.dot(x);
+    const double e = (z[k] - options.mean) - pred;
+    for (Eigen::Index i = p - 1; i >= 1; --i) x[i] = x[i - 1] + g[i] * e;
+    x[0] = pred + g[0] * e;
+    emit(k, x[0] + options.mean, e, recursion.gain(), innovation_var);
+  }
+  return k;
+}
+
 // The filter from X(0|0) = 0 up to its constant-gain loop, after PrepareFilter: the start P(0|0),
 // then the time-varying recursion (eqs. 8-11, Joseph form) until the gain has converged, stalled
 // or reached the cap. emit(k, estimate, e, gain, innovation_variance) receives every sample of
@@ -186,14 +261,11 @@ PhaseEnd RunTimeVaryingPhase(const Eigen::Ref<const Eigen::VectorXd>& z, const E
                              double z_variance, ArKalmanResult* result_out, Emit&& emit) {
   ArKalmanResult& result = *result_out;
   ArKalmanSummary& s = result.summary;
-  const long long n = z.size();
   const bool dare_ok = dare.summary.termination == Termination::kSuccess;
   const Eigen::Index p = phi.size();
   PhaseEnd end;
-  Eigen::VectorXd& x = end.x;
-  x = Eigen::VectorXd::Zero(p);        // X(0|0) = 0 (eq. 7)
-  Eigen::MatrixXd pf(p, p), pp(p, p);  // P(k-1|k-1), P(k|k-1)
-  Eigen::VectorXd g(p);
+  end.x = Eigen::VectorXd::Zero(p);  // X(0|0) = 0 (eq. 7)
+  Eigen::MatrixXd pf(p, p);          // P(0|0)
   // The steady-state start needs a stabilizing DARE solution; without one, the paper's start.
   const bool steady_start =
       options.initial_covariance == InitialCovariance::kSteadyState && dare_ok;
@@ -225,58 +297,12 @@ PhaseEnd RunTimeVaryingPhase(const Eigen::Ref<const Eigen::VectorXd>& z, const E
     s.gain_distance_at_switch = 0.0;
   } else {
     // Time-varying filter (eqs. 8-11), Joseph form, until the gain has converged, stalled or
-    // reached the cap.
-    const bool may_switch = options.steady_state_switch && dare_ok;
-    long long cap = options.steady_state_switch && options.max_time_varying_steps > 0
-                        ? options.max_time_varying_steps
-                        : std::numeric_limits<long long>::max();
-    double best_distance = std::numeric_limits<double>::infinity();
-    long long best_at = 0;
-    Eigen::VectorXd gain_at_half_cap;
-    for (; k < n; ++k) {
-      PredictCovariance(pf, phi, result.q, &pp);
-      const double innovation_var = JosephUpdate(pp, result.r, &g, &pf);
-      if (may_switch) {
-        const double distance = GainDistance(g, dare.gain);
-        if (distance < best_distance) {
-          best_distance = distance;
-          best_at = k;
-        }
-        // Converged, or stalled at the rounding floor of the recursion: no new minimum for as
-        // many steps as it took to reach the current one (a converging recursion keeps shrinking
-        // the distance geometrically), while already within stall_tolerance.
-        const bool stalled =
-            best_distance <= options.stall_tolerance && k - best_at > best_at && k - best_at >= 64;
-        if (distance <= options.gain_tolerance || stalled || k >= cap) {
-          s.gain_switch = distance <= options.gain_tolerance ? GainSwitch::kConverged
-                          : stalled                          ? GainSwitch::kStalled
-                                                             : GainSwitch::kCapped;
-          s.switched_at_sample = k;
-          s.gain_distance_at_switch = distance;
-          break;
-        }
-      } else if (k == cap / 2) {
-        gain_at_half_cap = g;
-      } else if (k >= cap) {
-        // No steady-state gain to switch to: keep this gain if it stabilizes the loop (the
-        // time-varying gain of a decreasing Riccati iterate does; Bitmead, Gevers & Wertz 1985,
-        // the "fake algebraic Riccati equation"), else stay time-varying to the end.
-        if (IsStableLoop(phi, g)) {
-          end.constant_gain = g;
-          end.constant_innovation_variance = innovation_var;
-          s.gain_switch = GainSwitch::kFrozen;
-          s.switched_at_sample = k;
-          s.gain_distance_at_switch = GainDistance(gain_at_half_cap, g);
-          break;
-        }
-        cap = std::numeric_limits<long long>::max();
-      }
-      const double pred = phi.dot(x);
-      const double e = (z[k] - options.mean) - pred;
-      for (Eigen::Index i = p - 1; i >= 1; --i) x[i] = x[i - 1] + g[i] * e;
-      x[0] = pred + g[0] * e;
-      emit(k, x[0] + options.mean, e, g, innovation_var);
-    }
+    // reached the cap; the covariance recursion with the order at compile time where it can.
+    fixed_order::WithWideFixedOrder(static_cast<int>(p), [&](auto order) {
+      constexpr int kP = decltype(order)::value;
+      k = TimeVaryingLoop(internal::CovarianceRecursion<kP>(pf, phi, result.q, result.r), z, phi,
+                          options, dare, &s, &end, emit);
+    });
   }
   end.k = k;
   return end;
@@ -332,12 +358,11 @@ void RunFilter(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd
   if (options.smooth) innovations.resize(n);
   const PhaseEnd end = RunTimeVaryingPhase(
       z, phi, options, dare, z_variance, &result,
-      [&](long long k, double estimate, double e, const Eigen::VectorXd& g, double innovation_var) {
+      [&](long long k, double estimate, double e, const double* g, double innovation_var) {
         result.filtered[k] = estimate;
         if (options.smooth) {
           innovations[k] = e;
-          history.time_varying_gains.insert(history.time_varying_gains.end(), g.data(),
-                                            g.data() + p);
+          history.time_varying_gains.insert(history.time_varying_gains.end(), g, g + p);
           history.time_varying_innovation_variances.push_back(innovation_var);
         }
       });
@@ -381,10 +406,13 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
 
 ArFilterBank::ArFilterBank(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
                            double innovation_variance, double white_noise_variance,
-                           const std::vector<ArKalmanOptions>& options)
+                           const std::vector<ArKalmanOptions>& options,
+                           const double* given_z_variance)
     : z_(z.data()), n_(z.size()), phi_(phi), filters_(options.size()) {
   double z_variance = 0.0;
-  const bool z_ok = z.size() > 0 && SampleVarianceIfFinite(z, &z_variance);
+  const bool z_ok =
+      z.size() > 0 && (given_z_variance != nullptr ? (z_variance = *given_z_variance, true)
+                                                   : SampleVarianceIfFinite(z, &z_variance));
   std::vector<PhaseEnd> ends(options.size());
   std::vector<bool> lane(options.size(), false);
   lanes_start_ = 0;
@@ -408,8 +436,9 @@ ArFilterBank::ArFilterBank(const Eigen::Ref<const Eigen::VectorXd>& z, const Eig
       continue;
     }
     ends[i] = RunTimeVaryingPhase(z, phi, options[i], dare, z_variance, &result,
-                                  [&](long long, double estimate, double, const Eigen::VectorXd&,
-                                      double) { f.head.push_back(estimate); });
+                                  [&](long long, double estimate, double, const double*, double) {
+                                    f.head.push_back(estimate);
+                                  });
     f.summary = std::move(result.summary);
     FinishSummary(options[i], dare, ends[i].zero_covariance, &f.summary);
     if (ends[i].k < n_) {
@@ -450,12 +479,30 @@ void ArFilterBank::AddRange(long long begin, long long end, const std::vector<do
     Filter& f = filters_[i];
     if (!HasResult(f.summary.termination)) continue;
     const long long head_end = std::min<long long>(end, static_cast<long long>(f.head.size()));
-    for (long long k = begin; k < head_end; ++k) sums[i][k] += f.head[k];
+    for (long long k = begin; k < head_end; ++k) {
+      sums[i][k] += f.head[k];
+      f.square_sum += (f.head[k] - f.mean) * (f.head[k] - f.mean);
+    }
     if (f.lane && lanes_begin < end) {
-      lanes.push_back({&f.gain, f.mean, sums[i] + lanes_begin, f.partial.data()});
+      lanes.push_back({&f.gain, f.mean, sums[i] + lanes_begin, f.partial.data(), &f.square_sum});
     }
   }
   if (!lanes.empty()) AddSteadyStateFilters(z_ + lanes_begin, end - lanes_begin, phi_, lanes);
+  added_ += end - begin;
+}
+
+std::vector<double> ArFilterBank::EstimateMeanSquares() const {
+  std::vector<double> out;
+  for (const Filter& f : filters_) {
+    out.push_back(HasResult(f.summary.termination) && added_ > 0
+                      ? f.square_sum / static_cast<double>(added_)
+                      : std::numeric_limits<double>::quiet_NaN());
+  }
+  return out;
+}
+
+bool FilterInputVariance(const Eigen::Ref<const Eigen::VectorXd>& z, double* variance) {
+  return z.size() > 0 && SampleVarianceIfFinite(z, variance);
 }
 
 std::vector<ArKalmanSummary> ArFilterBank::summaries() const {

@@ -10,7 +10,8 @@
 //    runs time-varying, in Joseph form (O(p^2) per step, see companion.h), until its gain G(k) is
 //    within `gain_tolerance` (relative, max norm) of the steady-state gain from the DARE
 //    (riccati.h), then switches to a constant-gain loop of O(p) per sample. The switch changes the
-//    output by far less than 1e-9 relative (tested against the time-varying filter run to the end).
+//    output by far less than 1e-9 relative (tested against the time-varying filter run to the end),
+//    except where the gain stalls at the rounding floor of its recursion (stall_tolerance below).
 //  - kSteadyState: P0 = the DARE's filtered covariance P(k|k). P0 is then the fixed point of the
 //    Riccati recursion (eqs. 8-10), the gain is G_inf from the first sample, and the whole series
 //    runs in the O(p) loop (the smoother needs no time-varying history either). This is the
@@ -112,10 +113,13 @@ struct ArKalmanOptions {
   /// For ill-conditioned models (lightly damped poles, tiny q/R) the time-varying gain stalls at
   /// the rounding floor of its own recursion before reaching gain_tolerance. It then switches once
   /// the gain distance has not reached a new minimum for as many steps as it took to reach it, if
-  /// that minimum is within stall_tolerance. 0 disables this. Measured on the paper's Table 2
-  /// models with q/R down to 1e-10, the output changes by at most ~0.1 x the gain distance at the
-  /// switch, so 1e-9 keeps the switch far inside the 1e-9 relative output budget; models whose
-  /// gain stalls above it (imf6, imf7 at q/R = 1e-10) run time-varying to the end.
+  /// that minimum and the current distance are both within stall_tolerance. 0 disables this.
+  /// Measured on the paper's Table 2 models at q/R = 1e-6, 1e-8, 1e-10 (60000 samples, no cap):
+  /// 6 of 27 cases stall and switch, the output moving by 5e-14 .. 6e-10 relative in five; in
+  /// imf6 at 1e-10 the gain wanders between 1e-9 and 1.5e-8 from G_inf at its floor: 3.5e-9, the
+  /// same whether it switches at a distance of 9e-10 or of 1.5e-8, i.e. the time-varying
+  /// reference's own rounding noise. Models whose gain stays above the tolerance (imf7, imf9 and
+  /// the residue at 1e-10) run time-varying to the cap.
   double stall_tolerance = 1e-9;
   /// At most this many time-varying steps (O(p^2) each) before the switch (see above); 0: no cap.
   /// 2^16 steps bound the time-varying cost to ~1 % of a 24 h record at 100 Hz and to a few ms per
@@ -196,14 +200,21 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
 /// z must outlive the bank.
 class ArFilterBank {
  public:
+  /// z_variance: the sample variance of z if the caller has it from FilterInputVariance (banks of
+  /// several AR orders over one z), else null.
   ArFilterBank(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
                double innovation_variance, double white_noise_variance,
-               const std::vector<ArKalmanOptions>& options);
+               const std::vector<ArKalmanOptions>& options, const double* z_variance = nullptr);
   /// Adds output i's samples [begin, end) to sums[i][begin, end). Successive calls must cover
   /// [0, n) in order (the side-by-side filters carry their state from one range to the next).
   /// A sum whose summary has no result is left untouched.
   void AddRange(long long begin, long long end, const std::vector<double*>& sums);
   std::vector<ArKalmanSummary> summaries() const;
+  /// Output i's mean of (estimate - mean)^2 over the samples added so far, units of z^2 (NaN for a
+  /// sum left untouched). A filter on a stationary model fitted to z estimates x with a variance
+  /// below z's (var(x^) = var(x) - P <= var(z)); far above it, the filter has diverged (see
+  /// method/sweep_evaluate.cpp).
+  std::vector<double> EstimateMeanSquares() const;
 
  private:
   struct Filter {
@@ -213,13 +224,19 @@ class ArFilterBank {
     bool lane = false;            ///< Continued side by side from lanes_start_.
     Eigen::VectorXd gain;         ///< Constant gain of the side-by-side loop.
     std::vector<double> partial;  ///< Its loop state (steady_state_filter.h).
+    double square_sum = 0.0;      ///< sum of (estimate - mean)^2 over the samples added
   };
   const double* z_;
   long long n_;
   Eigen::VectorXd phi_;
   std::vector<Filter> filters_;
   long long lanes_start_ = 0;
+  long long added_ = 0;  ///< samples added so far
 };
+
+/// The sample variance of z as the filter computes it for its start P(0|0) (eq. 7); false if z has
+/// a non-finite sample. For ArFilterBank's z_variance.
+bool FilterInputVariance(const Eigen::Ref<const Eigen::VectorXd>& z, double* variance);
 
 /// ArFilterBank over the whole series at once: output i added to sums[i][0..n). Returns the
 /// summaries; a sum whose summary has no result is left untouched.

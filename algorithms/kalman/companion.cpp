@@ -1,5 +1,7 @@
 #include "algorithms/kalman/companion.h"
 
+#include "algorithms/kalman/mul_add.h"
+
 namespace fogpipe::kalman {
 
 Eigen::MatrixXd CompanionMatrix(const Eigen::VectorXd& phi) {
@@ -19,11 +21,14 @@ void PredictCovariance(const Eigen::MatrixXd& filtered, const Eigen::VectorXd& p
   // (A P A')(i, j) = P(i-1, j-1) for i, j >= 1: the old state shifted down by one lag.
   out.bottomRightCorner(p - 1, p - 1) = filtered.topLeftCorner(p - 1, p - 1);
   // Row 0: (A P A')(0, j) = (phi' P)(j-1) for j >= 1, and (0, 0) = phi' P phi.
+  // Every multiply-add is spelled out (internal::MulAdd) so that the fused step of
+  // covariance_recursion.h, written the same way, gives the same bits.
+  using internal::MulAdd;
   double top = 0.0;
   for (Eigen::Index j = 0; j < p; ++j) {
     double v = 0.0;
-    for (Eigen::Index i = 0; i < p; ++i) v += phi[i] * filtered(i, j);
-    top += v * phi[j];
+    for (Eigen::Index i = 0; i < p; ++i) v = MulAdd(phi[i], filtered(i, j), v);
+    top = MulAdd(v, phi[j], top);
     if (j + 1 < p) {
       out(0, j + 1) = v;
       out(j + 1, 0) = v;
@@ -41,10 +46,13 @@ double JosephUpdate(const Eigen::MatrixXd& predicted, double r, Eigen::VectorXd*
   Eigen::MatrixXd& out = *filtered;
   out.resize(p, p);
   // The lower triangle column by column (contiguous), then mirrored: the same value per element.
+  // P - G c' - c G' + S G G', each multiply-add spelled out (see PredictCovariance).
+  using internal::MulAdd;
   for (Eigen::Index j = 0; j < p; ++j) {
     const double cj = predicted(j, 0);
     for (Eigen::Index i = j; i < p; ++i) {
-      out(i, j) = predicted(i, j) - g[i] * cj - predicted(i, 0) * g[j] + s * g[i] * g[j];
+      const double t = MulAdd(-g[i], cj, predicted(i, j));
+      out(i, j) = MulAdd(s * g[i], g[j], MulAdd(-predicted(i, 0), g[j], t));
     }
   }
   for (Eigen::Index j = 0; j < p; ++j) {

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "algorithms/common/fixed_order.h"
 #include "algorithms/kalman/companion.h"
-#include "algorithms/kalman/fixed_order.h"
 
 namespace fogpipe::kalman {
 namespace {
@@ -36,7 +36,7 @@ void SteadyStateBackward(const double* z, double mean, const double* phi_in, con
                          double s, int p_runtime, long long begin, long long end, double* io,
                          double* r_io) {
   const int p = P > 0 ? P : p_runtime;
-  internal::Buffer<P> phi_b(p), gphi_b(p), r_b(p), t_b(p);
+  fixed_order::Buffer<P> phi_b(p), gphi_b(p), r_b(p), t_b(p);
   double* phi = phi_b.get();
   double* gphi = gphi_b.get();
   double* r = r_b.get();
@@ -85,7 +85,7 @@ void RtsSmoothInPlace(const Eigen::Ref<const Eigen::VectorXd>& z, double mean,
   const long long m = gains.time_varying_steps;
   const double* g_ss = gains.steady_state_gain.data();
   const double s_ss = gains.steady_state_innovation_variance;
-  internal::WithFixedOrder(p, [&](auto order) {
+  fixed_order::WithFixedOrder(p, [&](auto order) {
     SteadyStateBackward<decltype(order)::value>(z.data(), mean, phi.data(), g_ss, s_ss, p, m, n,
                                                 io.data(), r.data());
   });

@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <vector>
 
-#include "algorithms/kalman/fixed_order.h"
+#include "algorithms/common/fixed_order.h"
 
 namespace fogpipe::kalman {
 namespace {
 
-using internal::Buffer;
+using fixed_order::Buffer;
 
 // beta_m = sum_{i=m}^{p-1} phi_i G_{i-m} (see the header), in one fixed order for every caller.
 inline void Betas(const double* phi, const double* gain, int p, double* beta, int stride) {
@@ -79,35 +79,20 @@ void AddLanes(const double* z, long long n, const double* phi, int p_runtime,
       s[j][m] = lanes[m].partial[j];
     }
   }
+  Lanes square_sum = {};
   for (long long k = 0; k < n; ++k) {
     const Lanes pred = s[0];
     const Lanes e = (z[k] - mean) - pred;
-    const Lanes est = (pred + g0 * e) + mean;
+    const Lanes deviation = pred + g0 * e;
+    const Lanes est = deviation + mean;
+    square_sum += deviation * deviation;
     for (int j = 0; j + 1 < p; ++j) s[j] = (phi_v[j] * pred + s[j + 1]) + beta[j] * e;
     s[p - 1] = phi_v[p - 1] * pred + beta[p - 1] * e;
     for (int m = 0; m < active; ++m) out[m][k] += est[m];
   }
   for (int m = 0; m < active; ++m) {
     for (int j = 0; j < p; ++j) lanes[m].partial[j] = s[j][m];
-  }
-}
-
-// Compile-time orders 1..12 for the side-by-side filters (the sweep's default orders are 2..12),
-// runtime order (0) above.
-template <typename F>
-void WithLaneOrder(int p, F&& f) {
-  if (p <= internal::kMaxFixedOrder) return internal::WithFixedOrder(p, f);
-  switch (p) {
-    case 9:
-      return f(std::integral_constant<int, 9>());
-    case 10:
-      return f(std::integral_constant<int, 10>());
-    case 11:
-      return f(std::integral_constant<int, 11>());
-    case 12:
-      return f(std::integral_constant<int, 12>());
-    default:
-      return f(std::integral_constant<int, 0>());
+    if (lanes[m].square_sum) *lanes[m].square_sum += square_sum[m];
   }
 }
 
@@ -121,11 +106,16 @@ void AddSteadyStateFilters(const double* z, long long n, const Eigen::VectorXd& 
     for (const SteadyStateLane& lane : lanes) {
       SteadyStateFilterFromPartial(z, n, lane.mean, phi, *lane.gain, lane.partial, estimates.data(),
                                    nullptr);
-      for (long long k = 0; k < n; ++k) lane.sum[k] += estimates[k];
+      double square_sum = 0.0;
+      for (long long k = 0; k < n; ++k) {
+        lane.sum[k] += estimates[k];
+        square_sum += (estimates[k] - lane.mean) * (estimates[k] - lane.mean);
+      }
+      if (lane.square_sum) *lane.square_sum += square_sum;
     }
     return;
   }
-  WithLaneOrder(p, [&](auto order) {
+  fixed_order::WithWideFixedOrder(p, [&](auto order) {
     constexpr int kP = decltype(order)::value;
     for (std::size_t i = 0; i < lanes.size(); i += kLanes) {
       const int active = static_cast<int>(std::min<std::size_t>(kLanes, lanes.size() - i));
@@ -147,7 +137,7 @@ void SteadyStateFilterFromPartial(const double* z, long long n, double mean,
                                   const Eigen::VectorXd& phi, const Eigen::VectorXd& gain,
                                   double* partial, double* filtered, double* innovations) {
   const int p = static_cast<int>(phi.size());
-  internal::WithFixedOrder(p, [&](auto order) {
+  fixed_order::WithFixedOrder(p, [&](auto order) {
     constexpr int kP = decltype(order)::value;
     if (innovations) {
       Kernel<kP, true>(z, n, mean, phi.data(), gain.data(), partial, p, filtered, innovations);

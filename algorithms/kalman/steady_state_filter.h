@@ -50,6 +50,8 @@ struct SteadyStateLane {
   double mean = 0.0;
   double* sum = nullptr;
   double* partial = nullptr;
+  /// If set, sum over the samples of (estimate - mean)^2 is added to it (a divergence check).
+  double* square_sum = nullptr;
 };
 
 /// Several constant-gain filters of the same AR model (e.g. the q/R settings of a sweep) over the

@@ -57,30 +57,68 @@ TEST(Diagnostics, AnExplodingSimulationGivesMinusInfinity) {
   EXPECT_LT(d.fit_simulation_percent, 0.0);
 }
 
-// The sweep scores every AR order with OneStepFitPercent and SimulationFitPercents (one pass for
-// all orders, no Ljung-Box); its numbers must be the ones `run` reports through
-// ComputeDiagnostics, to the last bit: here a stationary AR(2) fitted exactly, a poor AR(1), an
-// exploding model, orders 1-12 of a Burg-like set and a record that is not a multiple of the
-// block length.
+// The sweep scores every AR order with OneStepFitPercent and SimulationFitPercents (the free runs
+// of one order over all components side by side, no Ljung-Box); its numbers must be the ones `run`
+// reports through ComputeDiagnostics, to the last bit, whatever a job's neighbours: here a
+// stationary AR(2) fitted exactly, a poor AR(1) whose free run decays to 0 within the first block,
+// an exploding model (its lane overflows while the others go on), orders 1-12 of a Burg-like set,
+// each on three different series (so one order fills several lanes), and a record that is not a
+// multiple of the block length.
 TEST(Diagnostics, FitPercentsAloneEqualTheFullDiagnosticsToTheLastBit) {
-  const Eigen::VectorXd x = testing::SimulateAr(Eigen::Vector2d(1.2, -0.5), 1.0, 50001, 84);
-  std::vector<ArModel> models = {Model({1.2, -0.5}, x.mean()), Model({0.3}), Model({1.5})};
-  for (int p = 1; p <= 12; ++p) {
-    Eigen::VectorXd phi = Eigen::VectorXd::Zero(p);
-    phi(0) = 1.2;
-    if (p > 1) phi(1) = -0.5;
-    for (int i = 2; i < p; ++i) phi(i) = 0.01 / i;
-    models.push_back(MakeArModel(phi, 1.0, x.mean(), x.size()));
+  const std::vector<Eigen::VectorXd> series = {
+      testing::SimulateAr(Eigen::Vector2d(1.2, -0.5), 1.0, 50001, 84),
+      testing::SimulateAr(Eigen::Vector2d(0.9, -0.2), 2.0, 50001, 85),
+      testing::SimulateAr(Eigen::Vector2d(1.5, -0.6), 0.5, 50001, 86)};
+  std::vector<ArModel> models;
+  std::vector<int> series_of;
+  for (int s = 0; s < 3; ++s) {
+    const Eigen::VectorXd& x = series[s];
+    for (const ArModel& m : {Model({1.2, -0.5}, x.mean()), Model({0.3}), Model({1.5})})
+      models.push_back(m), series_of.push_back(s);
+    for (int p = 1; p <= 12; ++p) {
+      Eigen::VectorXd phi = Eigen::VectorXd::Zero(p);
+      phi(0) = 1.2 - 0.1 * s;
+      if (p > 1) phi(1) = -0.5;
+      for (int i = 2; i < p; ++i) phi(i) = 0.01 / i;
+      models.push_back(MakeArModel(phi, 1.0, x.mean(), x.size()));
+      series_of.push_back(s);
+    }
   }
-  std::vector<const ArModel*> pointers;
-  for (const ArModel& m : models) pointers.push_back(&m);
-  const std::vector<double> simulation = SimulationFitPercents(x, pointers);
+  std::vector<SimulationFitJob> jobs;
+  for (std::size_t k = 0; k < models.size(); ++k)
+    jobs.push_back({series[series_of[k]].data(), series[series_of[k]].size(), &models[k]});
+  const std::vector<double> simulation = SimulationFitPercents(jobs);
   ASSERT_EQ(simulation.size(), models.size());
   for (std::size_t k = 0; k < models.size(); ++k) {
+    const Eigen::VectorXd& x = series[series_of[k]];
     const ArDiagnostics d = ComputeDiagnostics(x, models[k]);
     EXPECT_EQ(OneStepFitPercent(x, models[k]), d.fit_one_step_percent) << "model " << k;
     EXPECT_EQ(simulation[k], d.fit_simulation_percent) << "model " << k;
   }
+}
+
+// A stable model's free run decays to 0 and is then continued as exactly 0 (its subnormal tail is
+// flushed, see SimulationFitPercents). Closed form: AR(1) with phi = 0.5 and mean 0 from x_0 = 1
+// has the free run s_t = 0.5^t; the error energy is sum_t (x_t - 0.5^t)^2 over t = 1..n-1, which
+// the flush cannot change by more than ~1e-300 (0.5^t < 2.2e-308 from t = 1022 on).
+TEST(Diagnostics, ADecayedFreeRunIsContinuedAsExactlyZero) {
+  const Eigen::Index n = 20000;
+  Eigen::VectorXd x(n);
+  x[0] = 1.0;
+  for (Eigen::Index t = 1; t < n; ++t) x[t] = 0.25 + 1e-3 * static_cast<double>(t % 7);
+  const ArModel model = Model({0.5});
+  double error = 0.0, centred = 0.0;
+  const double mean = x.tail(n - 1).mean();
+  for (Eigen::Index t = 1; t < n; ++t) {
+    const double s = std::pow(0.5, static_cast<double>(t));
+    error += (x[t] - s) * (x[t] - s);
+    centred += (x[t] - mean) * (x[t] - mean);
+  }
+  // The same sums of 2e4 positive terms, in other orders and roundings: each within n eps = 4e-12
+  // relative at worst, so the fit (|fit| ~ 1.3e4) within ~1e-11 relative.
+  const double expected = 100.0 * (1.0 - std::sqrt(error / centred));
+  EXPECT_NEAR(SimulationFitPercents({{x.data(), n, &model}}).front(), expected,
+              1e-11 * std::fabs(expected));
 }
 
 // The p-value is the chi-square tail (the incomplete gamma itself, both of its branches, is tested

@@ -114,10 +114,13 @@ TEST(FilterAr, SteadyStateAndTimeVaryingFiltersAgreeAfterConvergence) {
 }
 
 // The slowest models at q/R = 1e-10: the time-varying gain stalls at the rounding floor of its own
-// recursion (relative gain noise 1e-9 .. 1e-7, see ArKalmanOptions::stall_tolerance). The residue
-// model stalls below 1e-9 and switches; imf6 stalls above it and runs time-varying to the end.
-// Either way the output is within 1e-9 of the time-varying filter.
-TEST(FilterAr, IllConditionedModelsSwitchOnlyWhenTheStallIsBelowTolerance) {
+// recursion (relative gain noise 1e-9 .. 1.5e-8, see ArKalmanOptions::stall_tolerance). Whether a
+// model then switches depends on where in that noise its distance falls, so the test asserts what
+// holds either way: a stall switch happens only with the gain within stall_tolerance, and the
+// output stays within the time-varying reference's own noise. That reference wanders with the same
+// gain noise, measured as 3.5e-9 relative in the output for imf6 whether it switches at a distance
+// of 9e-10 or 1.5e-8; 1e-8 is that floor, the largest gain distance seen wandering.
+TEST(FilterAr, IllConditionedModelsSwitchOnlyWithinTheStallTolerance) {
   const long long n = 60000;
   const auto models = PaperTable2Models();
   for (int index : {5, 8}) {  // imf6, residue
@@ -129,15 +132,15 @@ TEST(FilterAr, IllConditionedModelsSwitchOnlyWhenTheStallIsBelowTolerance) {
     o.steady_state_switch = false;
     const ArKalmanResult slow = FilterAr(sim.z, m.phi, -1, -1, o);
     ASSERT_EQ(fast.summary.termination, Termination::kSuccess) << m.name;
-    if (m.name == "imf6") {
-      EXPECT_EQ(fast.summary.switched_at_sample, -1);
+    EXPECT_NE(fast.summary.gain_switch, GainSwitch::kConverged) << m.name;  // ill-conditioned
+    if (fast.summary.gain_switch == GainSwitch::kStalled) {
+      EXPECT_LE(fast.summary.gain_distance_at_switch, o.stall_tolerance) << m.name;
     } else {
-      EXPECT_GT(fast.summary.switched_at_sample, 0);
-      EXPECT_GT(fast.summary.gain_distance_at_switch, 1e-12);  // it was the stall rule
+      EXPECT_EQ(fast.summary.switched_at_sample, -1) << m.name;
     }
     const double rel =
         (fast.filtered - slow.filtered).cwiseAbs().maxCoeff() / slow.filtered.cwiseAbs().maxCoeff();
-    EXPECT_LE(rel, 1e-9) << m.name;
+    EXPECT_LE(rel, 1e-8) << m.name;
   }
 }
 
@@ -625,5 +628,47 @@ TEST(ArFilterBank, EachOutputEqualsFilterArToTheLastBitOnUnitNearUnitAndExplosiv
     EXPECT_GT(seen[kind], 0) << ToString(kind);
   }
 }
+
+// The bank's divergence statistic (EstimateMeanSquares, read by the sweep) is the mean of
+// (estimate - mean)^2 of each output over the samples added, heads and side-by-side lanes alike:
+// against the same sum over FilterAr's output (summed in another order: 1e-12 relative). And a
+// bank given z's variance from FilterInputVariance (as the sweep does once per component) is the
+// bank that computes it itself, to the last bit.
+TEST(ArFilterBank, ReportsEachEstimatesMeanSquareAndTakesAGivenVariance) {
+  const auto paper = PaperTable2Models();
+  const long long n = 9000;
+  const testing::ArSimulation sim = SimulateArPlusNoise(paper[5].phi, 0.01, 1.0, n, 12, 0);
+  std::vector<ArKalmanOptions> options;
+  for (double q : {1e-4, 0.01, 1.0}) {
+    for (double r : {0.1, 1.0, 10.0}) {
+      options.push_back(PaperStart(q, r));
+      options.back().max_time_varying_steps = 4096;
+      options.back().mean = 0.3;
+    }
+  }
+  double z_variance = 0.0;
+  ASSERT_TRUE(FilterInputVariance(sim.z, &z_variance));
+  std::vector<Eigen::VectorXd> sums(options.size(), Eigen::VectorXd::Zero(n)), given = sums;
+  std::vector<double*> pointers, given_pointers;
+  for (std::size_t i = 0; i < options.size(); ++i) {
+    pointers.push_back(sums[i].data());
+    given_pointers.push_back(given[i].data());
+  }
+  ArFilterBank bank(sim.z, paper[5].phi, -1, -1, options);
+  ArFilterBank given_bank(sim.z, paper[5].phi, -1, -1, options, &z_variance);
+  for (long long begin = 0; begin < n; begin += 1000) {
+    bank.AddRange(begin, std::min(n, begin + 1000), pointers);
+    given_bank.AddRange(begin, std::min(n, begin + 1000), given_pointers);
+  }
+  const std::vector<double> mean_squares = bank.EstimateMeanSquares();
+  for (std::size_t i = 0; i < options.size(); ++i) {
+    const ArKalmanResult single = FilterAr(sim.z, paper[5].phi, -1, -1, options[i]);
+    ASSERT_TRUE(HasResult(single.summary.termination));
+    const double expected = (single.filtered.array() - 0.3).square().mean();
+    EXPECT_NEAR(mean_squares[i], expected, 1e-12 * expected) << "option set " << i;
+    EXPECT_EQ((given[i] - sums[i]).cwiseAbs().maxCoeff(), 0.0) << "option set " << i;
+  }
+}
+
 }  // namespace
 }  // namespace fogpipe::kalman

@@ -1,4 +1,4 @@
-// Compile-time AR orders for the per-sample loops (internal to algorithms/kalman).
+// Compile-time AR orders for the per-sample loops (internal to algorithms/: kalman, ar).
 //
 // The steady-state loops are latency-bound recursions over a handful of doubles; with the order
 // known at compile time the compiler unrolls them and keeps the state in registers. Orders 1..8
@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-namespace fogpipe::kalman::internal {
+namespace fogpipe::fixed_order {
 
 constexpr int kMaxFixedOrder = 8;
 
@@ -26,6 +26,20 @@ struct Buffer<0> {
   explicit Buffer(int p) : data(static_cast<std::size_t>(p)) {}
   double* get() { return data.data(); }
   std::vector<double> data;
+};
+
+/// p values of type T (e.g. a SIMD vector type): a plain array for P > 0, a std::vector for P == 0.
+template <int P, typename T>
+struct LaneBuffer {
+  explicit LaneBuffer(int) {}
+  T* get() { return data; }
+  T data[P];
+};
+template <typename T>
+struct LaneBuffer<0, T> {
+  explicit LaneBuffer(int p) : data(static_cast<std::size_t>(p)) {}
+  T* get() { return data.data(); }
+  std::vector<T> data;
 };
 
 /// Calls f(std::integral_constant<int, P>) with P = p for 1 <= p <= kMaxFixedOrder, else P = 0.
@@ -53,4 +67,26 @@ void WithFixedOrder(int p, F&& f) {
   }
 }
 
-}  // namespace fogpipe::kalman::internal
+constexpr int kMaxWideFixedOrder = 12;
+
+/// As WithFixedOrder, for 1 <= p <= kMaxWideFixedOrder (the sweep's default orders are 2..12):
+/// for the per-sample loops whose work grows like p or p^2, where an unrolled order 9..12 still
+/// pays for its code size.
+template <typename F>
+void WithWideFixedOrder(int p, F&& f) {
+  if (p <= kMaxFixedOrder) return WithFixedOrder(p, f);
+  switch (p) {
+    case 9:
+      return f(std::integral_constant<int, 9>());
+    case 10:
+      return f(std::integral_constant<int, 10>());
+    case 11:
+      return f(std::integral_constant<int, 11>());
+    case 12:
+      return f(std::integral_constant<int, 12>());
+    default:
+      return f(std::integral_constant<int, 0>());
+  }
+}
+
+}  // namespace fogpipe::fixed_order
