@@ -161,16 +161,16 @@ TEST(SolveDare, KeepsTheBestAttemptWhenARerunIsWorse) {
     }
   }
   // One such case against the independent reference: imf2 (well damped, closed-loop radius 0.83)
-  // at q/R = 1e-6, where the reruns are worse (measured residuals: companion basis 1.0e-16,
-  // difference basis 1.8e-16, long double 3.0e-16). The result is the first attempt's, and its
-  // P agrees with the dense recursion iterated to convergence (0.83^20000 is far below rounding);
-  // 1e-11 as in AgreesWithTheDenseRecursionIteratedToConvergence.
+  // at q/R = 1e-6, where the three residuals are all of order 1e-16 (which attempt wins is a
+  // matter of rounding). Whichever is returned, its P agrees with the dense recursion iterated to
+  // convergence (0.83^20000 is far below rounding); 1e-11 as in
+  // AgreesWithTheDenseRecursionIteratedToConvergence.
   const Eigen::VectorXd imf2 = testing::PaperTable2Models()[1].phi;  // copied out of the temporary
   const double q = 1e-6 * r;
   const DareSolution d = SolveDare(imf2, q, r, every_attempt);
   ASSERT_EQ(d.summary.termination, Termination::kSuccess) << d.summary.message;
-  EXPECT_FALSE(d.summary.difference_basis) << d.summary.message;
-  EXPECT_EQ(d.gain, SolveDare(imf2, q, r, first_attempt_only).gain);
+  EXPECT_LE(d.summary.relative_residual,
+            SolveDare(imf2, q, r, first_attempt_only).summary.relative_residual);
   const Eigen::MatrixXd reference = DenseRecursion(imf2, q, r, 20000);
   EXPECT_LE((d.predicted_covariance - reference).norm(), 1e-11 * reference.norm());
   const Eigen::VectorXd reference_gain = reference.col(0) / (reference(0, 0) + r);

@@ -104,13 +104,23 @@ TEST(SweepEvaluate, BestSettingBeatsDefaultAndHardestFilteringOnAMovingRate) {
       RunSweep(rec.rate_rad_s, o.sample_rate_hz, options, &rec.true_rate_rad_s);
   ASSERT_EQ(result.summary.termination, Termination::kSuccess) << result.summary.message;
   ASSERT_EQ(result.points.size(), 68u);
-  EXPECT_EQ(result.summary.settings_ok, 68);
+  // A setting may fail only as a diverged filter (RunSweep's check): here AR(6) at the hardest
+  // q/R, whose estimate of imf9 has 36x the component's RMS; left in, its RMS error against the
+  // truth was 233 deg/h, 25x the unfiltered signal's.
+  for (const SweepPoint& p : result.points) {
+    if (HasResult(p.termination)) continue;
+    std::printf("  p=%d q=%g R=%g: %s\n", p.setting.ar_order, p.setting.q_scale, p.setting.r_scale,
+                p.message.c_str());
+    EXPECT_NE(p.message.find("Kalman filter diverged"), std::string::npos) << p.message;
+  }
+  EXPECT_GE(result.summary.settings_ok, 60);
 
   const std::vector<int> ranking = RankSweep(result.points, "rms_error");
   ASSERT_FALSE(ranking.empty());
   const SweepPoint& best = result.points[ranking.front()];
   double default_rms = INFINITY, hardest_rms = INFINITY, raw_rms = 0.0;
   for (const SweepPoint& p : result.points) {
+    if (!HasResult(p.termination)) continue;
     if (p.setting.default_rule) default_rms = std::min(default_rms, p.rms_error);
     if (!p.setting.default_rule && p.setting.q_scale == 0.01 && p.setting.r_scale == 100.0) {
       hardest_rms = std::min(hardest_rms, p.rms_error);
@@ -123,6 +133,7 @@ TEST(SweepEvaluate, BestSettingBeatsDefaultAndHardestFilteringOnAMovingRate) {
               best.setting.r_scale, units::RadPerSecondToDegPerHour(best.rms_error));
   std::printf("  run's rule (best p)     %10.4f\n", units::RadPerSecondToDegPerHour(default_rms));
   std::printf("  hardest q=0.01 R=100    %10.4f\n", units::RadPerSecondToDegPerHour(hardest_rms));
+  ASSERT_TRUE(std::isfinite(default_rms) && std::isfinite(hardest_rms));
   EXPECT_LT(best.rms_error, default_rms);
   EXPECT_LT(best.rms_error, hardest_rms);
   // Filtering must help at all: the best setting beats the unfiltered signal.
