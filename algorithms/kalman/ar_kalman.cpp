@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "algorithms/common/fixed_order.h"
 #include "algorithms/kalman/companion.h"
 #include "algorithms/kalman/covariance_recursion.h"
+#include "algorithms/kalman/mul_add.h"
 #include "algorithms/kalman/noise_defaults.h"
 #include "algorithms/kalman/rts_smoother.h"
 #include "algorithms/kalman/steady_state_filter.h"
@@ -189,8 +191,22 @@ long long TimeVaryingLoop(Recursion&& recursion, const Eigen::Ref<const Eigen::V
                           Emit&& emit) {
   ArKalmanSummary& s = *summary;
   const long long n = z.size();
-  const Eigen::Index p = phi.size();
-  Eigen::VectorXd& x = end->x;
+  constexpr int P = std::decay_t<Recursion>::kOrder;
+  const int p = P > 0 ? P : static_cast<int>(phi.size());
+  // The state X(k|k) and phi in plain arrays (order P at compile time where it is known); every
+  // multiply-add spelled out, so FilterAr and ArFilterBank, which instantiate this loop with
+  // different emitters, compute the same bits (mul_add.h).
+  fixed_order::Buffer<P> x_buffer(p), phi_buffer(p), g_inf_buffer(p);
+  double* x = x_buffer.get();
+  double* phi_a = phi_buffer.get();
+  double* g_inf = g_inf_buffer.get();
+  for (int i = 0; i < p; ++i) {
+    x[i] = end->x[i];
+    phi_a[i] = phi[i];
+    g_inf[i] = dare.gain.size() == p ? dare.gain[i] : 0.0;
+  }
+  double g_inf_scale = 0.0;  // GainDistance's max_i |G_inf,i|
+  for (int i = 0; i < p; ++i) g_inf_scale = std::max(g_inf_scale, std::fabs(g_inf[i]));
   const Eigen::Map<const Eigen::VectorXd> g(recursion.gain(), p);
   const bool may_switch =
       options.steady_state_switch && dare.summary.termination == Termination::kSuccess;
@@ -204,7 +220,14 @@ long long TimeVaryingLoop(Recursion&& recursion, const Eigen::Ref<const Eigen::V
   for (; k < n; ++k) {
     const double innovation_var = recursion.Step();
     if (may_switch) {
-      const double distance = GainDistance(g, dare.gain);
+      // GainDistance(g, G_inf) with its scale computed once (a NaN gain gives a NaN distance).
+      const double* gk = recursion.gain();
+      double diff = 0.0;
+      for (int i = 0; i < p; ++i) {
+        const double d = std::fabs(gk[i] - g_inf[i]);
+        if (!(d <= diff)) diff = d;
+      }
+      const double distance = g_inf_scale > 0.0 ? diff / g_inf_scale : diff;
       if (distance < best_distance) {
         best_distance = distance;
         best_at = k;
@@ -242,12 +265,15 @@ long long TimeVaryingLoop(Recursion&& recursion, const Eigen::Ref<const Eigen::V
       }
       cap = std::numeric_limits<long long>::max();
     }
-    const double pred = phi.dot(x);
+    const double* gk = recursion.gain();
+    double pred = 0.0;
+    for (int i = 0; i < p; ++i) pred = internal::MulAdd(phi_a[i], x[i], pred);
     const double e = (z[k] - options.mean) - pred;
-    for (Eigen::Index i = p - 1; i >= 1; --i) x[i] = x[i - 1] + g[i] * e;
-    x[0] = pred + g[0] * e;
-    emit(k, x[0] + options.mean, e, recursion.gain(), innovation_var);
+    for (int i = p - 1; i >= 1; --i) x[i] = internal::MulAdd(gk[i], e, x[i - 1]);
+    x[0] = internal::MulAdd(gk[0], e, pred);
+    emit(k, x[0] + options.mean, e, gk, innovation_var);
   }
+  for (int i = 0; i < p; ++i) end->x[i] = x[i];
   return k;
 }
 

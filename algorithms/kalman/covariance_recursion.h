@@ -25,6 +25,7 @@ namespace fogpipe::kalman::internal {
 template <int P>
 class CovarianceRecursion {
  public:
+  static constexpr int kOrder = P;
   /// filtered0: P(0|0), p x p symmetric; phi: the AR coefficients (p of them).
   CovarianceRecursion(const Eigen::MatrixXd& filtered0, const Eigen::VectorXd& phi, double q,
                       double r)
@@ -84,6 +85,7 @@ class CovarianceRecursion {
 template <>
 class CovarianceRecursion<0> {
  public:
+  static constexpr int kOrder = 0;
   CovarianceRecursion(const Eigen::MatrixXd& filtered0, const Eigen::VectorXd& phi, double q,
                       double r)
       : phi_(phi), q_(q), r_(r), pf_(filtered0), g_(phi.size()) {}
