@@ -40,10 +40,34 @@ Eigen::VectorXd MeanRemovedPhase(const Eigen::Ref<const Eigen::VectorXd>& rate) 
   const double mean = total.Value() / static_cast<double>(n);
   Eigen::VectorXd x(n + 1);
   x[0] = 0.0;
-  CompensatedSum running;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    running.Add(rate[k] - mean);
-    x[k + 1] = running.Value();
+  // The running sum in four parts side by side: each part's compensated sum from 0 (four
+  // independent chains the CPU overlaps; one chain is bound by an addition's latency per sample,
+  // measured 3.5 % of a `fogpipe sweep`), then parts 1-3 shifted by the compensated total of the
+  // parts before them. Each value is within a rounding or two of the exact running sum, as with
+  // one chain.
+  const Eigen::Index quarter = n >= 4096 ? n / 4 : 0;
+  CompensatedSum running[4];
+  for (Eigen::Index k = 0; k < quarter; ++k) {
+    for (int c = 0; c < 4; ++c) {
+      const Eigen::Index i = c * quarter + k;
+      running[c].Add(rate[i] - mean);
+      x[i + 1] = running[c].Value();
+    }
+  }
+  for (Eigen::Index i = 4 * quarter; i < n; ++i) {  // the rest belongs to the last part
+    const int c = quarter > 0 ? 3 : 0;
+    running[c].Add(rate[i] - mean);
+    x[i + 1] = running[c].Value();
+  }
+  if (quarter > 0) {
+    CompensatedSum offset;
+    for (int c = 1; c < 4; ++c) {
+      offset.Add(running[c - 1].sum);
+      offset.Add(running[c - 1].carry);
+      const double hi = offset.sum, lo = offset.carry;
+      const Eigen::Index end = c < 3 ? (c + 1) * quarter : n;
+      for (Eigen::Index i = c * quarter; i < end; ++i) x[i + 1] = hi + (x[i + 1] + lo);
+    }
   }
   return x;
 }

@@ -5,11 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "algorithms/allan/phase.h"
 #include "tests/algorithms/allan/reference_data.h"
+#include "tests/algorithms/allan/simulated_gyro.h"
 
 namespace fogpipe::allan {
 namespace {
@@ -148,6 +150,36 @@ TEST(Phase, MeanRemovalKeepsDeviationsIndependentOfALargeBias) {
   const std::vector<double> biased = Deviations(y, Deviation::kOverlappingAllan, m);
   // The biased samples themselves are rounded to ulp(1e6) = 1.2e-10 (relative 4e-10 of sigma).
   for (size_t k = 0; k < m.size(); ++k) EXPECT_NEAR(biased[k], plain[k], 1e-8 * plain[k]);
+}
+
+// The running sum is computed in four parts side by side and the parts shifted by the totals
+// before them (phase.cpp): every value must still be the running sum of the mean-removed rate to
+// within a few roundings of the largest phase value, checked against long double (64-bit mantissa,
+// 2^11 times finer) on a length that is not a multiple of 4, with a bias 1e6 times the noise and a
+// slow drift so the phase wanders far from 0. The mean is the one the function uses: the double
+// nearest the exact sum (which long double resolves far below ulp(1e11)), divided by n; each
+// y - mean is then exact (Sterbenz), so only the running sum is under test.
+TEST(Phase, TheRunningSumIsExactToAFewRoundingsOnLongSeries) {
+  const Eigen::Index n = 100003;
+  testing::GyroTruth white;
+  white.n_rad_sqrt_s = 1.0;
+  Eigen::VectorXd y = testing::SimulateGyro(white, n, 1.0, 5);
+  for (Eigen::Index k = 0; k < n; ++k) y[k] += 1e6 + 1e-3 * std::sin(1e-4 * k);
+  const Eigen::VectorXd x = MeanRemovedPhase(y);
+  long double sum = 0.0L;
+  for (Eigen::Index k = 0; k < n; ++k) sum += y[k];
+  const double mean = static_cast<double>(sum) / static_cast<double>(n);
+  long double running = 0.0L, largest = 0.0L;
+  double worst = 0.0;
+  ASSERT_EQ(x.size(), n + 1);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    running += static_cast<long double>(y[k] - mean);
+    largest = std::max(largest, std::fabs(running));
+    worst = std::max(worst, static_cast<double>(std::fabs(x[k + 1] - running)));
+  }
+  // A few roundings (ulp = 2^-52 relative) of the largest |phase| (~180 here).
+  EXPECT_LE(worst, 8.0 * std::ldexp(static_cast<double>(largest), -52))
+      << "largest |phase| " << static_cast<double>(largest);
 }
 
 }  // namespace
