@@ -6,7 +6,22 @@
 #include "pipeline/cli/commands.h"
 #include "pipeline/cli/version.h"
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
 int main(int argc, char** argv) {
+#ifdef __GLIBC__
+  // Per-recording arrays (a component, a filtered signal, an Allan phase: 2.9 MB at 1 h, 100 Hz)
+  // are allocated and freed by the hundred. glibc serves them from mmap or trims them back to the
+  // kernel at its small dynamic thresholds, so each allocation costs fresh page faults: measured
+  // 10 % of a `fogpipe sweep` (sys 0.26 s of 2.6 s CPU, 1 h at 100 Hz, 110 settings). Arrays up to
+  // 32 MiB now come from the heap and up to 64 MiB of free heap top is kept: sys 0.09 s, the same
+  // peak RSS (144 MB), `run` unchanged within noise. The cost is at most 64 MiB of retained free
+  // memory per malloc arena.
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 64 << 20);
+#endif
   CLI::App app{"fogpipe: FOG test-campaign pipeline (EMD, per-IMF AR + Kalman, Allan variance)"};
   // Before any subcommand is added: CLI11 2.1 otherwise ignores misspelled config keys.
   app.allow_config_extras(CLI::config_extras_mode::error);
