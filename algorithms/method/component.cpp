@@ -1,5 +1,8 @@
 #include "algorithms/method/component.h"
 
+#include <cmath>
+#include <cstdio>
+
 namespace fogpipe::method {
 
 bool ComponentModel::ok() const {
@@ -43,7 +46,25 @@ ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_varia
       ComponentFilterNoise(options.noise_rule, white_noise_variance, variance, sigma_e2);
   ApplyFilterNoise(noise, &kalman_options);
   out.kalman = kalman::FilterAr(x, out.fit.model.phi, sigma_e2, noise.r, kalman_options);
+  double filter_variance = 0.0;
+  std::string diverged;
+  if (HasResult(out.kalman.summary.termination) &&
+      kalman::FilterInputVariance(x, &filter_variance) &&
+      FilterDiverged((out.Output().array() - out.fit.model.mean).square().mean(), filter_variance,
+                     &diverged)) {
+    out.kalman.summary.termination = Termination::kNumericalFailure;
+    out.kalman.summary.message = diverged + "; " + out.kalman.summary.message;
+  }
   return out;
+}
+
+bool FilterDiverged(double estimate_mean_square, double component_variance, std::string* message) {
+  const double ratio = std::sqrt(estimate_mean_square / component_variance);
+  if (!(ratio > kDivergedRmsRatio)) return false;
+  char text[96];
+  std::snprintf(text, sizeof(text), "diverged (estimate RMS %.3g x the component's)", ratio);
+  *message = text;
+  return true;
 }
 
 }  // namespace fogpipe::method

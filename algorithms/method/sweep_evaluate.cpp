@@ -30,10 +30,6 @@ constexpr long long kSweepTimeVaryingSteps = 4096;
 // Samples of every setting's method-1 sum filled by all components before the next range: 10
 // settings x 2048 x 8 bytes = 160 kB stay in the L2 cache while the components add to them.
 constexpr Eigen::Index kSumRange = 2048;
-// A setting whose Kalman estimate of a component has an RMS (about the model mean) above this
-// multiple of the component's standard deviation has diverged (see the check in RunSweep): the
-// bound for a working filter is 1.
-constexpr double kDivergedRmsRatio = 10.0;
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -254,24 +250,19 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
         }
       }
     }
-    // Divergence: a Kalman filter on a stationary model fitted to a component estimates it with a
-    // variance below the component's own (var(x^) = var(x) - P <= var(z)). High orders on the
-    // slowest IMFs (AR roots clustered within 1e-4 of z = 1) can give a constant gain whose loop
-    // grows in floating point although the DARE solver's stability test passed (measured: 1 h at
-    // 100 Hz, AR(12), estimates 1e8-1e10 x the component's range, RMS errors of 1e9 deg/h). Such a
-    // setting is reported as a numerical failure, naming the component, instead of being ranked.
+    // A setting whose filter diverged on some component (component.h, FilterDiverged, as `run`
+    // checks it) is reported as a numerical failure naming the component instead of being ranked.
     for (int k = 0; k < num_components; ++k) {
       if (!banks[k]) continue;
       const std::vector<double> mean_squares = banks[k]->EstimateMeanSquares();
       for (int j = 0; j < count; ++j) {
         SweepPoint& point = out.points[begin + j];
-        const double ratio = std::sqrt(mean_squares[j] / components[k].filter_variance);
-        if (!HasResult(point.termination) || !(ratio > kDivergedRmsRatio)) continue;
+        std::string diverged;
+        if (!HasResult(point.termination) ||
+            !FilterDiverged(mean_squares[j], components[k].filter_variance, &diverged))
+          continue;
         point.termination = Termination::kNumericalFailure;
-        char ratio_text[32];
-        std::snprintf(ratio_text, sizeof(ratio_text), "%.3g", ratio);
-        point.message = ComponentName(k, num_imfs) + ": Kalman filter diverged (estimate RMS " +
-                        ratio_text + " x the component's)";
+        point.message = ComponentName(k, num_imfs) + ": Kalman filter " + diverged;
       }
     }
     // The shared filtering time, split evenly among the order's settings.
