@@ -498,7 +498,8 @@ ArFilterBank::ArFilterBank(const Eigen::Ref<const Eigen::VectorXd>& z, const Eig
   }
 }
 
-void ArFilterBank::AddRange(long long begin, long long end, const std::vector<double*>& sums) {
+void ArFilterBank::AddRange(long long begin, long long end, const std::vector<double*>& sums,
+                            long long sum_stride) {
   std::vector<SteadyStateLane> lanes;
   const long long lanes_begin = std::max(begin, lanes_start_);
   for (std::size_t i = 0; i < filters_.size(); ++i) {
@@ -506,11 +507,12 @@ void ArFilterBank::AddRange(long long begin, long long end, const std::vector<do
     if (!HasResult(f.summary.termination)) continue;
     const long long head_end = std::min<long long>(end, static_cast<long long>(f.head.size()));
     for (long long k = begin; k < head_end; ++k) {
-      sums[i][k] += f.head[k];
+      sums[i][k * sum_stride] += f.head[k];
       f.square_sum += (f.head[k] - f.mean) * (f.head[k] - f.mean);
     }
     if (f.lane && lanes_begin < end) {
-      lanes.push_back({&f.gain, f.mean, sums[i] + lanes_begin, f.partial.data(), &f.square_sum});
+      lanes.push_back({&f.gain, f.mean, sums[i] + lanes_begin * sum_stride, f.partial.data(),
+                       &f.square_sum, sum_stride});
     }
   }
   if (!lanes.empty()) AddSteadyStateFilters(z_ + lanes_begin, end - lanes_begin, phi_, lanes);

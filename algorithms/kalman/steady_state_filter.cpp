@@ -1,6 +1,7 @@
 #include "algorithms/kalman/steady_state_filter.h"
 
 #include <algorithm>
+#include <cstring>
 #include <vector>
 
 #include "algorithms/common/fixed_order.h"
@@ -55,13 +56,18 @@ typedef double Lanes __attribute__((vector_size(kLanes * sizeof(double))));
 // The state s_j of all four lanes is one vector, so every update of the recursion is one vector
 // operation and the state stays in registers. P > 0: the order at compile time (loops unrolled);
 // P == 0: runtime p.
-template <int P>
+// Interleaved (all four lanes active, lane m's sum at lanes[0].sum + m, one stride): the four
+// estimates of a sample are added to their sums with one vector load, add and store instead of
+// four extracted scalars (measured: half of the loop at low orders). Each sum element still gets
+// the same one addition.
+template <int P, bool kInterleaved>
 void AddLanes(const double* z, long long n, const double* phi, int p_runtime,
               const SteadyStateLane* lanes, int active) {
   const int p = P > 0 ? P : p_runtime;
   Lanes s[kMaxLaneOrder], beta[kMaxLaneOrder], phi_v[kMaxLaneOrder];
   Lanes g0 = {}, mean = {};
   double* out[kLanes] = {};
+  long long stride[kLanes] = {};
   for (int j = 0; j < p; ++j) {
     s[j] = Lanes{};
     beta[j] = Lanes{};
@@ -74,6 +80,7 @@ void AddLanes(const double* z, long long n, const double* phi, int p_runtime,
     g0[m] = gain[0];
     mean[m] = lanes[m].mean;
     out[m] = lanes[m].sum;
+    stride[m] = lanes[m].sum_stride;
     for (int j = 0; j < p; ++j) {
       beta[j][m] = b[j];
       s[j][m] = lanes[m].partial[j];
@@ -88,7 +95,15 @@ void AddLanes(const double* z, long long n, const double* phi, int p_runtime,
     square_sum += deviation * deviation;
     for (int j = 0; j + 1 < p; ++j) s[j] = (phi_v[j] * pred + s[j + 1]) + beta[j] * e;
     s[p - 1] = phi_v[p - 1] * pred + beta[p - 1] * e;
-    for (int m = 0; m < active; ++m) out[m][k] += est[m];
+    if constexpr (kInterleaved) {
+      double* sum = out[0] + k * stride[0];
+      Lanes acc;
+      std::memcpy(&acc, sum, sizeof(acc));
+      acc += est;
+      std::memcpy(sum, &acc, sizeof(acc));
+    } else {
+      for (int m = 0; m < active; ++m) out[m][k * stride[m]] += est[m];
+    }
   }
   for (int m = 0; m < active; ++m) {
     for (int j = 0; j < p; ++j) lanes[m].partial[j] = s[j][m];
@@ -108,7 +123,7 @@ void AddSteadyStateFilters(const double* z, long long n, const Eigen::VectorXd& 
                                    nullptr);
       double square_sum = 0.0;
       for (long long k = 0; k < n; ++k) {
-        lane.sum[k] += estimates[k];
+        lane.sum[k * lane.sum_stride] += estimates[k];
         square_sum += (estimates[k] - lane.mean) * (estimates[k] - lane.mean);
       }
       if (lane.square_sum) *lane.square_sum += square_sum;
@@ -119,7 +134,16 @@ void AddSteadyStateFilters(const double* z, long long n, const Eigen::VectorXd& 
     constexpr int kP = decltype(order)::value;
     for (std::size_t i = 0; i < lanes.size(); i += kLanes) {
       const int active = static_cast<int>(std::min<std::size_t>(kLanes, lanes.size() - i));
-      AddLanes<kP>(z, n, phi.data(), p, lanes.data() + i, active);
+      bool interleaved = active == kLanes;
+      for (int m = 1; m < active && interleaved; ++m) {
+        interleaved =
+            lanes[i + m].sum == lanes[i].sum + m && lanes[i + m].sum_stride == lanes[i].sum_stride;
+      }
+      if (interleaved) {
+        AddLanes<kP, true>(z, n, phi.data(), p, lanes.data() + i, active);
+      } else {
+        AddLanes<kP, false>(z, n, phi.data(), p, lanes.data() + i, active);
+      }
     }
   });
 }

@@ -52,6 +52,9 @@ struct SteadyStateLane {
   double* partial = nullptr;
   /// If set, sum over the samples of (estimate - mean)^2 is added to it (a divergence check).
   double* square_sum = nullptr;
+  /// The k-th estimate is added to sum[k * sum_stride]. Four lanes whose sums are interleaved
+  /// (lane m's at sum + m, the same stride) add with one vector operation per sample.
+  long long sum_stride = 1;
 };
 
 /// Several constant-gain filters of the same AR model (e.g. the q/R settings of a sweep) over the

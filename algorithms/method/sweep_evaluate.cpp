@@ -180,10 +180,13 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
     const auto filter_start = std::chrono::steady_clock::now();
     const int begin = blocks[b].first, count = blocks[b].second - blocks[b].first;
     const int order = settings[begin].ar_order;
-    std::vector<Eigen::VectorXd> method1(count, Eigen::VectorXd::Zero(n));
+    // The settings' method-1 sums interleaved sample by sample (setting j's sample k at
+    // k * count + j): four settings' filters then add their estimates with one vector operation
+    // (kalman::ArFilterBank::AddRange). Each setting's series is taken out for its Allan table.
+    Eigen::VectorXd method1 = Eigen::VectorXd::Zero(n * count);
     std::vector<double*> sums(count);
     for (int j = 0; j < count; ++j) {
-      sums[j] = method1[j].data();
+      sums[j] = method1.data() + j;
       out.points[begin + j].setting = settings[begin + j];
       out.points[begin + j].termination = Termination::kSuccess;
     }
@@ -241,12 +244,12 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
       const Eigen::Index end = std::min<Eigen::Index>(n, range + kSumRange);
       for (int k = 0; k < num_components; ++k) {
         if (banks[k]) {
-          banks[k]->AddRange(range, end, sums);
+          banks[k]->AddRange(range, end, sums, count);
           continue;
         }
-        for (int j = 0; j < count; ++j) {
-          method1[j].segment(range, end - range) +=
-              components[k].signal->segment(range, end - range);
+        const Eigen::VectorXd& signal = *components[k].signal;
+        for (Eigen::Index i = range; i < end; ++i) {
+          for (int j = 0; j < count; ++j) method1[i * count + j] += signal[i];
         }
       }
     }
@@ -271,7 +274,9 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
       const auto setting_start = std::chrono::steady_clock::now();
       SweepPoint& point = out.points[begin + j];
       if (!HasResult(point.termination)) return;
-      point.allan.allan = allan::ComputeAllan(method1[j], sample_rate_hz, options.method.allan);
+      const Eigen::VectorXd series = Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<>>(
+          method1.data() + j, n, Eigen::InnerStride<>(count));
+      point.allan.allan = allan::ComputeAllan(series, sample_rate_hz, options.method.allan);
       if (!HasResult(point.allan.allan.summary.termination)) {
         point.termination = point.allan.allan.summary.termination;
         point.message = "Allan variance: " + point.allan.allan.summary.message;
@@ -280,7 +285,7 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
       point.allan.noise = allan::FitNoiseTerms(point.allan.allan.table, options.method.noise_fit);
       point.rms_error = kNaN;
       if (truth != nullptr) {
-        const Eigen::ArrayXd error = (method1[j].array() + out.base.preprocessed.mean_removed) -
+        const Eigen::ArrayXd error = (series.array() + out.base.preprocessed.mean_removed) -
                                      truth->segment(dropped, n).array();
         point.rms_error = std::sqrt(error.square().mean());
       }

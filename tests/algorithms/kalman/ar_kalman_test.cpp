@@ -670,5 +670,43 @@ TEST(ArFilterBank, ReportsEachEstimatesMeanSquareAndTakesAGivenVariance) {
   }
 }
 
+// Sums interleaved sample by sample (as the sweep keeps them: setting i's sample k at k * count +
+// i), which the bank adds four lanes at a time with vector operations, receive exactly what
+// separate sums receive: 9 option sets (two interleaved groups of four and one left over, plus a
+// smoother computed whole) on imf3 padded to order 11, in uneven ranges.
+TEST(ArFilterBank, InterleavedSumsGetTheSameBitsAsSeparateOnes) {
+  const auto paper = PaperTable2Models();
+  Eigen::VectorXd phi = Eigen::VectorXd::Zero(11);
+  phi.head(4) = paper[2].phi;
+  const long long n = 7000;
+  const testing::ArSimulation sim = SimulateArPlusNoise(phi, 0.1, 1.0, n, 13, 0);
+  std::vector<ArKalmanOptions> options;
+  for (double q : {0.01, 0.1, 1.0}) {
+    for (double r : {0.5, 1.0, 2.0}) {
+      options.push_back(PaperStart(q, r));
+      options.back().max_time_varying_steps = 4096;
+    }
+  }
+  options[4].smooth = true;
+  const long long count = static_cast<long long>(options.size());
+  std::vector<Eigen::VectorXd> separate(options.size(), Eigen::VectorXd::Constant(n, 0.5));
+  Eigen::VectorXd interleaved = Eigen::VectorXd::Constant(n * count, 0.5);
+  std::vector<double*> separate_pointers, interleaved_pointers;
+  for (long long i = 0; i < count; ++i) {
+    separate_pointers.push_back(separate[i].data());
+    interleaved_pointers.push_back(interleaved.data() + i);
+  }
+  ArFilterBank a(sim.z, phi, -1, -1, options), b(sim.z, phi, -1, -1, options);
+  for (long long begin = 0; begin < n; begin += 1234) {
+    a.AddRange(begin, std::min(n, begin + 1234), separate_pointers);
+    b.AddRange(begin, std::min(n, begin + 1234), interleaved_pointers, count);
+  }
+  for (long long i = 0; i < count; ++i) {
+    const Eigen::VectorXd taken = Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<>>(
+        interleaved.data() + i, n, Eigen::InnerStride<>(count));
+    EXPECT_EQ((taken - separate[i]).cwiseAbs().maxCoeff(), 0.0) << "option set " << i;
+  }
+}
+
 }  // namespace
 }  // namespace fogpipe::kalman
