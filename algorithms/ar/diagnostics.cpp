@@ -72,7 +72,7 @@ void FreeRunErrorEnergies(const SimulationFitJob* jobs, int count, int p_runtime
                           double* energies) {
   const int p = P > 0 ? P : p_runtime;
   const double* x[kLanes];
-  fixed_order::LaneBuffer<P, Lanes> phi_buffer(p), h_buffer(p);
+  fixed_order::Buffer<P, Lanes> phi_buffer(p), h_buffer(p);
   Lanes* phi = phi_buffer.get();
   Lanes* h = h_buffer.get();
   Lanes mean = {};

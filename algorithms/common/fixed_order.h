@@ -14,30 +14,17 @@ namespace fogpipe::fixed_order {
 
 constexpr int kMaxFixedOrder = 8;
 
-/// p doubles: a plain array for P > 0, a std::vector for the runtime order P == 0.
-template <int P>
+/// p values of type T (doubles, or a SIMD vector type): a plain array for P > 0, a std::vector for
+/// the runtime order P == 0.
+template <int P, typename T = double>
 struct Buffer {
   explicit Buffer(int) {}
-  double* get() { return data; }
-  double data[P];
-};
-template <>
-struct Buffer<0> {
-  explicit Buffer(int p) : data(static_cast<std::size_t>(p)) {}
-  double* get() { return data.data(); }
-  std::vector<double> data;
-};
-
-/// p values of type T (e.g. a SIMD vector type): a plain array for P > 0, a std::vector for P == 0.
-template <int P, typename T>
-struct LaneBuffer {
-  explicit LaneBuffer(int) {}
   T* get() { return data; }
   T data[P];
 };
 template <typename T>
-struct LaneBuffer<0, T> {
-  explicit LaneBuffer(int p) : data(static_cast<std::size_t>(p)) {}
+struct Buffer<0, T> {
+  explicit Buffer(int p) : data(static_cast<std::size_t>(p)) {}
   T* get() { return data.data(); }
   std::vector<T> data;
 };
