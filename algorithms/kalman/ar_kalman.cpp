@@ -225,7 +225,11 @@ long long TimeVaryingLoop(Recursion&& recursion, const Eigen::Ref<const Eigen::V
       double diff = 0.0;
       for (int i = 0; i < p; ++i) {
         const double d = std::fabs(gk[i] - g_inf[i]);
-        if (!(d <= diff)) diff = d;
+        if (std::isnan(d)) {
+          diff = d;
+          break;
+        }
+        if (d > diff) diff = d;
       }
       const double distance = g_inf_scale > 0.0 ? diff / g_inf_scale : diff;
       if (distance < best_distance) {

@@ -52,13 +52,17 @@ ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_varia
       kalman::FilterInputVariance(x, &filter_variance) &&
       FilterDiverged((out.Output().array() - out.fit.model.mean).square().mean(), filter_variance,
                      &diverged)) {
+    // As every failed filter (ar_kalman.h): no output.
     out.kalman.summary.termination = Termination::kNumericalFailure;
     out.kalman.summary.message = diverged + "; " + out.kalman.summary.message;
+    out.kalman.filtered.resize(0);
+    out.kalman.smoothed.resize(0);
   }
   return out;
 }
 
 bool FilterDiverged(double estimate_mean_square, double component_variance, std::string* message) {
+  if (!(component_variance > 0.0)) return false;  // nothing to compare with
   const double ratio = std::sqrt(estimate_mean_square / component_variance);
   if (!(ratio > kDivergedRmsRatio)) return false;
   char text[96];

@@ -45,6 +45,7 @@ struct ComponentModels {
   bool filter_variance_ok = false;  ///< (kalman::FilterInputVariance)
   std::vector<ar::ArModel> models;  ///< models[p - 1]; fewer when the recursion stopped early
   std::vector<double> fit_one_step, fit_simulation;  ///< per order, % (NaN: no setting uses it)
+  std::vector<bool> used;  ///< per order: some setting uses it (fits computed)
 };
 
 /// The model used for order p: p itself, or the highest order the recursion reached when the
@@ -119,9 +120,11 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
     const int reached = static_cast<int>(m.models.size());
     m.fit_one_step.assign(reached, kNaN);
     m.fit_simulation.assign(reached, kNaN);
+    m.used.assign(reached, false);
     for (int order : options.grid.ar_orders) {
       const int used = std::min(order, reached);
-      if (used < 1 || !std::isnan(m.fit_one_step[used - 1])) continue;
+      if (used < 1 || m.used[used - 1]) continue;
+      m.used[used - 1] = true;
       m.fit_one_step[used - 1] = ar::OneStepFitPercent(c, m.models[used - 1]);
     }
   });
@@ -129,8 +132,8 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
   // latency-bound recursions that ar::SimulationFitPercents steps four at a time.
   std::vector<int> used_orders;
   for (int k = 0; k < num_components; ++k) {
-    for (int p = 1; p <= static_cast<int>(components[k].fit_one_step.size()); ++p) {
-      if (!std::isnan(components[k].fit_one_step[p - 1]) &&
+    for (int p = 1; p <= static_cast<int>(components[k].used.size()); ++p) {
+      if (components[k].used[p - 1] &&
           std::find(used_orders.begin(), used_orders.end(), p) == used_orders.end())
         used_orders.push_back(p);
     }
@@ -141,8 +144,7 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
     std::vector<int> job_component;
     for (int k = 0; k < num_components; ++k) {
       ComponentModels& m = components[k];
-      if (static_cast<int>(m.fit_one_step.size()) < p || std::isnan(m.fit_one_step[p - 1]))
-        continue;
+      if (static_cast<int>(m.used.size()) < p || !m.used[p - 1]) continue;
       jobs.push_back({m.signal->data(), m.signal->size(), &m.models[p - 1]});
       job_component.push_back(k);
     }
@@ -254,7 +256,9 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
       }
     }
     // A setting whose filter diverged on some component (component.h, FilterDiverged, as `run`
-    // checks it) is reported as a numerical failure naming the component instead of being ranked.
+    // checks it, from a mean square summed in another order: the two can disagree only within
+    // rounding of the threshold) is reported as a numerical failure naming the component instead
+    // of being ranked.
     for (int k = 0; k < num_components; ++k) {
       if (!banks[k]) continue;
       const std::vector<double> mean_squares = banks[k]->EstimateMeanSquares();

@@ -22,6 +22,7 @@ TEST(FilterDiverged, FlagsOnlyEstimatesAboveTenTimesTheComponentsRms) {
   EXPECT_NE(message.find("diverged"), std::string::npos) << message;
   EXPECT_NE(message.find("2e+04"), std::string::npos) << message;
   EXPECT_TRUE(FilterDiverged(std::nan(""), 1.0, &message) == false);  // no result, no verdict
+  EXPECT_FALSE(FilterDiverged(1.0, 0.0, &message));  // a constant component: nothing to compare
 }
 
 // The premise: a working filter on a model fitted to its component estimates it with less
