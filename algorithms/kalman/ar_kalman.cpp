@@ -41,10 +41,28 @@ bool SampleVarianceIfFinite(const Eigen::Ref<const Eigen::VectorXd>& z, double* 
 }
 
 // max_i |G_i - G_inf,i| / max_i |G_inf,i| (absolute if G_inf = 0).
-double GainDistance(const Eigen::Ref<const Eigen::VectorXd>& g, const Eigen::VectorXd& g_inf) {
-  const double scale = g_inf.cwiseAbs().maxCoeff();
-  const double diff = (g - g_inf).cwiseAbs().maxCoeff();
+// max_i |G_inf,i|, the scale of GainDistance.
+double GainScale(const double* g_inf, int p) {
+  double scale = 0.0;
+  for (int i = 0; i < p; ++i) scale = std::max(scale, std::fabs(g_inf[i]));
+  return scale;
+}
+
+// max_i |G_i - G_inf,i| / scale (absolute if scale = 0); NaN if any element of G is NaN.
+double GainDistance(const double* g, const double* g_inf, int p, double scale) {
+  double diff = 0.0;
+  for (int i = 0; i < p; ++i) {
+    const double d = std::fabs(g[i] - g_inf[i]);
+    if (std::isnan(d)) return d;
+    if (d > diff) diff = d;
+  }
   return scale > 0.0 ? diff / scale : diff;
+}
+
+// max_i |G_i - G_inf,i| / max_i |G_inf,i| (absolute if G_inf = 0).
+double GainDistance(const Eigen::VectorXd& g, const Eigen::VectorXd& g_inf) {
+  const int p = static_cast<int>(g_inf.size());
+  return GainDistance(g.data(), g_inf.data(), p, GainScale(g_inf.data(), p));
 }
 
 }  // namespace
@@ -205,8 +223,7 @@ long long TimeVaryingLoop(Recursion&& recursion, const Eigen::Ref<const Eigen::V
     phi_a[i] = phi[i];
     g_inf[i] = dare.gain.size() == p ? dare.gain[i] : 0.0;
   }
-  double g_inf_scale = 0.0;  // GainDistance's max_i |G_inf,i|
-  for (int i = 0; i < p; ++i) g_inf_scale = std::max(g_inf_scale, std::fabs(g_inf[i]));
+  const double g_inf_scale = GainScale(g_inf, p);
   const Eigen::Map<const Eigen::VectorXd> g(recursion.gain(), p);
   const bool may_switch =
       options.steady_state_switch && dare.summary.termination == Termination::kSuccess;
@@ -220,18 +237,7 @@ long long TimeVaryingLoop(Recursion&& recursion, const Eigen::Ref<const Eigen::V
   for (; k < n; ++k) {
     const double innovation_var = recursion.Step();
     if (may_switch) {
-      // GainDistance(g, G_inf) with its scale computed once (a NaN gain gives a NaN distance).
-      const double* gk = recursion.gain();
-      double diff = 0.0;
-      for (int i = 0; i < p; ++i) {
-        const double d = std::fabs(gk[i] - g_inf[i]);
-        if (std::isnan(d)) {
-          diff = d;
-          break;
-        }
-        if (d > diff) diff = d;
-      }
-      const double distance = g_inf_scale > 0.0 ? diff / g_inf_scale : diff;
+      const double distance = GainDistance(recursion.gain(), g_inf, p, g_inf_scale);
       if (distance < best_distance) {
         best_distance = distance;
         best_at = k;
