@@ -46,11 +46,9 @@ ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_varia
       ComponentFilterNoise(options.noise_rule, white_noise_variance, variance, sigma_e2);
   ApplyFilterNoise(noise, &kalman_options);
   out.kalman = kalman::FilterAr(x, out.fit.model.phi, sigma_e2, noise.r, kalman_options);
-  double filter_variance = 0.0;
   std::string diverged;
   if (HasResult(out.kalman.summary.termination) &&
-      kalman::FilterInputVariance(x, &filter_variance) &&
-      FilterDiverged((out.Output().array() - out.fit.model.mean).square().mean(), filter_variance,
+      FilterDiverged((out.Output().array() - out.fit.model.mean).square().mean(), variance,
                      &diverged)) {
     // As every failed filter (ar_kalman.h): no output.
     out.kalman.summary.termination = Termination::kNumericalFailure;

@@ -266,7 +266,7 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
         SweepPoint& point = out.points[begin + j];
         std::string diverged;
         if (!HasResult(point.termination) ||
-            !FilterDiverged(mean_squares[j], components[k].filter_variance, &diverged))
+            !FilterDiverged(mean_squares[j], components[k].variance, &diverged))
           continue;
         point.termination = Termination::kNumericalFailure;
         point.message = ComponentName(k, num_imfs) + ": Kalman filter " + diverged;
