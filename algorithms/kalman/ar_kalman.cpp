@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <stdexcept>
 #include <type_traits>
 
 #include "algorithms/common/fixed_order.h"
@@ -224,7 +226,6 @@ long long TimeVaryingLoop(Recursion&& recursion, const Eigen::Ref<const Eigen::V
     g_inf[i] = dare.gain.size() == p ? dare.gain[i] : 0.0;
   }
   const double g_inf_scale = GainScale(g_inf, p);
-  const Eigen::Map<const Eigen::VectorXd> g(recursion.gain(), p);
   const bool may_switch =
       options.steady_state_switch && dare.summary.termination == Termination::kSuccess;
   long long cap = options.steady_state_switch && options.max_time_varying_steps > 0
@@ -260,8 +261,10 @@ long long TimeVaryingLoop(Recursion&& recursion, const Eigen::Ref<const Eigen::V
         break;
       }
     } else if (k == cap / 2) {
-      gain_at_half_cap = g;
+      gain_at_half_cap = Eigen::Map<const Eigen::VectorXd>(recursion.gain(), p);
     } else if (k >= cap) {
+      // (The gain of this step: a replayed recursion's pointer changes with every step.)
+      const Eigen::Map<const Eigen::VectorXd> g(recursion.gain(), p);
       // No steady-state gain to switch to: keep this gain if it stabilizes the loop (the
       // time-varying gain of a decreasing Riccati iterate does; Bitmead, Gevers & Wertz 1985,
       // the "fake algebraic Riccati equation"), else stay time-varying to the end.
@@ -287,6 +290,86 @@ long long TimeVaryingLoop(Recursion&& recursion, const Eigen::Ref<const Eigen::V
   return k;
 }
 
+// The gain sequences G(k) and innovation variances S(k) of up to four time-varying filters of one
+// AR model, computed side by side (internal::CovarianceLanes) on demand, a chunk of steps at a
+// time, and kept for TimeVaryingLoop to replay one filter after the other (ReplayedRecursion).
+// The recursion does not depend on the data, so the replayed filters are those of
+// CovarianceRecursion to the last bit (tested through ArFilterBank against FilterAr).
+class GainTape {
+ public:
+  virtual ~GainTape() = default;
+  /// Computes the steps up to at least `steps` (at most the limit given at construction).
+  virtual void ExtendTo(long long steps) = 0;
+  long long steps() const { return steps_; }
+  double innovation_variance(int lane, long long k) const {
+    return variances_[lane][static_cast<std::size_t>(k)];
+  }
+  const double* gain(int lane, long long k) const {
+    return gains_[lane].data() + static_cast<std::size_t>(k) * p_;
+  }
+
+ protected:
+  explicit GainTape(int p) : p_(p) {}
+  int p_;
+  long long steps_ = 0;
+  std::vector<double> variances_[4], gains_[4];
+};
+
+template <int P>
+class LaneGainTape final : public GainTape {
+ public:
+  // Steps are computed in chunks, so a group whose filters all switch early costs at most one
+  // chunk more than its longest filter. (Measured on the sweep benchmark's 1 h at 100 Hz: of 1760
+  // filters a quarter switch within 80 samples, more than half only at the 4096-step cap.)
+  static constexpr long long kChunk = 256;
+  LaneGainTape(const Eigen::MatrixXd* const filtered0[4], const Eigen::VectorXd& phi,
+               const double q[4], const double r[4], int active, long long limit)
+      : GainTape(P), lanes_(filtered0, phi, q, r, active), active_(active), limit_(limit) {}
+  void ExtendTo(long long steps) override {
+    const long long target = std::min(limit_, (steps + kChunk - 1) / kChunk * kChunk);
+    for (; steps_ < target; ++steps_) {
+      const internal::CovarianceLanes4 s = lanes_.Step();
+      const internal::CovarianceLanes4* g = lanes_.gain();
+      for (int m = 0; m < active_; ++m) {
+        variances_[m].push_back(s[m]);
+        for (int i = 0; i < P; ++i) gains_[m].push_back(g[i][m]);
+      }
+    }
+  }
+
+ private:
+  internal::CovarianceLanes<P> lanes_;
+  int active_;
+  long long limit_;
+};
+
+// The Recursion interface of TimeVaryingLoop over one lane of a GainTape.
+template <int P>
+class ReplayedRecursion {
+ public:
+  static constexpr int kOrder = P;
+  ReplayedRecursion(GainTape* tape, int lane) : tape_(tape), lane_(lane) {}
+  double Step() {
+    ++k_;
+    if (k_ >= tape_->steps()) tape_->ExtendTo(k_ + 1);
+    // MakeGainTapes sizes the tape for every step TimeVaryingLoop can take.
+    if (k_ >= tape_->steps()) throw std::logic_error("gain tape shorter than the phase");
+    return tape_->innovation_variance(lane_, k_);
+  }
+  const double* gain() const { return tape_->gain(lane_, k_); }
+
+ private:
+  GainTape* tape_;
+  int lane_;
+  long long k_ = -1;
+};
+
+// A filter's replayed lane, if it has one.
+struct TapeLane {
+  GainTape* tape = nullptr;
+  int lane = 0;
+};
+
 // The filter from X(0|0) = 0 up to its constant-gain loop, after PrepareFilter: the start P(0|0),
 // then the time-varying recursion (eqs. 8-11, Joseph form) until the gain has converged, stalled
 // or reached the cap. emit(k, estimate, e, gain, innovation_variance) receives every sample of
@@ -294,7 +377,8 @@ long long TimeVaryingLoop(Recursion&& recursion, const Eigen::Ref<const Eigen::V
 template <typename Emit>
 PhaseEnd RunTimeVaryingPhase(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
                              const ArKalmanOptions& options, const DareSolution& dare,
-                             double z_variance, ArKalmanResult* result_out, Emit&& emit) {
+                             double z_variance, ArKalmanResult* result_out, Emit&& emit,
+                             TapeLane tape = {}) {
   ArKalmanResult& result = *result_out;
   ArKalmanSummary& s = result.summary;
   const bool dare_ok = dare.summary.termination == Termination::kSuccess;
@@ -336,6 +420,13 @@ PhaseEnd RunTimeVaryingPhase(const Eigen::Ref<const Eigen::VectorXd>& z, const E
     // reached the cap; the covariance recursion with the order at compile time where it can.
     fixed_order::WithWideFixedOrder(static_cast<int>(p), [&](auto order) {
       constexpr int kP = decltype(order)::value;
+      if constexpr (kP > 0) {
+        if (tape.tape != nullptr) {
+          k = TimeVaryingLoop(ReplayedRecursion<kP>(tape.tape, tape.lane), z, phi, options, dare,
+                              &s, &end, emit);
+          return;
+        }
+      }
       k = TimeVaryingLoop(internal::CovarianceRecursion<kP>(pf, phi, result.q, result.r), z, phi,
                           options, dare, &s, &end, emit);
     });
@@ -440,6 +531,59 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
   return result;
 }
 
+namespace {
+
+// The filters of a bank whose time-varying phase RunTimeVaryingPhase runs from the paper's start
+// with a switch to come (its TimeVaryingLoop branch with may_switch), with a bounded cap and a
+// fixed order: four at a time, their gain sequences computed side by side (GainTape). Returns
+// each filter's lane (none for the others) and keeps the tapes in *owner.
+std::vector<TapeLane> MakeGainTapes(const Eigen::VectorXd& phi,
+                                    const std::vector<ArKalmanOptions>& options,
+                                    const std::vector<ArKalmanResult>& results,
+                                    const std::vector<DareSolution>& dares,
+                                    const std::vector<bool>& prepared, double z_variance,
+                                    long long n, std::vector<std::unique_ptr<GainTape>>* owner) {
+  std::vector<TapeLane> tapes(options.size());
+  const int p = static_cast<int>(phi.size());
+  if (p < 1 || p > fixed_order::kMaxWideFixedOrder || n < 1) return tapes;
+  std::vector<std::size_t> eligible;
+  std::vector<double> p0(options.size(), 0.0);
+  for (std::size_t i = 0; i < options.size(); ++i) {
+    const ArKalmanOptions& o = options[i];
+    p0[i] = o.initial_variance >= 0.0 ? o.initial_variance : z_variance;
+    const bool steady_start = o.initial_covariance == InitialCovariance::kSteadyState;
+    if (prepared[i] && !o.smooth && o.steady_state_switch && o.max_time_varying_steps > 0 &&
+        !steady_start && dares[i].summary.termination == Termination::kSuccess &&
+        !(results[i].q == 0.0 && p0[i] == 0.0))
+      eligible.push_back(i);
+  }
+  for (std::size_t first = 0; first + 1 < eligible.size(); first += 4) {
+    const int active = static_cast<int>(std::min<std::size_t>(4, eligible.size() - first));
+    std::vector<Eigen::MatrixXd> start(active);
+    const Eigen::MatrixXd* starts[4] = {};
+    double q[4] = {}, r[4] = {};
+    long long limit = 0;
+    for (int m = 0; m < active; ++m) {
+      const std::size_t i = eligible[first + m];
+      start[m] = p0[i] * Eigen::MatrixXd::Identity(p, p);  // P(0|0) = var(x0) I (eq. 7)
+      starts[m] = &start[m];
+      q[m] = results[i].q;
+      r[m] = results[i].r;
+      limit = std::max(limit, std::min(n, options[i].max_time_varying_steps + 1));
+    }
+    fixed_order::WithWideFixedOrder(p, [&](auto order) {
+      constexpr int kP = decltype(order)::value;
+      if constexpr (kP > 0) {
+        owner->push_back(std::make_unique<LaneGainTape<kP>>(starts, phi, q, r, active, limit));
+      }
+    });
+    for (int m = 0; m < active; ++m) tapes[eligible[first + m]] = {owner->back().get(), m};
+  }
+  return tapes;
+}
+
+}  // namespace
+
 ArFilterBank::ArFilterBank(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
                            double innovation_variance, double white_noise_variance,
                            const std::vector<ArKalmanOptions>& options,
@@ -452,12 +596,22 @@ ArFilterBank::ArFilterBank(const Eigen::Ref<const Eigen::VectorXd>& z, const Eig
   std::vector<PhaseEnd> ends(options.size());
   std::vector<bool> lane(options.size(), false);
   lanes_start_ = 0;
+  std::vector<ArKalmanResult> results(options.size());
+  std::vector<DareSolution> dares(options.size());
+  std::vector<bool> prepared(options.size(), false);
+  for (std::size_t i = 0; i < options.size(); ++i) {
+    prepared[i] = PrepareFilter(z, phi, innovation_variance, white_noise_variance, options[i],
+                                !z_ok, &results[i], &dares[i], &z_variance);
+  }
+  // The time-varying phases' gain sequences, four filters at a time (kept until they are replayed).
+  std::vector<std::unique_ptr<GainTape>> tape_storage;
+  const std::vector<TapeLane> tapes =
+      MakeGainTapes(phi, options, results, dares, prepared, z_variance, n_, &tape_storage);
   for (std::size_t i = 0; i < options.size(); ++i) {
     Filter& f = filters_[i];
-    ArKalmanResult result;
-    DareSolution dare;
-    if (!PrepareFilter(z, phi, innovation_variance, white_noise_variance, options[i], !z_ok,
-                       &result, &dare, &z_variance)) {
+    ArKalmanResult& result = results[i];
+    const DareSolution& dare = dares[i];
+    if (!prepared[i]) {
       f.summary = std::move(result.summary);
       continue;
     }
@@ -471,10 +625,12 @@ ArFilterBank::ArFilterBank(const Eigen::Ref<const Eigen::VectorXd>& z, const Eig
       }
       continue;
     }
-    ends[i] = RunTimeVaryingPhase(z, phi, options[i], dare, z_variance, &result,
-                                  [&](long long, double estimate, double, const double*, double) {
-                                    f.head.push_back(estimate);
-                                  });
+    ends[i] = RunTimeVaryingPhase(
+        z, phi, options[i], dare, z_variance, &result,
+        [&](long long, double estimate, double, const double*, double) {
+          f.head.push_back(estimate);
+        },
+        tapes[i]);
     f.summary = std::move(result.summary);
     FinishSummary(options[i], dare, ends[i].zero_covariance, &f.summary);
     if (ends[i].k < n_) {
@@ -509,7 +665,7 @@ ArFilterBank::ArFilterBank(const Eigen::Ref<const Eigen::VectorXd>& z, const Eig
 }
 
 void ArFilterBank::AddRange(long long begin, long long end, const std::vector<double*>& sums,
-                            long long sum_stride) {
+                            long long sum_stride, long long sum_origin) {
   std::vector<SteadyStateLane> lanes;
   const long long lanes_begin = std::max(begin, lanes_start_);
   for (std::size_t i = 0; i < filters_.size(); ++i) {
@@ -517,12 +673,12 @@ void ArFilterBank::AddRange(long long begin, long long end, const std::vector<do
     if (!HasResult(f.summary.termination)) continue;
     const long long head_end = std::min<long long>(end, static_cast<long long>(f.head.size()));
     for (long long k = begin; k < head_end; ++k) {
-      sums[i][k * sum_stride] += f.head[k];
+      sums[i][(k - sum_origin) * sum_stride] += f.head[k];
       f.square_sum += (f.head[k] - f.mean) * (f.head[k] - f.mean);
     }
     if (f.lane && lanes_begin < end) {
-      lanes.push_back({&f.gain, f.mean, sums[i] + lanes_begin * sum_stride, f.partial.data(),
-                       &f.square_sum, sum_stride});
+      lanes.push_back({&f.gain, f.mean, sums[i] + (lanes_begin - sum_origin) * sum_stride,
+                       f.partial.data(), &f.square_sum, sum_stride});
     }
   }
   if (!lanes.empty()) AddSteadyStateFilters(z_ + lanes_begin, end - lanes_begin, phi_, lanes);

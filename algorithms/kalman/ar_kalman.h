@@ -205,12 +205,13 @@ class ArFilterBank {
   ArFilterBank(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
                double innovation_variance, double white_noise_variance,
                const std::vector<ArKalmanOptions>& options, const double* z_variance = nullptr);
-  /// Adds output i's sample k, for k in [begin, end), to sums[i][k * sum_stride]. Successive calls
+  /// Adds output i's sample k, for k in [begin, end), to sums[i][(k - sum_origin) * sum_stride]
+  /// (sum_origin <= begin: a caller may keep only the current range of its sums). Successive calls
   /// must cover [0, n) in order (the side-by-side filters carry their state from one range to the
   /// next). A sum whose summary has no result is left untouched. Sums interleaved sample by
   /// sample (sums[i] = base + i, sum_stride = the number of sums) are added four at a time.
   void AddRange(long long begin, long long end, const std::vector<double*>& sums,
-                long long sum_stride = 1);
+                long long sum_stride = 1, long long sum_origin = 0);
   std::vector<ArKalmanSummary> summaries() const;
   /// Output i's mean of (estimate - mean)^2 over the samples added so far, units of z^2 (NaN for a
   /// sum left untouched). A filter on a stationary model fitted to z estimates x with a variance

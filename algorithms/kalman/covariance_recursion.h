@@ -11,6 +11,9 @@
 #pragma once
 
 #include <Eigen/Core>
+#ifdef __FMA__
+#include <immintrin.h>
+#endif
 #include <algorithm>
 #include <cstddef>
 #include <vector>
@@ -80,6 +83,83 @@ class CovarianceRecursion {
   alignas(64) double phi_[P];
   alignas(64) double pf_[P * P];  // P(k|k), column-major, both triangles
   alignas(64) double g_[P];
+};
+
+/// Four doubles, one per recursion (GCC/Clang vector extension: one AVX2 register; element-wise
+/// IEEE arithmetic).
+typedef double CovarianceLanes4 __attribute__((vector_size(4 * sizeof(double))));
+
+/// MulAdd (mul_add.h) of each lane: one fused multiply-add per element where the CPU has them, as
+/// the scalar MulAdd, so each lane rounds exactly as the scalar code does.
+inline CovarianceLanes4 MulAdd(CovarianceLanes4 a, CovarianceLanes4 b, CovarianceLanes4 c) {
+#ifdef __FMA__
+  return CovarianceLanes4(_mm256_fmadd_pd(__m256d(a), __m256d(b), __m256d(c)));
+#else
+  return a * b + c;
+#endif
+}
+
+/// Four CovarianceRecursion<P> of the same AR model (P > 0) with their own P(0|0), q and r, side by
+/// side: the same operations on each lane's operands in the same order, so each lane gives the bits
+/// of its own CovarianceRecursion<P> (tested). The covariance recursion does not depend on the
+/// data, and it is the O(p^2) part of a time-varying filter step, so a bank of filters of one
+/// model (a sweep's q/R settings) can compute four gain sequences for the price of one.
+/// Lanes from `active` on repeat lane 0 (their results are ignored).
+template <int P>
+class CovarianceLanes {
+ public:
+  static_assert(P > 0, "the lanes need the order at compile time");
+  CovarianceLanes(const Eigen::MatrixXd* const filtered0[4], const Eigen::VectorXd& phi,
+                  const double q[4], const double r[4], int active) {
+    for (int i = 0; i < P; ++i) phi_[i] = CovarianceLanes4{} + phi[i];
+    for (int m = 0; m < 4; ++m) {
+      const int from = m < active ? m : 0;
+      q_[m] = q[from];
+      r_[m] = r[from];
+      for (int j = 0; j < P; ++j)
+        for (int i = 0; i < P; ++i) pf_[j * P + i][m] = (*filtered0[from])(i, j);
+    }
+  }
+
+  /// CovarianceRecursion<P>::Step() of each lane; returns each lane's S.
+  CovarianceLanes4 Step() {
+    alignas(64) CovarianceLanes4 c[P];
+    CovarianceLanes4 top = {};
+    for (int j = 0; j < P; ++j) {
+      CovarianceLanes4 v = {};
+      for (int i = 0; i < P; ++i) v = MulAdd(phi_[i], pf_[j * P + i], v);
+      top = MulAdd(v, phi_[j], top);
+      if (j + 1 < P) c[j + 1] = v;
+    }
+    c[0] = top + q_;
+    const CovarianceLanes4 s = c[0] + r_;
+    for (int i = 0; i < P; ++i) g_[i] = c[i] / s;
+    alignas(64) CovarianceLanes4 next[P * P];
+    for (int j = 0; j < P; ++j) {
+      const CovarianceLanes4 cj = c[j];
+      for (int i = j; i < P; ++i) {
+        const CovarianceLanes4 predicted = j == 0 ? c[i] : pf_[(j - 1) * P + (i - 1)];
+        const CovarianceLanes4 t = MulAdd(-g_[i], cj, predicted);
+        next[j * P + i] = MulAdd(s * g_[i], g_[j], MulAdd(-c[i], g_[j], t));
+      }
+    }
+    for (int j = 0; j < P; ++j) {
+      for (int i = j; i < P; ++i) {
+        pf_[j * P + i] = next[j * P + i];
+        pf_[i * P + j] = next[j * P + i];
+      }
+    }
+    return s;
+  }
+
+  /// G(k) of the last Step(): gain()[i][m] is element i of lane m's gain.
+  const CovarianceLanes4* gain() const { return g_; }
+
+ private:
+  CovarianceLanes4 q_, r_;
+  alignas(64) CovarianceLanes4 phi_[P];
+  alignas(64) CovarianceLanes4 pf_[P * P];
+  alignas(64) CovarianceLanes4 g_[P];
 };
 
 template <>

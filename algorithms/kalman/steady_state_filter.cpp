@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <type_traits>
 #include <vector>
 
 #include "algorithms/common/fixed_order.h"
@@ -52,63 +53,94 @@ constexpr int kLanes = 4;
 // arithmetic, so each lane computes exactly what the scalar Kernel computes).
 typedef double Lanes __attribute__((vector_size(kLanes * sizeof(double))));
 
-// Up to four filters side by side, `active` of them real (the others have gain 0 and no output).
-// The state s_j of all four lanes is one vector, so every update of the recursion is one vector
-// operation and the state stays in registers. P > 0: the order at compile time (loops unrolled);
-// P == 0: runtime p.
-// Interleaved (all four lanes active, lane m's sum at lanes[0].sum + m, one stride): the four
-// estimates of a sample are added to their sums with one vector load, add and store instead of
-// four extracted scalars (measured: half of the loop at low orders). Each sum element still gets
-// the same one addition.
-template <int P, bool kInterleaved>
+// Up to 4 G filters side by side in G groups of four, `active` of them real (the others have
+// gain 0 and no output). The state s_j of each group is one vector, so every update of the
+// recursion is one vector operation per group and the state stays in registers; the G groups'
+// dependency chains are independent, so at low orders (where one group's loop is bound by the
+// latency of its chain, not by its arithmetic) they overlap in the same cycles. P > 0: the order
+// at compile time (loops unrolled); P == 0: runtime p.
+// Interleaved (lane m's sum at lanes[0].sum + m, one stride, for every lane of the full groups):
+// the four estimates of a full group are added to their sums with one vector load, add and store
+// instead of four extracted scalars (measured: half of the loop at low orders). A group with fewer
+// than four real lanes adds them one by one. Each sum element still gets the same one addition.
+template <int P, int G, bool kInterleaved>
 void AddLanes(const double* z, long long n, const double* phi, int p_runtime,
               const SteadyStateLane* lanes, int active) {
   const int p = P > 0 ? P : p_runtime;
-  Lanes s[kMaxLaneOrder], beta[kMaxLaneOrder], phi_v[kMaxLaneOrder];
-  Lanes g0 = {}, mean = {};
-  double* out[kLanes] = {};
-  long long stride[kLanes] = {};
-  for (int j = 0; j < p; ++j) {
-    s[j] = Lanes{};
-    beta[j] = Lanes{};
-    phi_v[j] = Lanes{} + phi[j];
+  Lanes s[G][kMaxLaneOrder], beta[G][kMaxLaneOrder], phi_v[kMaxLaneOrder];
+  Lanes g0[G] = {}, mean[G] = {}, square_sum[G] = {};
+  double* out[G * kLanes] = {};
+  long long stride[G * kLanes] = {};
+  for (int j = 0; j < p; ++j) phi_v[j] = Lanes{} + phi[j];
+  for (int g = 0; g < G; ++g) {
+    for (int j = 0; j < p; ++j) {
+      s[g][j] = Lanes{};
+      beta[g][j] = Lanes{};
+    }
   }
-  for (int m = 0; m < active; ++m) {
-    const double* gain = lanes[m].gain->data();
+  for (int l = 0; l < active; ++l) {
+    const int g = l / kLanes, m = l % kLanes;
+    const double* gain = lanes[l].gain->data();
     double b[kMaxLaneOrder];
     Betas(phi, gain, p, b, 1);
-    g0[m] = gain[0];
-    mean[m] = lanes[m].mean;
-    out[m] = lanes[m].sum;
-    stride[m] = lanes[m].sum_stride;
+    g0[g][m] = gain[0];
+    mean[g][m] = lanes[l].mean;
+    out[l] = lanes[l].sum;
+    stride[l] = lanes[l].sum_stride;
     for (int j = 0; j < p; ++j) {
-      beta[j][m] = b[j];
-      s[j][m] = lanes[m].partial[j];
+      beta[g][j][m] = b[j];
+      s[g][j][m] = lanes[l].partial[j];
     }
   }
-  Lanes square_sum = {};
+  const int full_groups = active / kLanes;
   for (long long k = 0; k < n; ++k) {
-    const Lanes pred = s[0];
-    const Lanes e = (z[k] - mean) - pred;
-    const Lanes deviation = pred + g0 * e;
-    const Lanes est = deviation + mean;
-    square_sum += deviation * deviation;
-    for (int j = 0; j + 1 < p; ++j) s[j] = (phi_v[j] * pred + s[j + 1]) + beta[j] * e;
-    s[p - 1] = phi_v[p - 1] * pred + beta[p - 1] * e;
-    if constexpr (kInterleaved) {
-      double* sum = out[0] + k * stride[0];
-      Lanes acc;
-      std::memcpy(&acc, sum, sizeof(acc));
-      acc += est;
-      std::memcpy(sum, &acc, sizeof(acc));
-    } else {
-      for (int m = 0; m < active; ++m) out[m][k * stride[m]] += est[m];
+    const double zk = z[k];
+#pragma GCC unroll 4
+    for (int g = 0; g < G; ++g) {
+      const Lanes pred = s[g][0];
+      const Lanes e = (zk - mean[g]) - pred;
+      const Lanes deviation = pred + g0[g] * e;
+      const Lanes est = deviation + mean[g];
+      square_sum[g] += deviation * deviation;
+      for (int j = 0; j + 1 < p; ++j) s[g][j] = (phi_v[j] * pred + s[g][j + 1]) + beta[g][j] * e;
+      s[g][p - 1] = phi_v[p - 1] * pred + beta[g][p - 1] * e;
+      if (kInterleaved && g < full_groups) {
+        double* sum = out[g * kLanes] + k * stride[g * kLanes];
+        Lanes acc;
+        std::memcpy(&acc, sum, sizeof(acc));
+        acc += est;
+        std::memcpy(sum, &acc, sizeof(acc));
+      } else {
+        for (int m = 0; m < kLanes && g * kLanes + m < active; ++m)
+          out[g * kLanes + m][k * stride[g * kLanes + m]] += est[m];
+      }
     }
   }
-  for (int m = 0; m < active; ++m) {
-    for (int j = 0; j < p; ++j) lanes[m].partial[j] = s[j][m];
-    if (lanes[m].square_sum) *lanes[m].square_sum += square_sum[m];
+  for (int l = 0; l < active; ++l) {
+    const int g = l / kLanes, m = l % kLanes;
+    for (int j = 0; j < p; ++j) lanes[l].partial[j] = s[g][j][m];
+    if (lanes[l].square_sum) *lanes[l].square_sum += square_sum[g][m];
   }
+}
+
+// Groups of four lanes run in one loop with interleaved sums, at most this many: the sweep's ten
+// filters per model (kalman_benchmark, BM_SideBySide/p/1, ns per filter and sample on the 2-core
+// AMD EPYC machine with AVX2: p = 2: 0.82 with one group, 0.58 with two, 0.50 with three; p = 4:
+// 0.83, 0.72, 0.54; p = 8: 1.06, 0.84, 0.93; p = 12: 1.34, 1.29, 1.45). At low orders a group's
+// loop waits on its chain's latency, which the other groups fill; at high orders the arithmetic
+// is the limit and three groups' states no longer fit the registers.
+constexpr int MaxGroups(int p) { return p >= 1 && p <= 6 ? 3 : 2; }
+
+// Calls f(std::integral_constant<int, G>) with G = groups, 1 <= groups <= kMax <= 3.
+template <int kMax, typename F>
+void WithGroupCount(int groups, F&& f) {
+  if constexpr (kMax >= 3) {
+    if (groups == 3) return f(std::integral_constant<int, 3>());
+  }
+  if constexpr (kMax >= 2) {
+    if (groups == 2) return f(std::integral_constant<int, 2>());
+  }
+  return f(std::integral_constant<int, 1>());
 }
 
 }  // namespace
@@ -132,18 +164,34 @@ void AddSteadyStateFilters(const double* z, long long n, const Eigen::VectorXd& 
   }
   fixed_order::WithWideFixedOrder(p, [&](auto order) {
     constexpr int kP = decltype(order)::value;
-    for (std::size_t i = 0; i < lanes.size(); i += kLanes) {
-      const int active = static_cast<int>(std::min<std::size_t>(kLanes, lanes.size() - i));
-      bool interleaved = active == kLanes;
-      for (int m = 1; m < active && interleaved; ++m) {
-        interleaved =
-            lanes[i + m].sum == lanes[i].sum + m && lanes[i + m].sum_stride == lanes[i].sum_stride;
+    constexpr int kMaxGroups = MaxGroups(kP);
+    // Lanes [i, i + count) add to consecutive elements of one sum array.
+    auto interleaved = [&](std::size_t i, int count) {
+      for (int m = 1; m < count; ++m) {
+        if (lanes[i + m].sum != lanes[i].sum + m || lanes[i + m].sum_stride != lanes[i].sum_stride)
+          return false;
       }
-      if (interleaved) {
-        AddLanes<kP, true>(z, n, phi.data(), p, lanes.data() + i, active);
+      return count > 0;
+    };
+    for (std::size_t i = 0; i < lanes.size();) {
+      const int active =
+          static_cast<int>(std::min<std::size_t>(kMaxGroups * kLanes, lanes.size() - i));
+      if (interleaved(i, active / kLanes * kLanes)) {
+        // Several groups per loop pay only with vector adds: the scalar adds of that many lanes
+        // cost more than the overlap saves (measured).
+        WithGroupCount<kMaxGroups>((active + kLanes - 1) / kLanes, [&](auto g) {
+          AddLanes<kP, decltype(g)::value, true>(z, n, phi.data(), p, lanes.data() + i, active);
+        });
+        i += active;
+        continue;
+      }
+      const int group = static_cast<int>(std::min<std::size_t>(kLanes, lanes.size() - i));
+      if (group == kLanes && interleaved(i, kLanes)) {
+        AddLanes<kP, 1, true>(z, n, phi.data(), p, lanes.data() + i, group);
       } else {
-        AddLanes<kP, false>(z, n, phi.data(), p, lanes.data() + i, active);
+        AddLanes<kP, 1, false>(z, n, phi.data(), p, lanes.data() + i, group);
       }
+      i += group;
     }
   });
 }

@@ -61,8 +61,9 @@ struct SteadyStateLane {
 /// same z, each from its own state, each adding its estimates of x(k) to lane.sum[k]. The filters
 /// run four at a time in one pass: the same recursion as SteadyStateFilterFromPartial with the four
 /// lanes side by side (one SIMD register on AVX2), so four independent dependency chains overlap
-/// and the per-filter cost drops well below the latency-bound single loop. Each lane's arithmetic
-/// is the single loop's, in the same order: the estimates are equal to the last bit (tested).
+/// and the per-filter cost drops well below the latency-bound single loop; with interleaved sums,
+/// up to three such groups share one loop (two from order 7). Each lane's arithmetic is the single
+/// loop's, in the same order: the estimates are equal to the last bit (tested).
 void AddSteadyStateFilters(const double* z, long long n, const Eigen::VectorXd& phi,
                            const std::vector<SteadyStateLane>& lanes);
 

@@ -182,13 +182,16 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
     const auto filter_start = std::chrono::steady_clock::now();
     const int begin = blocks[b].first, count = blocks[b].second - blocks[b].first;
     const int order = settings[begin].ar_order;
-    // The settings' method-1 sums interleaved sample by sample (setting j's sample k at
-    // k * count + j): four settings' filters then add their estimates with one vector operation
-    // (kalman::ArFilterBank::AddRange). Each setting's series is taken out for its Allan table.
-    Eigen::VectorXd method1 = Eigen::VectorXd::Zero(n * count);
+    // The settings' method-1 sums are built one range at a time in a buffer interleaved sample by
+    // sample (setting j's sample k at (k - range) * count + j): four settings' filters then add
+    // their estimates with one vector operation (kalman::ArFilterBank::AddRange), and the finished
+    // range, still in cache, is copied out into each setting's series for its Allan table.
+    std::vector<Eigen::VectorXd> series(count);
+    for (Eigen::VectorXd& v : series) v.resize(n);  // (not copies of one: each filled below)
+    std::vector<double> range_sums(static_cast<std::size_t>(kSumRange) * count);
     std::vector<double*> sums(count);
     for (int j = 0; j < count; ++j) {
-      sums[j] = method1.data() + j;
+      sums[j] = range_sums.data() + j;
       out.points[begin + j].setting = settings[begin + j];
       out.points[begin + j].termination = Termination::kSuccess;
     }
@@ -244,15 +247,20 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
     }
     for (Eigen::Index range = 0; range < n; range += kSumRange) {
       const Eigen::Index end = std::min<Eigen::Index>(n, range + kSumRange);
+      std::fill(range_sums.begin(), range_sums.end(), 0.0);
       for (int k = 0; k < num_components; ++k) {
         if (banks[k]) {
-          banks[k]->AddRange(range, end, sums, count);
+          banks[k]->AddRange(range, end, sums, count, range);
           continue;
         }
         const Eigen::VectorXd& signal = *components[k].signal;
         for (Eigen::Index i = range; i < end; ++i) {
-          for (int j = 0; j < count; ++j) method1[i * count + j] += signal[i];
+          for (int j = 0; j < count; ++j) range_sums[(i - range) * count + j] += signal[i];
         }
+      }
+      for (int j = 0; j < count; ++j) {
+        double* to = series[j].data();
+        for (Eigen::Index i = range; i < end; ++i) to[i] = range_sums[(i - range) * count + j];
       }
     }
     // A setting whose filter diverged on some component (component.h, FilterDiverged, as `run`
@@ -278,9 +286,7 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
       const auto setting_start = std::chrono::steady_clock::now();
       SweepPoint& point = out.points[begin + j];
       if (!HasResult(point.termination)) return;
-      const Eigen::VectorXd series = Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<>>(
-          method1.data() + j, n, Eigen::InnerStride<>(count));
-      point.allan.allan = allan::ComputeAllan(series, sample_rate_hz, options.method.allan);
+      point.allan.allan = allan::ComputeAllan(series[j], sample_rate_hz, options.method.allan);
       if (!HasResult(point.allan.allan.summary.termination)) {
         point.termination = point.allan.allan.summary.termination;
         point.message = "Allan variance: " + point.allan.allan.summary.message;
@@ -289,10 +295,11 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
       point.allan.noise = allan::FitNoiseTerms(point.allan.allan.table, options.method.noise_fit);
       point.rms_error = kNaN;
       if (truth != nullptr) {
-        const Eigen::ArrayXd error = (series.array() + out.base.preprocessed.mean_removed) -
+        const Eigen::ArrayXd error = (series[j].array() + out.base.preprocessed.mean_removed) -
                                      truth->segment(dropped, n).array();
         point.rms_error = std::sqrt(error.square().mean());
       }
+      series[j] = Eigen::VectorXd();  // the series is not kept: free it for the other blocks
       point.termination = Termination::kSuccess;
       point.seconds = filter_seconds + SecondsSince(setting_start);
     });

@@ -7,6 +7,7 @@
 // BM_SideBySide the sweep's batch of q/R settings (AddSteadyStateFilters), per filter and sample.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -129,31 +130,44 @@ BENCHMARK(BM_PaperStart)->Arg(1 << 16)->Arg(0)->Unit(benchmark::kMillisecond);
 
 // The sweep's batch: 10 steady-state filters of one AR(p) model (a 3 x 3 q/R grid + the default
 // rule) side by side over the same z, each adding into its own sum; ns per filter and sample.
+// Second argument 1: the sums interleaved sample by sample in ranges of 2048 samples, as the
+// sweep (method/sweep_evaluate.cpp) adds them.
 void BM_SideBySide(benchmark::State& state) {
   const int p = static_cast<int>(state.range(0));
+  const bool interleaved = state.range(1) != 0;
   const Eigen::VectorXd phi = StablePhi(p);
   const Eigen::VectorXd& z = Signal();
   const int filters = 10;
+  constexpr long long kRange = 2048;
   std::vector<fogpipe::kalman::DareSolution> dares;
   for (int i = 0; i < filters; ++i) {
     dares.push_back(fogpipe::kalman::SolveDare(phi, 0.001 * (i + 1), 0.1));
   }
   std::vector<Eigen::VectorXd> sums(filters, Eigen::VectorXd::Zero(kSamples));
+  std::vector<double> range_sums(static_cast<std::size_t>(kRange * filters), 0.0);
   // Each filter's loop state (from X = 0), carried from one iteration to the next.
   std::vector<std::vector<double>> partial(filters, std::vector<double>(p, 0.0));
   std::vector<fogpipe::kalman::SteadyStateLane> lanes;
   for (int i = 0; i < filters; ++i) {
-    lanes.push_back({&dares[i].gain, 0.0, sums[i].data(), partial[i].data()});
+    lanes.push_back({&dares[i].gain, 0.0, interleaved ? range_sums.data() + i : sums[i].data(),
+                     partial[i].data(), nullptr, interleaved ? filters : 1});
   }
   for (auto _ : state) {
-    fogpipe::kalman::AddSteadyStateFilters(z.data(), kSamples, phi, lanes);
+    if (!interleaved) {
+      fogpipe::kalman::AddSteadyStateFilters(z.data(), kSamples, phi, lanes);
+    } else {
+      for (long long k = 0; k < kSamples; k += kRange) {
+        fogpipe::kalman::AddSteadyStateFilters(z.data() + k, std::min(kRange, kSamples - k), phi,
+                                               lanes);
+      }
+    }
     benchmark::ClobberMemory();
   }
   state.counters["ns_per_filter_sample"] =
       benchmark::Counter(static_cast<double>(kSamples) * filters * state.iterations() * 1e-9,
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_SideBySide)->Arg(2)->Arg(4)->Arg(8)->Arg(12)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SideBySide)->ArgsProduct({{2, 4, 8, 12}, {0, 1}})->Unit(benchmark::kMillisecond);
 
 void BM_SteadyStateSmoother(benchmark::State& state) {
   const int p = static_cast<int>(state.range(0));

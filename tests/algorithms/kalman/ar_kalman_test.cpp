@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -672,8 +673,9 @@ TEST(ArFilterBank, ReportsEachEstimatesMeanSquareAndTakesAGivenVariance) {
 
 // Sums interleaved sample by sample (as the sweep keeps them: setting i's sample k at k * count +
 // i), which the bank adds four lanes at a time with vector operations, receive exactly what
-// separate sums receive: 9 option sets (two interleaved groups of four and one left over, plus a
-// smoother computed whole) on imf3 padded to order 11, in uneven ranges.
+// separate sums receive, also when only the current range is kept: 9 option sets (two interleaved
+// groups of four and one left over, plus a smoother computed whole) on imf3 padded to order 11, in
+// uneven ranges.
 TEST(ArFilterBank, InterleavedSumsGetTheSameBitsAsSeparateOnes) {
   const auto paper = PaperTable2Models();
   Eigen::VectorXd phi = Eigen::VectorXd::Zero(11);
@@ -696,15 +698,33 @@ TEST(ArFilterBank, InterleavedSumsGetTheSameBitsAsSeparateOnes) {
     separate_pointers.push_back(separate[i].data());
     interleaved_pointers.push_back(interleaved.data() + i);
   }
-  ArFilterBank a(sim.z, phi, -1, -1, options), b(sim.z, phi, -1, -1, options);
-  for (long long begin = 0; begin < n; begin += 1234) {
-    a.AddRange(begin, std::min(n, begin + 1234), separate_pointers);
-    b.AddRange(begin, std::min(n, begin + 1234), interleaved_pointers, count);
+  // A third bank adds into a buffer holding only the current range (sum_origin = the range's
+  // start), copied out after each range, as the sweep keeps its sums.
+  constexpr long long kRange = 1234;
+  std::vector<double> range_buffer(static_cast<std::size_t>(kRange * count));
+  std::vector<double*> range_pointers;
+  for (long long i = 0; i < count; ++i) range_pointers.push_back(range_buffer.data() + i);
+  Eigen::VectorXd from_ranges = Eigen::VectorXd::Constant(n * count, 0.5);
+  ArFilterBank a(sim.z, phi, -1, -1, options), b(sim.z, phi, -1, -1, options),
+      c(sim.z, phi, -1, -1, options);
+  for (long long begin = 0; begin < n; begin += kRange) {
+    const long long end = std::min(n, begin + kRange);
+    a.AddRange(begin, end, separate_pointers);
+    b.AddRange(begin, end, interleaved_pointers, count);
+    std::copy(from_ranges.data() + begin * count, from_ranges.data() + end * count,
+              range_buffer.begin());
+    c.AddRange(begin, end, range_pointers, count, begin);
+    std::copy(range_buffer.begin(), range_buffer.begin() + (end - begin) * count,
+              from_ranges.data() + begin * count);
   }
   for (long long i = 0; i < count; ++i) {
     const Eigen::VectorXd taken = Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<>>(
         interleaved.data() + i, n, Eigen::InnerStride<>(count));
+    const Eigen::VectorXd taken_from_ranges =
+        Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<>>(from_ranges.data() + i, n,
+                                                                   Eigen::InnerStride<>(count));
     EXPECT_EQ((taken - separate[i]).cwiseAbs().maxCoeff(), 0.0) << "option set " << i;
+    EXPECT_EQ((taken_from_ranges - separate[i]).cwiseAbs().maxCoeff(), 0.0) << "option set " << i;
   }
 }
 

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <vector>
 
 #include "algorithms/common/fixed_order.h"
 #include "algorithms/kalman/companion.h"
@@ -47,6 +50,53 @@ TEST(CovarianceRecursion, GivesTheSameBitsAsPredictCovarianceThenJosephUpdateFor
     for (const Eigen::VectorXd* phi : {&stable, &slow}) {
       ExpectSameBitsAsTheGenericSteps(p, *phi, diffuse, 0.013, 0.21);
       ExpectSameBitsAsTheGenericSteps(p, *phi, random_start, 1e-7, 2.5);
+    }
+  }
+}
+
+// Four recursions side by side (a bank's time-varying phases, ar_kalman.cpp) must give each lane
+// the bits of its own scalar recursion: the replayed gains then filter exactly as FilterAr does.
+// Every fixed order, lanes with different starts, q and r, and fewer than four active lanes.
+TEST(CovarianceLanes, EachLaneGivesTheBitsOfItsOwnScalarRecursion) {
+  for (int p = 1; p <= fixed_order::kMaxWideFixedOrder; ++p) {
+    Eigen::VectorXd phi(p);
+    for (int i = 0; i < p; ++i) phi[i] = 0.5 * std::pow(-0.6, i);
+    if (p % 2 == 0) phi.setConstant(0.9999 / p);  // the slow IMFs' near-unit-root kind
+    std::srand(29u + p);
+    Eigen::MatrixXd starts[4];
+    const Eigen::MatrixXd* start_pointers[4];
+    for (int m = 0; m < 4; ++m) {
+      const Eigen::MatrixXd a = Eigen::MatrixXd::Random(p, p);
+      starts[m] = m == 0
+                      ? Eigen::MatrixXd(3.7 * Eigen::MatrixXd::Identity(p, p))
+                      : Eigen::MatrixXd(a * a.transpose() + 0.1 * Eigen::MatrixXd::Identity(p, p));
+      start_pointers[m] = &starts[m];
+    }
+    const double q[4] = {0.013, 1e-7, 2.0, 1e-3};
+    const double r[4] = {0.21, 2.5, 0.01, 1e3};
+    for (int active = 1; active <= 4; ++active) {
+      fixed_order::WithWideFixedOrder(p, [&](auto order) {
+        constexpr int kP = decltype(order)::value;
+        if constexpr (kP > 0) {
+          CovarianceLanes<kP> lanes(start_pointers, phi, q, r, active);
+          std::vector<CovarianceRecursion<kP>> scalar;
+          for (int m = 0; m < active; ++m) scalar.emplace_back(starts[m], phi, q[m], r[m]);
+          for (int k = 0; k < 300; ++k) {
+            const CovarianceLanes4 s_lanes = lanes.Step();
+            for (int m = 0; m < active; ++m) {
+              const double s_scalar = scalar[m].Step();
+              const double s_lane = s_lanes[m];
+              ASSERT_EQ(std::memcmp(&s_lane, &s_scalar, sizeof(double)), 0)
+                  << "p " << p << " lane " << m << " step " << k;
+              for (int i = 0; i < p; ++i) {
+                const double g_lane = lanes.gain()[i][m];
+                ASSERT_EQ(std::memcmp(&g_lane, scalar[m].gain() + i, sizeof(double)), 0)
+                    << "p " << p << " lane " << m << " step " << k << " element " << i;
+              }
+            }
+          }
+        }
+      });
     }
   }
 }

@@ -105,5 +105,52 @@ TEST(AddSteadyStateFilters, EachLaneEqualsTheSingleLoopFromItsOwnStateToTheLastB
   }
 }
 
+// Sums interleaved sample by sample (lane i's sample k at k * filters + i, as the sweep keeps
+// them) let several groups of four lanes share one loop (two or three by order, measured in
+// kalman_benchmark): every lane still equals the single loop to the last bit, with full and partial
+// groups (4..13 filters), at the fixed orders and the runtime-order kernel, in two pieces.
+TEST(AddSteadyStateFilters, InterleavedLanesInSeveralGroupsEqualTheSingleLoopToTheLastBit) {
+  for (int p : {1, 2, 3, 5, 6, 7, 8, 11, 12, 13}) {
+    Eigen::VectorXd phi(p);
+    for (int i = 0; i < p; ++i) phi[i] = (i % 2 ? -1.0 : 1.0) * std::pow(0.5, i + 1);
+    phi *= 0.9 / phi.cwiseAbs().sum();
+    const testing::ArSimulation sim = testing::SimulateArPlusNoise(phi, 0.5, 1.0, 3000, 90 + p);
+    const long long n = sim.z.size();
+    for (int filters : {4, 5, 8, 9, 10, 12, 13}) {
+      std::vector<DareSolution> dares;
+      std::vector<std::vector<double>> partial(filters), reference_partial(filters);
+      Eigen::VectorXd sums = Eigen::VectorXd::Constant(n * filters, 0.25);
+      std::vector<Eigen::VectorXd> reference(filters, Eigen::VectorXd::Zero(n));
+      for (int i = 0; i < filters; ++i) dares.push_back(SolveDare(phi, 0.05 * (i + 1), 1.0));
+      for (int i = 0; i < filters; ++i) {
+        const Eigen::VectorXd x0 = Eigen::VectorXd::LinSpaced(p, 1.0 - i, 2.0);
+        partial[i].resize(p);
+        PartialPredictions(phi, x0, partial[i].data());
+        reference_partial[i] = partial[i];
+        SteadyStateFilterFromPartial(sim.z.data(), n, 0.1 * i, phi, dares[i].gain,
+                                     reference_partial[i].data(), reference[i].data(), nullptr);
+      }
+      for (long long begin : {0LL, 1234LL}) {
+        const long long end = begin == 0 ? 1234 : n;
+        std::vector<SteadyStateLane> lanes;
+        for (int i = 0; i < filters; ++i) {
+          lanes.push_back({&dares[i].gain, 0.1 * i, sums.data() + begin * filters + i,
+                           partial[i].data(), nullptr, filters});
+        }
+        AddSteadyStateFilters(sim.z.data() + begin, end - begin, phi, lanes);
+      }
+      for (int i = 0; i < filters; ++i) {
+        // Each sum started at 0.25 and received one addition per sample.
+        const Eigen::VectorXd expected = Eigen::VectorXd::Constant(n, 0.25) + reference[i];
+        const Eigen::VectorXd got = Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<>>(
+            sums.data() + i, n, Eigen::InnerStride<>(filters));
+        EXPECT_EQ((got - expected).cwiseAbs().maxCoeff(), 0.0)
+            << "p = " << p << ", filter " << i << " of " << filters;
+        EXPECT_EQ(partial[i], reference_partial[i]) << "p = " << p << ", filter " << i;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace fogpipe::kalman
