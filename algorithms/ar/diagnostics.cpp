@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -21,9 +22,71 @@ double CenteredEnergy(const Eigen::Ref<const Eigen::VectorXd>& y) {
   return (y.array() - m).square().sum();
 }
 
+// Sum of squares in four interleaved parts (element i of the whole series to part i % 4), so the
+// order of the additions depends neither on the data's address (as Eigen's reductions do, which
+// peel an unaligned head) nor on how the series is handed over, in pieces whose lengths are
+// multiples of four: the blockwise one-step error energy and the whole residual vector's agree to
+// the last bit.
+class SquareSum {
+ public:
+  void Add(const double* v, Eigen::Index len) {
+    Eigen::Index i = 0;
+    for (; i + 4 <= len; i += 4) {
+      for (int k = 0; k < 4; ++k) part_[k] += v[i + k] * v[i + k];
+    }
+    for (; i < len; ++i) tail_ += v[i] * v[i];
+  }
+  double Value() const { return ((part_[0] + part_[1]) + (part_[2] + part_[3])) + tail_; }
+
+ private:
+  double part_[4] = {0.0, 0.0, 0.0, 0.0};
+  double tail_ = 0.0;
+};
+
 double FitPercent(double error_energy, double centered_energy) {
   if (!std::isfinite(error_energy)) return -std::numeric_limits<double>::infinity();
   return 100.0 * (1.0 - std::sqrt(error_energy / centered_energy));
+}
+
+// The residuals of samples [t0, t0 + len) into out: e_t = (x_t - mean) - sum_i phi_i (x_{t-i} -
+// mean), the terms subtracted in order i = 1..p. Four samples at a time with the p taps in the
+// inner loop (order P at compile time where it can), so each output is written once instead of
+// once per tap; element-wise arithmetic without contraction (this file is compiled with
+// -ffp-contract=off), so every e_t has the same bits whatever its position in a vector.
+template <int P>
+void ResidualBlock(const double* x, const double* phi_in, int p_runtime, double mean,
+                   Eigen::Index t0, Eigen::Index len, double* out) {
+  typedef double Lanes4 __attribute__((vector_size(4 * sizeof(double))));
+  const int p = P > 0 ? P : p_runtime;
+  fixed_order::Buffer<P> phi_buffer(p);
+  double* phi = phi_buffer.get();
+  for (int i = 0; i < p; ++i) phi[i] = phi_in[i];
+  Eigen::Index k = 0;
+  for (; k + 4 <= len; k += 4) {
+    const double* xt = x + t0 + k;
+    Lanes4 v, acc;
+    std::memcpy(&v, xt, sizeof(v));
+    acc = v - mean;
+    for (int i = 1; i <= p; ++i) {
+      std::memcpy(&v, xt - i, sizeof(v));
+      acc -= phi[i - 1] * (v - mean);
+    }
+    std::memcpy(out + k, &acc, sizeof(acc));
+  }
+  for (; k < len; ++k) {
+    const double* xt = x + t0 + k;
+    double acc = xt[0] - mean;
+    for (int i = 1; i <= p; ++i) acc -= phi[i - 1] * (xt[-i] - mean);
+    out[k] = acc;
+  }
+}
+
+void OneStepResidualBlock(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model,
+                          Eigen::Index t0, Eigen::Index len, double* out) {
+  fixed_order::WithWideFixedOrder(model.order, [&](auto order) {
+    constexpr int kP = decltype(order)::value;
+    ResidualBlock<kP>(x.data(), model.phi.data(), model.order, model.mean, t0, len, out);
+  });
 }
 
 }  // namespace
@@ -33,13 +96,8 @@ Eigen::VectorXd OneStepResiduals(const Eigen::Ref<const Eigen::VectorXd>& x, con
   const int p = model.order;
   Eigen::VectorXd e(std::max<Eigen::Index>(n - p, 0));
   // Block-wise axpys so each block of x is reused p times from cache.
-  for (Eigen::Index t0 = p; t0 < n; t0 += kBlock) {
-    const Eigen::Index len = std::min(kBlock, n - t0);
-    auto out = e.segment(t0 - p, len);
-    out = x.segment(t0, len).array() - model.mean;
-    for (int i = 1; i <= p; ++i)
-      out.array() -= model.phi(i - 1) * (x.segment(t0 - i, len).array() - model.mean);
-  }
+  for (Eigen::Index t0 = p; t0 < n; t0 += kBlock)
+    OneStepResidualBlock(x, model, t0, std::min(kBlock, n - t0), e.data() + (t0 - p));
   return e;
 }
 
@@ -164,7 +222,9 @@ std::vector<double> SimulationFitPercents(const std::vector<SimulationFitJob>& j
     }
     for (std::size_t m = 0; m < group.size(); ++m) {
       const Eigen::Map<const Eigen::VectorXd> x(lanes[m].x, n);
-      fit[group[m]] = FitPercent(lane_energy[m], CenteredEnergy(x.tail(n - p)));
+      fit[group[m]] =
+          FitPercent(lane_energy[m], lanes[m].centered_energy >= 0.0 ? lanes[m].centered_energy
+                                                                     : CenteredTailEnergy(x, p));
     }
   }
   return fit;
@@ -204,17 +264,33 @@ LjungBoxTest LjungBox(const Eigen::Ref<const Eigen::VectorXd>& residuals, int la
                                     lag, num_params);
 }
 
-double OneStepFitPercent(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model) {
-  return FitPercent(OneStepResiduals(x, model).squaredNorm(),
-                    CenteredEnergy(x.tail(x.size() - model.order)));
+double CenteredTailEnergy(const Eigen::Ref<const Eigen::VectorXd>& x, int p) {
+  return CenteredEnergy(x.tail(x.size() - p));
+}
+
+double OneStepFitPercent(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model,
+                         double centered_energy) {
+  // The error energy block by block, without the residual vector (kBlock is a multiple of 4).
+  const Eigen::Index n = x.size();
+  std::vector<double> block(static_cast<std::size_t>(std::min(kBlock, n)));
+  SquareSum error_energy;
+  for (Eigen::Index t0 = model.order; t0 < n; t0 += kBlock) {
+    const Eigen::Index len = std::min(kBlock, n - t0);
+    OneStepResidualBlock(x, model, t0, len, block.data());
+    error_energy.Add(block.data(), len);
+  }
+  return FitPercent(error_energy.Value(),
+                    centered_energy >= 0.0 ? centered_energy : CenteredTailEnergy(x, model.order));
 }
 
 ArDiagnostics ComputeDiagnostics(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model) {
   ArDiagnostics d;
   const int p = model.order;
   Eigen::VectorXd e = OneStepResiduals(x, model);
-  const double error_energy = e.squaredNorm();
-  d.fit_one_step_percent = FitPercent(error_energy, CenteredEnergy(x.tail(x.size() - p)));
+  SquareSum sum;
+  sum.Add(e.data(), e.size());
+  const double error_energy = sum.Value();
+  d.fit_one_step_percent = FitPercent(error_energy, CenteredTailEnergy(x, p));
   d.fit_simulation_percent = SimulationFitPercent(x, model);
   d.residual_variance = error_energy / static_cast<double>(e.size());
   // Both Ljung-Box lags from one pass of lagged products over the residuals, centred in place.

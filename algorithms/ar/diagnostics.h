@@ -54,6 +54,8 @@ struct SimulationFitJob {
   const double* x = nullptr;
   Eigen::Index n = 0;
   const ArModel* model = nullptr;
+  /// CenteredTailEnergy of x at the model's order if the caller has it, else negative.
+  double centered_energy = -1.0;
 };
 
 /// The free-run fit percentage of every job; each job's value does not depend on the others
@@ -67,8 +69,15 @@ double LjungBoxPValue(double statistic, double dof);
 /// Ljung-Box test of `residuals` at lag `lag` for a model with `num_params` fitted coefficients.
 LjungBoxTest LjungBox(const Eigen::Ref<const Eigen::VectorXd>& residuals, int lag, int num_params);
 
-/// One-step fit percentage alone (no Ljung-Box), equal to ComputeDiagnostics' to the last bit.
-double OneStepFitPercent(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model);
+/// ||x_t - m||^2 over t = p..N-1, m the mean of those samples: the denominator of both fit
+/// percentages of an AR(p) model.
+double CenteredTailEnergy(const Eigen::Ref<const Eigen::VectorXd>& x, int p);
+
+/// One-step fit percentage alone (no Ljung-Box, no residual vector), equal to ComputeDiagnostics'
+/// to the last bit. centered_energy: CenteredTailEnergy(x, model.order) if the caller has it (a
+/// sweep scores both fits of each order), else negative.
+double OneStepFitPercent(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model,
+                         double centered_energy = -1.0);
 
 /// All of the above. Requires x.size() > model.order + 20.
 ArDiagnostics ComputeDiagnostics(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model);

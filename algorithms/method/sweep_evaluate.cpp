@@ -45,7 +45,8 @@ struct ComponentModels {
   bool filter_variance_ok = false;  ///< (kalman::FilterInputVariance)
   std::vector<ar::ArModel> models;  ///< models[p - 1]; fewer when the recursion stopped early
   std::vector<double> fit_one_step, fit_simulation;  ///< per order, % (NaN: no setting uses it)
-  std::vector<bool> used;  ///< per order: some setting uses it (fits computed)
+  std::vector<double> centered_energy;  ///< per used order: ar::CenteredTailEnergy, x^2
+  std::vector<bool> used;               ///< per order: some setting uses it (fits computed)
 };
 
 /// The model used for order p: p itself, or the highest order the recursion reached when the
@@ -121,11 +122,14 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
     m.fit_one_step.assign(reached, kNaN);
     m.fit_simulation.assign(reached, kNaN);
     m.used.assign(reached, false);
+    m.centered_energy.assign(reached, -1.0);
     for (int order : options.grid.ar_orders) {
       const int used = std::min(order, reached);
       if (used < 1 || m.used[used - 1]) continue;
       m.used[used - 1] = true;
-      m.fit_one_step[used - 1] = ar::OneStepFitPercent(c, m.models[used - 1]);
+      m.centered_energy[used - 1] = ar::CenteredTailEnergy(c, used);
+      m.fit_one_step[used - 1] =
+          ar::OneStepFitPercent(c, m.models[used - 1], m.centered_energy[used - 1]);
     }
   });
   // The simulation fits of each used order over all components at once: their free runs are
@@ -145,7 +149,8 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
     for (int k = 0; k < num_components; ++k) {
       ComponentModels& m = components[k];
       if (static_cast<int>(m.used.size()) < p || !m.used[p - 1]) continue;
-      jobs.push_back({m.signal->data(), m.signal->size(), &m.models[p - 1]});
+      jobs.push_back(
+          {m.signal->data(), m.signal->size(), &m.models[p - 1], m.centered_energy[p - 1]});
       job_component.push_back(k);
     }
     const std::vector<double> fit = ar::SimulationFitPercents(jobs);

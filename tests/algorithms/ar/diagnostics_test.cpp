@@ -84,16 +84,27 @@ TEST(Diagnostics, FitPercentsAloneEqualTheFullDiagnosticsToTheLastBit) {
       series_of.push_back(s);
     }
   }
-  std::vector<SimulationFitJob> jobs;
-  for (std::size_t k = 0; k < models.size(); ++k)
-    jobs.push_back({series[series_of[k]].data(), series[series_of[k]].size(), &models[k]});
+  // Once computing the centred energy themselves, once given it (as the sweep shares it between
+  // the two fits of an order).
+  std::vector<SimulationFitJob> jobs, jobs_given;
+  for (std::size_t k = 0; k < models.size(); ++k) {
+    const Eigen::VectorXd& x = series[series_of[k]];
+    jobs.push_back({x.data(), x.size(), &models[k]});
+    jobs_given.push_back({x.data(), x.size(), &models[k], CenteredTailEnergy(x, models[k].order)});
+  }
   const std::vector<double> simulation = SimulationFitPercents(jobs);
+  const std::vector<double> simulation_given = SimulationFitPercents(jobs_given);
   ASSERT_EQ(simulation.size(), models.size());
+  ASSERT_EQ(simulation_given.size(), models.size());
   for (std::size_t k = 0; k < models.size(); ++k) {
     const Eigen::VectorXd& x = series[series_of[k]];
     const ArDiagnostics d = ComputeDiagnostics(x, models[k]);
     EXPECT_EQ(OneStepFitPercent(x, models[k]), d.fit_one_step_percent) << "model " << k;
+    EXPECT_EQ(OneStepFitPercent(x, models[k], CenteredTailEnergy(x, models[k].order)),
+              d.fit_one_step_percent)
+        << "model " << k;
     EXPECT_EQ(simulation[k], d.fit_simulation_percent) << "model " << k;
+    EXPECT_EQ(simulation_given[k], d.fit_simulation_percent) << "model " << k;
   }
 }
 
