@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "algorithms/common/units.h"
@@ -33,36 +35,71 @@ struct Lag1Sums {
 constexpr int kMaxDifferences = 3;
 constexpr long long kChunk = 4096;
 
+typedef double Lanes4 __attribute__((vector_size(4 * sizeof(double))));
+
+inline Lanes4 Load(const double* p) {
+  Lanes4 v;
+  std::memcpy(&v, p, sizeof(v));
+  return v;
+}
+
+// One level of a chunk in one pass: w[0, len) holds the level's series (the first `skip` values
+// already counted in the previous chunk, w[skip - 1] their last), adds the new values and lag-1
+// pairs to s, and writes the next level's series, next[t] = w[t + 1] - w[t], t < len - 1.
+void AddLevel(const double* w, long long len, long long skip, Lag1Sums* s, double* next) {
+  if (len <= skip) return;
+  if (s->count == 0) s->first = w[skip];
+  // Pairs (t - 1, t) whose second element is new.
+  const long long pair_begin = std::max<long long>(skip, 1);
+  double sum = 0.0, sum_sq = 0.0, sum_lag = 0.0;
+  long long t = 0;
+  for (; t < std::min(pair_begin, len); ++t) {  // the head: no pair (or an old one) ending at t
+    if (t >= skip) sum += w[t], sum_sq += w[t] * w[t];
+    if (t + 1 < len) next[t] = w[t + 1] - w[t];
+  }
+  // The bulk, four values at a time: every value is new and ends a pair, and has a successor.
+  Lanes4 vsum = {}, vsq = {}, vlag = {};
+  for (; t + 4 < len; t += 4) {
+    const Lanes4 v = Load(w + t), before = Load(w + t - 1), after = Load(w + t + 1);
+    vsum += v;
+    vsq += v * v;
+    vlag += before * v;
+    const Lanes4 d = after - v;
+    std::memcpy(next + t, &d, sizeof(d));
+  }
+  for (; t < len; ++t) {
+    sum += w[t], sum_sq += w[t] * w[t], sum_lag += w[t - 1] * w[t];
+    if (t + 1 < len) next[t] = w[t + 1] - w[t];
+  }
+  s->sum += ((vsum[0] + vsum[1]) + (vsum[2] + vsum[3])) + sum;
+  s->sum_sq += ((vsq[0] + vsq[1]) + (vsq[2] + vsq[3])) + sum_sq;
+  s->sum_lag += ((vlag[0] + vlag[1]) + (vlag[2] + vlag[3])) + sum_lag;
+  s->last = w[len - 1];
+  s->count += len - skip;
+}
+
 // One pass over z_k = x[(k+1)m] - x[km] (m times the k-th average), k < averages, in chunks that
-// carry dmax + 1 values of history; in each chunk the difference series 0..dmax are formed in
-// place and their new elements (and new lag-1 pairs) are added by vectorized reductions.
+// carry dmax + 1 values of history; in each chunk every difference level 0..dmax adds its new
+// values and lag-1 pairs and forms the next level in one pass (two buffers, alternately).
 NoiseId Lag1Method(const Eigen::VectorXd& x, long long m, long long averages, int dmax) {
   Lag1Sums sums[kMaxDifferences + 1];
-  std::vector<double> buffer(static_cast<size_t>(kChunk + kMaxDifferences + 1));
+  std::vector<double> buffer(static_cast<size_t>(kChunk + kMaxDifferences + 1)),
+      other(buffer.size());
   const double* p = x.data();
   for (long long c0 = 0; c0 < averages; c0 += kChunk) {
     const long long c1 = std::min(c0 + kChunk, averages);
     const long long h = std::min<long long>(dmax + 1, c0);  // history before c0
     const long long len = c1 - c0 + h;
-    // buffer[t] = z_{c0 - h + t}; after j differencing steps it holds w^(j)_{c0 - h + t}.
+    // buffer[t] = z_{c0 - h + t}; at level j the current buffer holds w^(j)_{c0 - h + t}.
     for (long long t = 0; t < len; ++t) buffer[t] = p[(c0 - h + t + 1) * m] - p[(c0 - h + t) * m];
+    double* w = buffer.data();
+    double* next = other.data();
     for (int j = 0; j <= dmax; ++j) {
       const long long t_end = h - j + (c1 - c0);  // = buffer length at level j
       const long long t_begin = std::max<long long>(h - j, 0);
       if (t_end <= t_begin) break;
-      const Eigen::Map<const Eigen::VectorXd> w(buffer.data(), t_end);
-      Lag1Sums& s = sums[j];
-      if (s.count == 0) s.first = w[t_begin];
-      s.sum += w.segment(t_begin, t_end - t_begin).sum();
-      s.sum_sq += w.segment(t_begin, t_end - t_begin).squaredNorm();
-      // Pairs (i, i + 1) whose second element is new.
-      const long long pair_begin = std::max<long long>(t_begin, 1);
-      if (t_end > pair_begin)
-        s.sum_lag += w.segment(pair_begin - 1, t_end - pair_begin)
-                         .dot(w.segment(pair_begin, t_end - pair_begin));
-      s.last = w[t_end - 1];
-      s.count += t_end - t_begin;
-      for (long long t = 0; t + 1 < t_end; ++t) buffer[t] = buffer[t + 1] - buffer[t];
+      AddLevel(w, t_end, t_begin, &sums[j], next);
+      std::swap(w, next);
     }
   }
   NoiseId id;

@@ -263,9 +263,9 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
           for (int j = 0; j < count; ++j) range_sums[(i - range) * count + j] += signal[i];
         }
       }
-      for (int j = 0; j < count; ++j) {
-        double* to = series[j].data();
-        for (Eigen::Index i = range; i < end; ++i) to[i] = range_sums[(i - range) * count + j];
+      for (Eigen::Index i = range; i < end; ++i) {
+        const double* from = range_sums.data() + (i - range) * count;
+        for (int j = 0; j < count; ++j) series[j][i] = from[j];
       }
     }
     // A setting whose filter diverged on some component (component.h, FilterDiverged, as `run`
@@ -300,9 +300,10 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
       point.allan.noise = allan::FitNoiseTerms(point.allan.allan.table, options.method.noise_fit);
       point.rms_error = kNaN;
       if (truth != nullptr) {
-        const Eigen::ArrayXd error = (series[j].array() + out.base.preprocessed.mean_removed) -
-                                     truth->segment(dropped, n).array();
-        point.rms_error = std::sqrt(error.square().mean());
+        point.rms_error = std::sqrt(((series[j].array() + out.base.preprocessed.mean_removed) -
+                                     truth->segment(dropped, n).array())
+                                        .square()
+                                        .mean());
       }
       series[j] = Eigen::VectorXd();  // the series is not kept: free it for the other blocks
       point.termination = Termination::kSuccess;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <vector>
 
 #include "algorithms/allan/phase.h"
 #include "tests/algorithms/allan/simulated_gyro.h"
@@ -41,6 +42,48 @@ TEST(IdentifyNoise, RecognizesPowerLawTypesOfSimulatedNoiseByLag1Autocorrelation
       EXPECT_EQ(id.method, NoiseIdMethod::kLag1Autocorrelation);
       EXPECT_EQ(id.alpha, c.alpha)
           << "truth alpha " << c.alpha << " m=" << m << " estimate " << id.alpha_estimate;
+    }
+  }
+}
+
+// The lag-1 statistic is computed in one chunked pass (4096 averages per chunk, every difference
+// level formed on the fly, vector sums); here it is recomputed the plain way from Riley & Greenhall
+// (2004), eq. 2: form the m-averages, difference them d times, r1 = sum (w_k - mu)(w_{k+1} - mu) /
+// sum (w_k - mu)^2 in long double, and rho = r1 / (1 + r1). Record lengths around the chunk
+// boundaries and with few averages, white FM and random-walk FM (which stop at d = 0 and d = 1..2).
+TEST(IdentifyNoise, Lag1EstimateEqualsThePlainTwoPassComputation) {
+  for (int kind = 0; kind < 2; ++kind) {
+    testing::GyroTruth truth;
+    (kind == 0 ? truth.n_rad_sqrt_s : truth.k_rad_s_sqrt_s) = 1.0;
+    for (long long n : {4096LL + 3, 8192LL, 8192LL + 7, 20000LL}) {
+      const Eigen::VectorXd phase = MeanRemovedPhase(testing::SimulateGyro(truth, n, 1.0, 11));
+      for (long long m : {1LL, 2LL, 3LL, 17LL, 100LL}) {
+        const long long averages = n / m;
+        if (averages < 30) continue;
+        const NoiseId id = IdentifyNoise(phase, m, 2);
+        ASSERT_EQ(id.method, NoiseIdMethod::kLag1Autocorrelation);
+        std::vector<long double> w(static_cast<std::size_t>(averages));
+        for (long long k = 0; k < averages; ++k)
+          w[k] = static_cast<long double>(phase[(k + 1) * m]) - phase[k * m];
+        long double expected = 0.0L;
+        for (int d = 0; d <= 2; ++d) {
+          long double mu = 0.0L;
+          for (long double v : w) mu += v;
+          mu /= static_cast<long double>(w.size());
+          long double num = 0.0L, den = 0.0L;
+          for (std::size_t k = 0; k < w.size(); ++k) {
+            den += (w[k] - mu) * (w[k] - mu);
+            if (k + 1 < w.size()) num += (w[k] - mu) * (w[k + 1] - mu);
+          }
+          const long double r1 = num / den, rho = r1 / (1.0L + r1);
+          expected = -2.0L * (rho + d);
+          if (rho < 0.25L || d == 2) break;
+          for (std::size_t k = 0; k + 1 < w.size(); ++k) w[k] = w[k + 1] - w[k];
+          w.pop_back();
+        }
+        EXPECT_NEAR(id.alpha_estimate, static_cast<double>(expected), 1e-9)
+            << "kind " << kind << " n " << n << " m " << m;
+      }
     }
   }
 }
