@@ -57,23 +57,31 @@ void AddLevel(const double* w, long long len, long long skip, Lag1Sums* s, doubl
     if (t >= skip) sum += w[t], sum_sq += w[t] * w[t];
     if (t + 1 < len) next[t] = w[t + 1] - w[t];
   }
-  // The bulk, four values at a time: every value is new and ends a pair, and has a successor.
-  Lanes4 vsum = {}, vsq = {}, vlag = {};
-  for (; t + 4 < len; t += 4) {
-    const Lanes4 v = Load(w + t), before = Load(w + t - 1), after = Load(w + t + 1);
-    vsum += v;
-    vsq += v * v;
-    vlag += before * v;
-    const Lanes4 d = after - v;
-    std::memcpy(next + t, &d, sizeof(d));
+  // The bulk, eight values at a time in two sets of vector sums (one set would wait on its own
+  // additions' latency): every value is new and ends a pair, and has a successor.
+  Lanes4 vsum[2] = {}, vsq[2] = {}, vlag[2] = {};
+  for (; t + 8 < len; t += 8) {
+    for (int u = 0; u < 2; ++u) {
+      const double* wt = w + t + 4 * u;
+      const Lanes4 v = Load(wt), before = Load(wt - 1), after = Load(wt + 1);
+      vsum[u] += v;
+      vsq[u] += v * v;
+      vlag[u] += before * v;
+      const Lanes4 d = after - v;
+      std::memcpy(next + t + 4 * u, &d, sizeof(d));
+    }
   }
   for (; t < len; ++t) {
     sum += w[t], sum_sq += w[t] * w[t], sum_lag += w[t - 1] * w[t];
     if (t + 1 < len) next[t] = w[t + 1] - w[t];
   }
-  s->sum += ((vsum[0] + vsum[1]) + (vsum[2] + vsum[3])) + sum;
-  s->sum_sq += ((vsq[0] + vsq[1]) + (vsq[2] + vsq[3])) + sum_sq;
-  s->sum_lag += ((vlag[0] + vlag[1]) + (vlag[2] + vlag[3])) + sum_lag;
+  const auto total = [](const Lanes4* v) {
+    const Lanes4 both = v[0] + v[1];
+    return (both[0] + both[1]) + (both[2] + both[3]);
+  };
+  s->sum += total(vsum) + sum;
+  s->sum_sq += total(vsq) + sum_sq;
+  s->sum_lag += total(vlag) + sum_lag;
   s->last = w[len - 1];
   s->count += len - skip;
 }

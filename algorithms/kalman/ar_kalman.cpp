@@ -324,7 +324,13 @@ class LaneGainTape final : public GainTape {
   static constexpr long long kChunk = 256;
   LaneGainTape(const Eigen::MatrixXd* const filtered0[4], const Eigen::VectorXd& phi,
                const double q[4], const double r[4], int active, long long limit)
-      : GainTape(P), lanes_(filtered0, phi, q, r, active), active_(active), limit_(limit) {}
+      : GainTape(P), lanes_(filtered0, phi, q, r, active), active_(active), limit_(limit) {
+    // Room for the longest phase at once (untouched memory costs nothing; regrowing copies).
+    for (int m = 0; m < active; ++m) {
+      variances_[m].reserve(static_cast<std::size_t>(limit));
+      gains_[m].reserve(static_cast<std::size_t>(limit) * P);
+    }
+  }
   void ExtendTo(long long steps) override {
     const long long target = std::min(limit_, (steps + kChunk - 1) / kChunk * kChunk);
     for (; steps_ < target; ++steps_) {
@@ -625,6 +631,8 @@ ArFilterBank::ArFilterBank(const Eigen::Ref<const Eigen::VectorXd>& z, const Eig
       }
       continue;
     }
+    if (options[i].max_time_varying_steps > 0)  // the phase's longest output, without regrowing
+      f.head.reserve(static_cast<std::size_t>(std::min(n_, options[i].max_time_varying_steps + 1)));
     ends[i] = RunTimeVaryingPhase(
         z, phi, options[i], dare, z_variance, &result,
         [&](long long, double estimate, double, const double*, double) {
