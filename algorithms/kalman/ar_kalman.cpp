@@ -539,6 +539,9 @@ ArKalmanResult FilterAr(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen:
 
 namespace {
 
+// A tape keeps (p + 1) doubles per step and lane: at most 6.8 MB per lane at order 12.
+constexpr long long kMaxTapeSteps = 1LL << 16;
+
 // The filters of a bank whose time-varying phase RunTimeVaryingPhase runs from the paper's start
 // with a switch to come (its TimeVaryingLoop branch with may_switch), with a bounded cap and a
 // fixed order: four at a time, their gain sequences computed side by side (GainTape). Returns
@@ -559,7 +562,8 @@ std::vector<TapeLane> MakeGainTapes(const Eigen::VectorXd& phi,
     p0[i] = o.initial_variance >= 0.0 ? o.initial_variance : z_variance;
     const bool steady_start = o.initial_covariance == InitialCovariance::kSteadyState;
     if (prepared[i] && !o.smooth && o.steady_state_switch && o.max_time_varying_steps > 0 &&
-        !steady_start && dares[i].summary.termination == Termination::kSuccess &&
+        o.max_time_varying_steps <= kMaxTapeSteps && !steady_start &&
+        dares[i].summary.termination == Termination::kSuccess &&
         !(results[i].q == 0.0 && p0[i] == 0.0))
       eligible.push_back(i);
   }
