@@ -6,54 +6,54 @@
 namespace fogpipe::allan {
 namespace {
 
+// Four doubles (GCC/Clang vector extension, one AVX2 register; element-wise IEEE arithmetic).
+typedef double Lanes __attribute__((vector_size(4 * sizeof(double))));
+
 // Compensated running sum (Kahan-Babuska-Neumaier class): Knuth's branch-free TwoSum gives the
 // exact rounding error of every addition, accumulated in `carry`; value = sum + carry is within
 // one rounding of the exact running sum however long the series. Branch-free, so the only serial
-// dependency is one addition per element.
+// dependency is one addition per element. T = Lanes: four independent sums in one vector, each
+// element computing exactly what T = double computes (additions and subtractions only, so
+// nothing can be contracted into a multiply-add).
+template <typename T>
 struct CompensatedSum {
-  double sum = 0.0;
-  double carry = 0.0;
-  void Add(double v) {
-    const double t = sum + v;
-    const double v_virtual = t - sum;
+  T sum = T{};
+  T carry = T{};
+  void Add(T v) {
+    const T t = sum + v;
+    const T v_virtual = t - sum;
     carry += (sum - (t - v_virtual)) + (v - v_virtual);
     sum = t;
   }
-  double Value() const { return sum + carry; }
+  T Value() const { return sum + carry; }
 };
 
-// Four doubles (GCC/Clang vector extension, one AVX2 register; element-wise IEEE arithmetic).
-typedef double Lanes __attribute__((vector_size(4 * sizeof(double))));
+// Element c of a vector of sums as a sum of its own.
+CompensatedSum<double> Part(const CompensatedSum<Lanes>& sums, int c) {
+  CompensatedSum<double> part;
+  part.sum = sums.sum[c];
+  part.carry = sums.carry[c];
+  return part;
+}
 
 }  // namespace
 
 Eigen::VectorXd MeanRemovedPhase(const Eigen::Ref<const Eigen::VectorXd>& rate) {
   const Eigen::Index n = rate.size();
   if (n == 0) return Eigen::VectorXd();
-  // Four interleaved compensated sums for the mean break the dependency chain; they run in one
-  // vector (element k: part k; additions and subtractions only, so nothing can be contracted), each
-  // element computing exactly CompensatedSum::Add.
-  CompensatedSum part[4];
+  // Four interleaved compensated sums for the mean break the dependency chain (in one vector,
+  // element k summing elements 4j + k).
+  CompensatedSum<Lanes> parts;
   Eigen::Index i = 0;
-  {
-    Lanes sum = {}, carry = {};
-    const double* r = rate.data();
-    for (; i + 4 <= n; i += 4) {
-      Lanes v;
-      std::memcpy(&v, r + i, sizeof(v));
-      const Lanes t = sum + v;
-      const Lanes v_virtual = t - sum;
-      carry += (sum - (t - v_virtual)) + (v - v_virtual);
-      sum = t;
-    }
-    for (int k = 0; k < 4; ++k) {
-      part[k].sum = sum[k];
-      part[k].carry = carry[k];
-    }
+  for (; i + 4 <= n; i += 4) {
+    Lanes v;
+    std::memcpy(&v, rate.data() + i, sizeof(v));
+    parts.Add(v);
   }
+  CompensatedSum<double> part[4] = {Part(parts, 0), Part(parts, 1), Part(parts, 2), Part(parts, 3)};
   for (; i < n; ++i) part[0].Add(rate[i]);
-  CompensatedSum total;
-  for (const CompensatedSum& p : part) {
+  CompensatedSum<double> total;
+  for (const CompensatedSum<double>& p : part) {
     total.Add(p.sum);
     total.Add(p.carry);
   }
@@ -66,29 +66,21 @@ Eigen::VectorXd MeanRemovedPhase(const Eigen::Ref<const Eigen::VectorXd>& rate) 
   // parts before them. Each value is within a rounding or two of the exact running sum, as with
   // one chain.
   const Eigen::Index quarter = n >= 4096 ? n / 4 : 0;
-  CompensatedSum running[4];
+  CompensatedSum<double> running[4];
   if (quarter > 0) {
-    // The four parts' sums in one vector (element c: part c), each element computing exactly
-    // CompensatedSum::Add and Value.
-    Lanes sum = {}, carry = {};
+    // The four parts' sums in one vector (element c: part c).
+    CompensatedSum<Lanes> sums;
     const double* r = rate.data();
     double* out = x.data() + 1;
     for (Eigen::Index k = 0; k < quarter; ++k) {
-      const Lanes v = Lanes{r[k], r[quarter + k], r[2 * quarter + k], r[3 * quarter + k]} - mean;
-      const Lanes t = sum + v;
-      const Lanes v_virtual = t - sum;
-      carry += (sum - (t - v_virtual)) + (v - v_virtual);
-      sum = t;
-      const Lanes value = sum + carry;
+      sums.Add(Lanes{r[k], r[quarter + k], r[2 * quarter + k], r[3 * quarter + k]} - mean);
+      const Lanes value = sums.Value();
       out[k] = value[0];
       out[quarter + k] = value[1];
       out[2 * quarter + k] = value[2];
       out[3 * quarter + k] = value[3];
     }
-    for (int c = 0; c < 4; ++c) {
-      running[c].sum = sum[c];
-      running[c].carry = carry[c];
-    }
+    for (int c = 0; c < 4; ++c) running[c] = Part(sums, c);
   }
   for (Eigen::Index i = 4 * quarter; i < n; ++i) {  // the rest belongs to the last part
     const int c = quarter > 0 ? 3 : 0;
@@ -96,7 +88,7 @@ Eigen::VectorXd MeanRemovedPhase(const Eigen::Ref<const Eigen::VectorXd>& rate) 
     x[i + 1] = running[c].Value();
   }
   if (quarter > 0) {
-    CompensatedSum offset;
+    CompensatedSum<double> offset;
     for (int c = 1; c < 4; ++c) {
       offset.Add(running[c - 1].sum);
       offset.Add(running[c - 1].carry);

@@ -95,7 +95,7 @@ Eigen::VectorXd OneStepResiduals(const Eigen::Ref<const Eigen::VectorXd>& x, con
   const Eigen::Index n = x.size();
   const int p = model.order;
   Eigen::VectorXd e(std::max<Eigen::Index>(n - p, 0));
-  // Block-wise axpys so each block of x is reused p times from cache.
+  // Block by block (ResidualBlock: four samples at a time, every output written once).
   for (Eigen::Index t0 = p; t0 < n; t0 += kBlock)
     OneStepResidualBlock(x, model, t0, std::min(kBlock, n - t0), e.data() + (t0 - p));
   return e;

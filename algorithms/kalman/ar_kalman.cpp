@@ -290,6 +290,37 @@ long long TimeVaryingLoop(Recursion&& recursion, const Eigen::Ref<const Eigen::V
   return k;
 }
 
+// How RunTimeVaryingPhase starts a filter, decided in one place (MakeGainTapes must know which
+// filters take the time-varying loop from which P(0|0)).
+struct PhaseStart {
+  /// P(0|0) is the DARE solution: asked for, and the DARE has a stabilizing solution.
+  bool steady_start = false;
+  /// Else P(0|0) = p0 I (eq. 7): the given initial variance or the sample variance of z.
+  double p0 = 0.0;
+  /// q = 0 from P(0|0) = 0: P(k|k-1) = A 0 A' + 0 = 0 at every step, so the gain is exactly 0
+  /// from the first sample and the estimate is the mean, whatever the DARE says (it is ill-posed
+  /// at q = 0 on the near-unit-root models of slow IMFs and would leave the loop time-varying).
+  bool zero_covariance = false;
+  /// TimeVaryingLoop runs (not the steady start with its switch, not zero covariance) ...
+  bool time_varying = false;
+  /// ... and may switch to G_inf (TimeVaryingLoop's may_switch).
+  bool may_switch = false;
+};
+
+PhaseStart DecidePhaseStart(const ArKalmanOptions& options, const DareSolution& dare, double q,
+                            double z_variance) {
+  PhaseStart start;
+  const bool dare_ok = dare.summary.termination == Termination::kSuccess;
+  // The steady-state start needs a stabilizing DARE solution; without one, the paper's start.
+  start.steady_start = options.initial_covariance == InitialCovariance::kSteadyState && dare_ok;
+  start.p0 = options.initial_variance >= 0.0 ? options.initial_variance : z_variance;
+  start.zero_covariance = !start.steady_start && q == 0.0 && start.p0 == 0.0;
+  start.time_varying =
+      !(start.steady_start && options.steady_state_switch) && !start.zero_covariance;
+  start.may_switch = start.time_varying && options.steady_state_switch && dare_ok;
+  return start;
+}
+
 // The gain sequences G(k) and innovation variances S(k) of up to four time-varying filters of one
 // AR model, computed side by side (internal::CovarianceLanes) on demand, a chunk of steps at a
 // time, and kept for TimeVaryingLoop to replay one filter after the other (ReplayedRecursion).
@@ -387,26 +418,20 @@ PhaseEnd RunTimeVaryingPhase(const Eigen::Ref<const Eigen::VectorXd>& z, const E
                              TapeLane tape = {}) {
   ArKalmanResult& result = *result_out;
   ArKalmanSummary& s = result.summary;
-  const bool dare_ok = dare.summary.termination == Termination::kSuccess;
   const Eigen::Index p = phi.size();
   PhaseEnd end;
   end.x = Eigen::VectorXd::Zero(p);  // X(0|0) = 0 (eq. 7)
   Eigen::MatrixXd pf(p, p);          // P(0|0)
-  // The steady-state start needs a stabilizing DARE solution; without one, the paper's start.
-  const bool steady_start =
-      options.initial_covariance == InitialCovariance::kSteadyState && dare_ok;
+  const PhaseStart start = DecidePhaseStart(options, dare, result.q, z_variance);
+  const bool steady_start = start.steady_start;
   s.initial_covariance =
       steady_start ? InitialCovariance::kSteadyState : InitialCovariance::kSampleVariance;
-  const double p0 = options.initial_variance >= 0.0 ? options.initial_variance : z_variance;
   if (steady_start) {
     pf = dare.filtered_covariance;
   } else {
-    pf = p0 * Eigen::MatrixXd::Identity(p, p);  // P(0|0) = var(x0) I (eq. 7)
+    pf = start.p0 * Eigen::MatrixXd::Identity(p, p);  // P(0|0) = var(x0) I (eq. 7)
   }
-  // q = 0 from P(0|0) = 0: P(k|k-1) = A 0 A' + 0 = 0 at every step, so the gain is exactly 0 from
-  // the first sample and the estimate is the mean, whatever the DARE says (it is ill-posed at
-  // q = 0 on the near-unit-root models of slow IMFs and would leave the loop time-varying).
-  end.zero_covariance = !steady_start && result.q == 0.0 && p0 == 0.0;
+  end.zero_covariance = start.zero_covariance;
 
   // The constant gain of the O(p) loop and its innovation variance: G_inf, or a frozen gain.
   end.constant_gain = dare.gain;
@@ -422,8 +447,9 @@ PhaseEnd RunTimeVaryingPhase(const Eigen::Ref<const Eigen::VectorXd>& z, const E
     s.switched_at_sample = 0;
     s.gain_distance_at_switch = 0.0;
   } else {
-    // Time-varying filter (eqs. 8-11), Joseph form, until the gain has converged, stalled or
-    // reached the cap; the covariance recursion with the order at compile time where it can.
+    // (start.time_varying.) Time-varying filter (eqs. 8-11), Joseph form, until the gain has
+    // converged, stalled or reached the cap; the covariance recursion with the order at compile
+    // time where it can.
     fixed_order::WithWideFixedOrder(static_cast<int>(p), [&](auto order) {
       constexpr int kP = decltype(order)::value;
       if constexpr (kP > 0) {
@@ -544,8 +570,9 @@ constexpr long long kMaxTapeSteps = 1LL << 16;
 
 // The filters of a bank whose time-varying phase RunTimeVaryingPhase runs from the paper's start
 // with a switch to come (its TimeVaryingLoop branch with may_switch), with a bounded cap and a
-// fixed order: four at a time, their gain sequences computed side by side (GainTape). Returns
-// each filter's lane (none for the others) and keeps the tapes in *owner.
+// fixed order: four at a time, their gain sequences computed side by side (GainTape); a single
+// filter left over keeps the scalar recursion (one lane would cost as much). Returns each
+// filter's lane (none for the others) and keeps the tapes in *owner.
 std::vector<TapeLane> MakeGainTapes(const Eigen::VectorXd& phi,
                                     const std::vector<ArKalmanOptions>& options,
                                     const std::vector<ArKalmanResult>& results,
@@ -558,14 +585,15 @@ std::vector<TapeLane> MakeGainTapes(const Eigen::VectorXd& phi,
   std::vector<std::size_t> eligible;
   std::vector<double> p0(options.size(), 0.0);
   for (std::size_t i = 0; i < options.size(); ++i) {
-    const ArKalmanOptions& o = options[i];
-    p0[i] = o.initial_variance >= 0.0 ? o.initial_variance : z_variance;
-    const bool steady_start = o.initial_covariance == InitialCovariance::kSteadyState;
-    if (prepared[i] && !o.smooth && o.steady_state_switch && o.max_time_varying_steps > 0 &&
-        o.max_time_varying_steps <= kMaxTapeSteps && !steady_start &&
-        dares[i].summary.termination == Termination::kSuccess &&
-        !(results[i].q == 0.0 && p0[i] == 0.0))
+    if (!prepared[i] || options[i].smooth) continue;
+    // A switch to come (may_switch) bounds the phase by the cap (a time-varying start without
+    // one could run to the end of z), and may_switch implies the paper's start, p0 I.
+    const PhaseStart start = DecidePhaseStart(options[i], dares[i], results[i].q, z_variance);
+    const long long cap = options[i].max_time_varying_steps;
+    if (start.may_switch && cap > 0 && cap <= kMaxTapeSteps) {
       eligible.push_back(i);
+      p0[i] = start.p0;
+    }
   }
   for (std::size_t first = 0; first + 1 < eligible.size(); first += 4) {
     const int active = static_cast<int>(std::min<std::size_t>(4, eligible.size() - first));

@@ -209,7 +209,8 @@ class ArFilterBank {
   /// (sum_origin <= begin: a caller may keep only the current range of its sums). Successive calls
   /// must cover [0, n) in order (the side-by-side filters carry their state from one range to the
   /// next). A sum whose summary has no result is left untouched. Sums interleaved sample by
-  /// sample (sums[i] = base + i, sum_stride = the number of sums) are added four at a time.
+  /// sample (sums[i] = base + i, sum_stride = the number of sums) are added with vector
+  /// operations, four sums at a time (steady_state_filter.h).
   void AddRange(long long begin, long long end, const std::vector<double*>& sums,
                 long long sum_stride = 1, long long sum_origin = 0);
   std::vector<ArKalmanSummary> summaries() const;
