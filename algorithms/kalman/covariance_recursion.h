@@ -23,68 +23,6 @@
 
 namespace fogpipe::kalman::internal {
 
-/// P(k|k) of the companion model and the gain G(k), advanced one sample per Step(). P > 0: order P
-/// at compile time; P == 0: runtime order (PredictCovariance and JosephUpdate themselves).
-template <int P>
-class CovarianceRecursion {
- public:
-  static constexpr int kOrder = P;
-  /// filtered0: P(0|0), p x p symmetric; phi: the AR coefficients (p of them).
-  CovarianceRecursion(const Eigen::MatrixXd& filtered0, const Eigen::VectorXd& phi, double q,
-                      double r)
-      : q_(q), r_(r) {
-    for (int i = 0; i < P; ++i) phi_[i] = phi[i];
-    for (int j = 0; j < P; ++j)
-      for (int i = 0; i < P; ++i) pf_[j * P + i] = filtered0(i, j);
-  }
-
-  /// P(k|k-1) = A P(k-1|k-1) A' + Q, then S = P00(k|k-1) + R, G = P(:,0)(k|k-1) / S and the
-  /// Joseph-form P(k|k). Returns S.
-  double Step() {
-    // Column 0 of P(k|k-1): c_0 = phi' P phi + q, c_i = (phi' P)(i-1) (PredictCovariance's order:
-    // v_j summed over i ascending, the top summed over j ascending).
-    alignas(64) double c[P];
-    double top = 0.0;
-    for (int j = 0; j < P; ++j) {
-      double v = 0.0;
-      for (int i = 0; i < P; ++i) v = MulAdd(phi_[i], pf_[j * P + i], v);
-      top = MulAdd(v, phi_[j], top);
-      if (j + 1 < P) c[j + 1] = v;
-    }
-    c[0] = top + q_;
-    const double s = c[0] + r_;
-    for (int i = 0; i < P; ++i) g_[i] = c[i] / s;
-    // P(k|k)(i, j), i >= j (JosephUpdate's expression): P(k|k-1)(i, j) is c_i in column 0 and
-    // P(k-1|k-1)(i-1, j-1) elsewhere (the shift of A P A'). Written to the other buffer, then
-    // mirrored.
-    alignas(64) double next[P * P];
-    for (int j = 0; j < P; ++j) {
-      const double cj = c[j];
-      for (int i = j; i < P; ++i) {
-        const double predicted = j == 0 ? c[i] : pf_[(j - 1) * P + (i - 1)];
-        const double t = MulAdd(-g_[i], cj, predicted);
-        next[j * P + i] = MulAdd(s * g_[i], g_[j], MulAdd(-c[i], g_[j], t));
-      }
-    }
-    for (int j = 0; j < P; ++j) {
-      for (int i = j; i < P; ++i) {
-        pf_[j * P + i] = next[j * P + i];
-        pf_[i * P + j] = next[j * P + i];
-      }
-    }
-    return s;
-  }
-
-  /// G(k) of the last Step(), P doubles.
-  const double* gain() const { return g_; }
-
- private:
-  double q_, r_;
-  alignas(64) double phi_[P];
-  alignas(64) double pf_[P * P];  // P(k|k), column-major, both triangles
-  alignas(64) double g_[P];
-};
-
 /// Four doubles, one per recursion (GCC/Clang vector extension: one AVX2 register; element-wise
 /// IEEE arithmetic).
 typedef double CovarianceLanes4 __attribute__((vector_size(4 * sizeof(double))));
@@ -99,47 +37,37 @@ inline CovarianceLanes4 MulAdd(CovarianceLanes4 a, CovarianceLanes4 b, Covarianc
 #endif
 }
 
-/// Four CovarianceRecursion<P> of the same AR model (P > 0) with their own P(0|0), q and r, side by
-/// side: the same operations on each lane's operands in the same order, so each lane gives the bits
-/// of its own CovarianceRecursion<P> (tested). The covariance recursion does not depend on the
-/// data, and it is the O(p^2) part of a time-varying filter step, so a bank of filters of one
-/// model (a sweep's q/R settings) can compute four gain sequences for the price of one.
-/// Lanes from `active` on repeat lane 0 (their results are ignored).
-template <int P>
-class CovarianceLanes {
+/// One step of the covariance recursion at order P (> 0) on values of type T: double, or
+/// CovarianceLanes4 for four recursions side by side, each lane computing exactly what T = double
+/// computes (the same operations on its operands in the same order, every multiply-add a MulAdd).
+template <int P, typename T>
+class CovarianceStep {
  public:
-  static_assert(P > 0, "the lanes need the order at compile time");
-  CovarianceLanes(const Eigen::MatrixXd* const filtered0[4], const Eigen::VectorXd& phi,
-                  const double q[4], const double r[4], int active) {
-    for (int i = 0; i < P; ++i) phi_[i] = CovarianceLanes4{} + phi[i];
-    for (int m = 0; m < 4; ++m) {
-      const int from = m < active ? m : 0;
-      q_[m] = q[from];
-      r_[m] = r[from];
-      for (int j = 0; j < P; ++j)
-        for (int i = 0; i < P; ++i) pf_[j * P + i][m] = (*filtered0[from])(i, j);
-    }
-  }
-
-  /// CovarianceRecursion<P>::Step() of each lane; returns each lane's S.
-  CovarianceLanes4 Step() {
-    alignas(64) CovarianceLanes4 c[P];
-    CovarianceLanes4 top = {};
+  /// P(k|k-1) = A P(k-1|k-1) A' + Q, then S = P00(k|k-1) + R, G = P(:,0)(k|k-1) / S and the
+  /// Joseph-form P(k|k). Returns S.
+  T Step() {
+    // Column 0 of P(k|k-1): c_0 = phi' P phi + q, c_i = (phi' P)(i-1) (PredictCovariance's order:
+    // v_j summed over i ascending, the top summed over j ascending).
+    alignas(64) T c[P];
+    T top = T{};
     for (int j = 0; j < P; ++j) {
-      CovarianceLanes4 v = {};
+      T v = T{};
       for (int i = 0; i < P; ++i) v = MulAdd(phi_[i], pf_[j * P + i], v);
       top = MulAdd(v, phi_[j], top);
       if (j + 1 < P) c[j + 1] = v;
     }
     c[0] = top + q_;
-    const CovarianceLanes4 s = c[0] + r_;
+    const T s = c[0] + r_;
     for (int i = 0; i < P; ++i) g_[i] = c[i] / s;
-    alignas(64) CovarianceLanes4 next[P * P];
+    // P(k|k)(i, j), i >= j (JosephUpdate's expression): P(k|k-1)(i, j) is c_i in column 0 and
+    // P(k-1|k-1)(i-1, j-1) elsewhere (the shift of A P A'). Written to the other buffer, then
+    // mirrored.
+    alignas(64) T next[P * P];
     for (int j = 0; j < P; ++j) {
-      const CovarianceLanes4 cj = c[j];
+      const T cj = c[j];
       for (int i = j; i < P; ++i) {
-        const CovarianceLanes4 predicted = j == 0 ? c[i] : pf_[(j - 1) * P + (i - 1)];
-        const CovarianceLanes4 t = MulAdd(-g_[i], cj, predicted);
+        const T predicted = j == 0 ? c[i] : pf_[(j - 1) * P + (i - 1)];
+        const T t = MulAdd(-g_[i], cj, predicted);
         next[j * P + i] = MulAdd(s * g_[i], g_[j], MulAdd(-c[i], g_[j], t));
       }
     }
@@ -152,14 +80,56 @@ class CovarianceLanes {
     return s;
   }
 
-  /// G(k) of the last Step(): gain()[i][m] is element i of lane m's gain.
-  const CovarianceLanes4* gain() const { return g_; }
+ protected:
+  T q_ = T{}, r_ = T{};
+  alignas(64) T phi_[P];
+  alignas(64) T pf_[P * P];  // P(k|k), column-major, both triangles
+  alignas(64) T g_[P];
+};
 
- private:
-  CovarianceLanes4 q_, r_;
-  alignas(64) CovarianceLanes4 phi_[P];
-  alignas(64) CovarianceLanes4 pf_[P * P];
-  alignas(64) CovarianceLanes4 g_[P];
+/// P(k|k) of the companion model and the gain G(k), advanced one sample per Step(). P > 0: order P
+/// at compile time; P == 0: runtime order (PredictCovariance and JosephUpdate themselves).
+template <int P>
+class CovarianceRecursion : public CovarianceStep<P, double> {
+ public:
+  static constexpr int kOrder = P;
+  /// filtered0: P(0|0), p x p symmetric; phi: the AR coefficients (p of them).
+  CovarianceRecursion(const Eigen::MatrixXd& filtered0, const Eigen::VectorXd& phi, double q,
+                      double r) {
+    this->q_ = q;
+    this->r_ = r;
+    for (int i = 0; i < P; ++i) this->phi_[i] = phi[i];
+    for (int j = 0; j < P; ++j)
+      for (int i = 0; i < P; ++i) this->pf_[j * P + i] = filtered0(i, j);
+  }
+
+  /// G(k) of the last Step(), P doubles.
+  const double* gain() const { return this->g_; }
+};
+
+/// Four CovarianceRecursion<P> of the same AR model (P > 0) with their own P(0|0), q and r, side by
+/// side: each lane gives the bits of its own CovarianceRecursion<P> (tested). The covariance
+/// recursion does not depend on the data, and it is the O(p^2) part of a time-varying filter step,
+/// so a bank of filters of one model (a sweep's q/R settings) can compute four gain sequences for
+/// the price of one. Lanes from `active` on repeat lane 0 (their results are ignored).
+template <int P>
+class CovarianceLanes : public CovarianceStep<P, CovarianceLanes4> {
+ public:
+  static_assert(P > 0, "the lanes need the order at compile time");
+  CovarianceLanes(const Eigen::MatrixXd* const filtered0[4], const Eigen::VectorXd& phi,
+                  const double q[4], const double r[4], int active) {
+    for (int i = 0; i < P; ++i) this->phi_[i] = CovarianceLanes4{} + phi[i];
+    for (int m = 0; m < 4; ++m) {
+      const int from = m < active ? m : 0;
+      this->q_[m] = q[from];
+      this->r_[m] = r[from];
+      for (int j = 0; j < P; ++j)
+        for (int i = 0; i < P; ++i) this->pf_[j * P + i][m] = (*filtered0[from])(i, j);
+    }
+  }
+
+  /// G(k) of the last Step(): gain()[i][m] is element i of lane m's gain.
+  const CovarianceLanes4* gain() const { return this->g_; }
 };
 
 template <>
