@@ -133,10 +133,14 @@ TEST(FilterAr, IllConditionedModelsSwitchOnlyWithinTheStallTolerance) {
     o.steady_state_switch = false;
     const ArKalmanResult slow = FilterAr(sim.z, m.phi, -1, -1, o);
     ASSERT_EQ(fast.summary.termination, Termination::kSuccess) << m.name;
-    EXPECT_NE(fast.summary.gain_switch, GainSwitch::kConverged) << m.name;  // ill-conditioned
-    if (fast.summary.gain_switch == GainSwitch::kStalled) {
+    // Converged (possible where the noise happens to dip below gain_tolerance: it does for the
+    // residue in builds without fused multiply-adds), stalled within stall_tolerance, or never.
+    if (fast.summary.gain_switch == GainSwitch::kConverged) {
+      EXPECT_LE(fast.summary.gain_distance_at_switch, o.gain_tolerance) << m.name;
+    } else if (fast.summary.gain_switch == GainSwitch::kStalled) {
       EXPECT_LE(fast.summary.gain_distance_at_switch, o.stall_tolerance) << m.name;
     } else {
+      EXPECT_EQ(fast.summary.gain_switch, GainSwitch::kNever) << m.name;
       EXPECT_EQ(fast.summary.switched_at_sample, -1) << m.name;
     }
     const double rel =
@@ -491,9 +495,12 @@ TEST(FilterAr, TheTimeVaryingStepCapSwitchesToTheSteadyStateGainWithABoundedEffe
   const double bound = sup_drive * sum_norms;
   const double effect = (capped.filtered - reference.filtered).cwiseAbs().maxCoeff();
   EXPECT_LE(effect, bound);
-  // The gain keeps converging after the cap, so the recorded distance bounds the drive.
-  EXPECT_LE(sup_gain_diff,
-            capped.summary.gain_distance_at_switch * g_inf.cwiseAbs().maxCoeff() * (1.0 + 1e-9));
+  // The gain keeps converging after the cap, so the recorded distance bounds the drive, up to the
+  // rounding by which this dense textbook recursion and the filter's Joseph-form one drift apart
+  // over the cap's steps: measured 3.9e-13 (with fused multiply-adds, the other way) and 1.8e-13
+  // (without) of the largest gain element, here 4e-9 of the gain difference itself.
+  const double g_scale = g_inf.cwiseAbs().maxCoeff();
+  EXPECT_LE(sup_gain_diff, capped.summary.gain_distance_at_switch * g_scale + 1e-12 * g_scale);
   std::printf("  cap %lld: gain distance %.3g, effect %.3g (bound %.3g), signal scale %.3g\n", cap,
               capped.summary.gain_distance_at_switch, effect, bound, sim.z.cwiseAbs().maxCoeff());
   // And far after the cap the effect has been forgotten.
@@ -582,8 +589,13 @@ TEST(ArFilterBank, EachOutputEqualsFilterArToTheLastBitOnUnitNearUnitAndExplosiv
       }
     }
     options.push_back(SteadyStart(0.01, 1.0));
-    options.push_back(PaperStart(1e-10, 1.0));  // no cap: the stall rule (the residue)
-    options.back().max_time_varying_steps = 0;
+    // No cap: the stall rule (the residue, imf6). Whether a given model stalls or converges
+    // depends on where in its rounding noise the gain distance falls, which differs between
+    // builds with and without fused multiply-adds: several tiny q so that some stall in either.
+    for (double q : {1e-12, 1e-11, 1e-10, 1e-9}) {
+      options.push_back(PaperStart(q, 1.0));
+      options.back().max_time_varying_steps = 0;
+    }
     options.push_back(PaperStart(0.0, 1.0));
     options.back().initial_variance = 0.0;
     options.push_back(PaperStart(0.0, 1.0));
