@@ -11,6 +11,9 @@
 
 namespace fogpipe::method {
 
+/// The RMS ratio above which a filter's estimate has diverged (FilterDiverged documents it).
+constexpr double kDivergedRmsRatio = 10.0;
+
 struct ComponentOptions {
   /// Order by BIC up to max_order, or fixed_order > 0 (ArOptions documents the estimator).
   ar::ArOptions ar;
@@ -19,6 +22,9 @@ struct ComponentOptions {
   kalman::ArKalmanOptions kalman;
   /// How q and R follow from the component's white-noise share (white_noise.h).
   ComponentNoiseRule noise_rule = ComponentNoiseRule::kShareOfInnovation;
+  /// A filter whose estimate's RMS exceeds this many times the component's has diverged
+  /// (FilterDiverged); ModelComponent then tries BIC's next orders below.
+  double diverged_rms_ratio = kDivergedRmsRatio;
 };
 
 struct ComponentModel {
@@ -30,6 +36,9 @@ struct ComponentModel {
   /// The component's share of the white-noise variance (white_noise.h), units of x^2; the R
   /// actually used is kalman.r.
   double white_noise_variance = 0.0;
+  /// Empty, or why fit.model is not BIC's own order: the higher orders whose filters diverged
+  /// ("AR(13) diverged (estimate RMS 11.1 x the component's)"), highest first.
+  std::string order_note;
   /// The filter output used downstream: RTS-smoothed when kalman.smooth, filtered otherwise.
   const Eigen::VectorXd& Output() const {
     return kalman.smoothed.size() > 0 ? kalman.smoothed : kalman.filtered;
@@ -54,8 +63,8 @@ void ApplyFilterNoise(const FilterNoise& noise, kalman::ArKalmanOptions* kalman)
 /// grows in floating point although the DARE solver's stability test passed) gave 11x-7e9x, with
 /// RMS errors against the truth of up to 1e9 deg/h; a working filter stays at or below 1x (tested
 /// on AR(2) in noise at three signal-to-noise ratios, component_test.cpp). Fills *message.
-constexpr double kDivergedRmsRatio = 10.0;
-bool FilterDiverged(double estimate_mean_square, double component_variance, std::string* message);
+bool FilterDiverged(double estimate_mean_square, double component_variance, std::string* message,
+                    double rms_ratio = kDivergedRmsRatio);
 
 /// Fits the AR model to `x` and runs the Kalman filter on it, q and R from `white_noise_variance`
 /// (the component's white share, units of x^2) by options.noise_rule unless given explicitly. A

@@ -74,6 +74,9 @@ void WriteModelTable(Group group, const std::vector<std::string>& names,
     bic.push_back(c->fit.bic);
   }
   group.WriteDataset("order", order, "1");
+  std::vector<std::string> order_note;
+  for (const ComponentModel* c : components) order_note.push_back(c->order_note);
+  group.WriteStringDataset("order_note", order_note);
   group.WriteDataset("stationary", stationary, "1");
   WritePadded(group, "coefficients", phi, "1");
   group.OpenDataset("coefficients")

@@ -56,7 +56,13 @@ def main():
         rms = t["rms_error"][()]
         ranking = t["ranking"][()]
         assert np.all(np.diff(rms[ranking]) >= 0), "ranking not sorted by rms_error"
-        assert np.all(np.isfinite(rms)) and np.all(rms > 0)
+        # Every evaluated setting has an RMS error; a setting whose filter diverged on a component
+        # (README, Known limitations: it happens to AR(4) on imf10 here in a build without fused
+        # multiply-adds) is reported, not ranked, and has none.
+        ok = np.array([s == b"ok" for s in t["status"][()]])
+        assert np.all(np.isfinite(rms[ok])) and np.all(rms[ok] > 0)
+        assert np.all(np.isnan(rms[~ok])) and not set(ranking) & set(np.flatnonzero(~ok))
+        assert np.all(ok[t["default_rule"][()] == 1]), "the default rule is evaluated"
     with open(os.path.join(out, "moving.sweep.csv")) as f:
         assert len(list(csv.DictReader(f))) == rows
     run("/usr/bin/python3", os.path.join(source, "scripts/plot_sweep.py"),
