@@ -202,13 +202,13 @@ struct PhaseEnd {
 
 // The time-varying phase proper (RunTimeVaryingPhase): from X(0|0) = end->x and the recursion at
 // P(0|0), steps until the gain has converged, stalled or reached the cap (filling the summary's
-// switch fields and, for a frozen gain, end's constant gain), or to the end of z. Returns the first
-// sample not filtered.
+// switch fields and, for a frozen gain, end's constant gain), or to the end of z. may_switch: a
+// switch to G_inf is allowed (PhaseStart). Returns the first sample not filtered.
 template <typename Recursion, typename Emit>
 long long TimeVaryingLoop(Recursion&& recursion, const Eigen::Ref<const Eigen::VectorXd>& z,
                           const Eigen::VectorXd& phi, const ArKalmanOptions& options,
-                          const DareSolution& dare, ArKalmanSummary* summary, PhaseEnd* end,
-                          Emit&& emit) {
+                          const DareSolution& dare, bool may_switch, ArKalmanSummary* summary,
+                          PhaseEnd* end, Emit&& emit) {
   ArKalmanSummary& s = *summary;
   const long long n = z.size();
   constexpr int P = std::decay_t<Recursion>::kOrder;
@@ -226,8 +226,6 @@ long long TimeVaryingLoop(Recursion&& recursion, const Eigen::Ref<const Eigen::V
     g_inf[i] = dare.gain.size() == p ? dare.gain[i] : 0.0;
   }
   const double g_inf_scale = GainScale(g_inf, p);
-  const bool may_switch =
-      options.steady_state_switch && dare.summary.termination == Termination::kSuccess;
   long long cap = options.steady_state_switch && options.max_time_varying_steps > 0
                       ? options.max_time_varying_steps
                       : std::numeric_limits<long long>::max();
@@ -423,10 +421,9 @@ PhaseEnd RunTimeVaryingPhase(const Eigen::Ref<const Eigen::VectorXd>& z, const E
   end.x = Eigen::VectorXd::Zero(p);  // X(0|0) = 0 (eq. 7)
   Eigen::MatrixXd pf(p, p);          // P(0|0)
   const PhaseStart start = DecidePhaseStart(options, dare, result.q, z_variance);
-  const bool steady_start = start.steady_start;
   s.initial_covariance =
-      steady_start ? InitialCovariance::kSteadyState : InitialCovariance::kSampleVariance;
-  if (steady_start) {
+      start.steady_start ? InitialCovariance::kSteadyState : InitialCovariance::kSampleVariance;
+  if (start.steady_start) {
     pf = dare.filtered_covariance;
   } else {
     pf = start.p0 * Eigen::MatrixXd::Identity(p, p);  // P(0|0) = var(x0) I (eq. 7)
@@ -437,9 +434,21 @@ PhaseEnd RunTimeVaryingPhase(const Eigen::Ref<const Eigen::VectorXd>& z, const E
   end.constant_gain = dare.gain;
   end.constant_innovation_variance = dare.innovation_variance;
   long long k = 0;
-  if (steady_start && options.steady_state_switch) {
-    // P0 is the fixed point: G(k) = G_inf for every k.
-    SummarizeSteadyStart(phi, dare, result.q, result.r, &s);
+  if (start.time_varying) {
+    // Time-varying filter (eqs. 8-11), Joseph form, until the gain has converged, stalled or
+    // reached the cap; the covariance recursion with the order at compile time where it can.
+    fixed_order::WithWideFixedOrder(static_cast<int>(p), [&](auto order) {
+      constexpr int kP = decltype(order)::value;
+      if constexpr (kP > 0) {
+        if (tape.tape != nullptr) {
+          k = TimeVaryingLoop(ReplayedRecursion<kP>(tape.tape, tape.lane), z, phi, options, dare,
+                              start.may_switch, &s, &end, emit);
+          return;
+        }
+      }
+      k = TimeVaryingLoop(internal::CovarianceRecursion<kP>(pf, phi, result.q, result.r), z, phi,
+                          options, dare, start.may_switch, &s, &end, emit);
+    });
   } else if (end.zero_covariance) {
     end.constant_gain = Eigen::VectorXd::Zero(p);
     end.constant_innovation_variance = result.r;
@@ -447,21 +456,8 @@ PhaseEnd RunTimeVaryingPhase(const Eigen::Ref<const Eigen::VectorXd>& z, const E
     s.switched_at_sample = 0;
     s.gain_distance_at_switch = 0.0;
   } else {
-    // (start.time_varying.) Time-varying filter (eqs. 8-11), Joseph form, until the gain has
-    // converged, stalled or reached the cap; the covariance recursion with the order at compile
-    // time where it can.
-    fixed_order::WithWideFixedOrder(static_cast<int>(p), [&](auto order) {
-      constexpr int kP = decltype(order)::value;
-      if constexpr (kP > 0) {
-        if (tape.tape != nullptr) {
-          k = TimeVaryingLoop(ReplayedRecursion<kP>(tape.tape, tape.lane), z, phi, options, dare,
-                              &s, &end, emit);
-          return;
-        }
-      }
-      k = TimeVaryingLoop(internal::CovarianceRecursion<kP>(pf, phi, result.q, result.r), z, phi,
-                          options, dare, &s, &end, emit);
-    });
+    // The steady-state start with its switch: P0 is the fixed point, G(k) = G_inf for every k.
+    SummarizeSteadyStart(phi, dare, result.q, result.r, &s);
   }
   end.k = k;
   return end;

@@ -38,14 +38,18 @@ ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_varia
   }
   out.fit = ar::FitAr(x, options.ar);
   if (!HasResult(out.fit.summary.termination)) return out;
-  kalman::ArKalmanOptions kalman_options = options.kalman;
-  kalman_options.mean = out.fit.model.mean;
-  const double sigma_e2 = out.fit.model.innovation_variance;
   const double variance = (x.array() - x.mean()).square().mean();
-  const FilterNoise noise =
-      ComponentFilterNoise(options.noise_rule, white_noise_variance, variance, sigma_e2);
-  ApplyFilterNoise(noise, &kalman_options);
-  out.kalman = kalman::FilterAr(x, out.fit.model.phi, sigma_e2, noise.r, kalman_options);
+  // The Kalman filter on out.fit's model, q and R by the noise rule (ApplyFilterNoise).
+  const auto filter = [&] {
+    kalman::ArKalmanOptions kalman_options = options.kalman;
+    kalman_options.mean = out.fit.model.mean;
+    const double sigma_e2 = out.fit.model.innovation_variance;
+    const FilterNoise noise =
+        ComponentFilterNoise(options.noise_rule, white_noise_variance, variance, sigma_e2);
+    ApplyFilterNoise(noise, &kalman_options);
+    out.kalman = kalman::FilterAr(x, out.fit.model.phi, sigma_e2, noise.r, kalman_options);
+  };
+  filter();
   std::string diverged;
   const auto diverges = [&](std::string* message) {
     return HasResult(out.kalman.summary.termination) &&
@@ -66,14 +70,7 @@ ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_varia
     ar::ArFit fit = ar::FitAr(x, lower);
     if (!HasResult(fit.summary.termination)) break;
     out.fit = std::move(fit);
-    const double lower_sigma_e2 = out.fit.model.innovation_variance;
-    const FilterNoise lower_noise =
-        ComponentFilterNoise(options.noise_rule, white_noise_variance, variance, lower_sigma_e2);
-    kalman_options = options.kalman;
-    kalman_options.mean = out.fit.model.mean;
-    ApplyFilterNoise(lower_noise, &kalman_options);
-    out.kalman =
-        kalman::FilterAr(x, out.fit.model.phi, lower_sigma_e2, lower_noise.r, kalman_options);
+    filter();
     bad = diverges(&diverged);
   }
   out.order_note = rejected;
