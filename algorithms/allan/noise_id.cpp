@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <utility>
 #include <vector>
 
+#include "algorithms/common/lanes.h"
 #include "algorithms/common/units.h"
 
 namespace fogpipe::allan {
@@ -35,14 +35,6 @@ struct Lag1Sums {
 constexpr int kMaxDifferences = 3;
 constexpr long long kChunk = 4096;
 
-typedef double Lanes4 __attribute__((vector_size(4 * sizeof(double))));
-
-inline Lanes4 Load(const double* p) {
-  Lanes4 v;
-  std::memcpy(&v, p, sizeof(v));
-  return v;
-}
-
 // One level of a chunk in one pass: w[0, len) holds the level's series (the first `skip` values
 // already counted in the previous chunk, w[skip - 1] their last), adds the new values and lag-1
 // pairs to s, and writes the next level's series, next[t] = w[t + 1] - w[t], t < len - 1.
@@ -63,12 +55,12 @@ void AddLevel(const double* w, long long len, long long skip, Lag1Sums* s, doubl
   for (; t + 8 < len; t += 8) {
     for (int u = 0; u < 2; ++u) {
       const double* wt = w + t + 4 * u;
-      const Lanes4 v = Load(wt), before = Load(wt - 1), after = Load(wt + 1);
+      const Lanes4 v = LoadLanes4(wt), before = LoadLanes4(wt - 1), after = LoadLanes4(wt + 1);
       vsum[u] += v;
       vsq[u] += v * v;
       vlag[u] += before * v;
       const Lanes4 d = after - v;
-      std::memcpy(next + t + 4 * u, &d, sizeof(d));
+      StoreLanes4(next + t + 4 * u, d);
     }
   }
   for (; t < len; ++t) {

@@ -1,13 +1,13 @@
 #include "algorithms/allan/phase.h"
 
 #include <cmath>
-#include <cstring>
+
+#include "algorithms/common/lanes.h"
 
 namespace fogpipe::allan {
 namespace {
 
-// Four doubles (GCC/Clang vector extension, one AVX2 register; element-wise IEEE arithmetic).
-typedef double Lanes __attribute__((vector_size(4 * sizeof(double))));
+using Lanes = Lanes4;  // (algorithms/common/lanes.h)
 
 // Compensated running sum (Kahan-Babuska-Neumaier class): Knuth's branch-free TwoSum gives the
 // exact rounding error of every addition, accumulated in `carry`; value = sum + carry is within
@@ -46,9 +46,7 @@ Eigen::VectorXd MeanRemovedPhase(const Eigen::Ref<const Eigen::VectorXd>& rate) 
   CompensatedSum<Lanes> parts;
   Eigen::Index i = 0;
   for (; i + 4 <= n; i += 4) {
-    Lanes v;
-    std::memcpy(&v, rate.data() + i, sizeof(v));
-    parts.Add(v);
+    parts.Add(LoadLanes4(rate.data() + i));
   }
   CompensatedSum<double> part[4] = {Part(parts, 0), Part(parts, 1), Part(parts, 2), Part(parts, 3)};
   for (; i < n; ++i) part[0].Add(rate[i]);

@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <vector>
 
 #include "algorithms/ar/autocorrelation.h"
 #include "algorithms/common/chi_square.h"
 #include "algorithms/common/fixed_order.h"
+#include "algorithms/common/lanes.h"
 
 namespace fogpipe::ar {
 namespace {
@@ -56,7 +56,6 @@ double FitPercent(double error_energy, double centered_energy) {
 template <int P>
 void ResidualBlock(const double* x, const double* phi_in, int p_runtime, double mean,
                    Eigen::Index t0, Eigen::Index len, double* out) {
-  typedef double Lanes4 __attribute__((vector_size(4 * sizeof(double))));
   const int p = P > 0 ? P : p_runtime;
   fixed_order::Buffer<P> phi_buffer(p);
   double* phi = phi_buffer.get();
@@ -64,14 +63,9 @@ void ResidualBlock(const double* x, const double* phi_in, int p_runtime, double 
   Eigen::Index k = 0;
   for (; k + 4 <= len; k += 4) {
     const double* xt = x + t0 + k;
-    Lanes4 v, acc;
-    std::memcpy(&v, xt, sizeof(v));
-    acc = v - mean;
-    for (int i = 1; i <= p; ++i) {
-      std::memcpy(&v, xt - i, sizeof(v));
-      acc -= phi[i - 1] * (v - mean);
-    }
-    std::memcpy(out + k, &acc, sizeof(acc));
+    Lanes4 acc = LoadLanes4(xt) - mean;
+    for (int i = 1; i <= p; ++i) acc -= phi[i - 1] * (LoadLanes4(xt - i) - mean);
+    StoreLanes4(out + k, acc);
   }
   for (; k < len; ++k) {
     const double* xt = x + t0 + k;
@@ -103,10 +97,10 @@ Eigen::VectorXd OneStepResiduals(const Eigen::Ref<const Eigen::VectorXd>& x, con
 
 namespace {
 
-// Four doubles, one per free run (GCC/Clang vector extension: one AVX2 register; element-wise IEEE
-// arithmetic, so each lane computes exactly what it would compute alone, whatever the others do).
+// One per free run (algorithms/common/lanes.h): each lane computes exactly what it would compute
+// alone, whatever the others do.
 constexpr int kLanes = 4;
-typedef double Lanes __attribute__((vector_size(kLanes * sizeof(double))));
+using Lanes = Lanes4;
 
 // sum_t ((x_t - mean) - s_t)^2, t = p..N-1, for the free runs s_t of up to four models of the same
 // order p, each on its own series of n samples (see the header): s_t = x_t - mean for t < p, then

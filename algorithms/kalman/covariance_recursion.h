@@ -18,14 +18,14 @@
 #include <cstddef>
 #include <vector>
 
+#include "algorithms/common/lanes.h"
 #include "algorithms/kalman/companion.h"
 #include "algorithms/kalman/mul_add.h"
 
 namespace fogpipe::kalman::internal {
 
-/// Four doubles, one per recursion (GCC/Clang vector extension: one AVX2 register; element-wise
-/// IEEE arithmetic).
-typedef double CovarianceLanes4 __attribute__((vector_size(4 * sizeof(double))));
+/// One double per recursion (algorithms/common/lanes.h).
+using CovarianceLanes4 = Lanes4;
 
 /// MulAdd (mul_add.h) of each lane: one fused multiply-add per element where the CPU has them, as
 /// the scalar MulAdd, so each lane rounds exactly as the scalar code does.

@@ -1,11 +1,11 @@
 #include "algorithms/kalman/steady_state_filter.h"
 
 #include <algorithm>
-#include <cstring>
 #include <type_traits>
 #include <vector>
 
 #include "algorithms/common/fixed_order.h"
+#include "algorithms/common/lanes.h"
 
 namespace fogpipe::kalman {
 namespace {
@@ -49,9 +49,9 @@ void Kernel(const double* z, long long n, double mean, const double* phi_in, con
 // Orders up to this run side by side (state on the stack); higher ones one lane at a time.
 constexpr int kMaxLaneOrder = 32;
 constexpr int kLanes = 4;
-// Four doubles, one per lane (GCC/Clang vector extension: one AVX2 register; element-wise IEEE
-// arithmetic, so each lane computes exactly what the scalar Kernel computes).
-typedef double Lanes __attribute__((vector_size(kLanes * sizeof(double))));
+// One per lane (algorithms/common/lanes.h): each lane computes exactly what the scalar Kernel
+// computes.
+using Lanes = Lanes4;
 
 // Up to 4 G filters side by side in G groups of four, `active` of them real (the others have
 // gain 0 and no output). The state s_j of each group is one vector, so every update of the
@@ -106,10 +106,7 @@ void AddLanes(const double* z, long long n, const double* phi, int p_runtime,
       s[g][p - 1] = phi_v[p - 1] * pred + beta[g][p - 1] * e;
       if (kInterleaved && g < full_groups) {
         double* sum = out[g * kLanes] + k * stride[g * kLanes];
-        Lanes acc;
-        std::memcpy(&acc, sum, sizeof(acc));
-        acc += est;
-        std::memcpy(sum, &acc, sizeof(acc));
+        StoreLanes4(sum, LoadLanes4(sum) + est);
       } else {
         for (int m = 0; m < kLanes && g * kLanes + m < active; ++m)
           out[g * kLanes + m][k * stride[g * kLanes + m]] += est[m];
