@@ -86,7 +86,9 @@ AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double s
   for (size_t k = 0; k < rows; ++k) {
     const long long m = table.m[k];
     table.tau_s[k] = static_cast<double>(m) / sample_rate_hz;
-    table.sigma[k] = std::sqrt(variance[k]);
+    // TDEV comes in rate x tau0 (deviation.h): tau0 = 1 / sample_rate_hz makes it rate x s.
+    table.sigma[k] = std::sqrt(variance[k]) /
+                     (IsTimeDeviation(options.deviation) ? sample_rate_hz : 1.0);
     table.count[k] = DifferenceCount(options.deviation, n, m);
     if (!options.confidence_intervals) continue;
     const NoiseId id = IdentifyNoise(phase, m, d, b1_avar[k]);
@@ -94,8 +96,7 @@ AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double s
     const int alpha = id.method == NoiseIdMethod::kNone ? previous_alpha : id.alpha;
     previous_alpha = alpha;
     table.alpha[k] = alpha;
-    table.edf[k] = GreenhallEdf(alpha, d, m, n + 1, IsOverlapping(options.deviation),
-                                options.sampled_phase_edf);
+    table.edf[k] = DeviationEdf(options.deviation, alpha, m, n, options.sampled_phase_edf);
     if (table.edf[k] > 0.0)
       ConfidenceBounds(table.sigma[k], table.edf[k], options.confidence, &table.ci_low[k],
                        &table.ci_high[k]);

@@ -1,9 +1,11 @@
-// Allan deviation engine: OADEV (default), ADEV and overlapping HDEV of rate samples, with
-// confidence intervals (IEEE Std 952-1997 Annex C; NIST SP 1065; Stable32 conventions).
+// Allan deviation engine: OADEV (default), ADEV, MDEV, TDEV, OHDEV, HDEV and TOTDEV of rate
+// samples, with confidence intervals (IEEE Std 952-1997 Annex C; NIST SP 1065; Stable32
+// conventions).
 //
 //   rate y (any unit) -> mean-removed cumulative sum (phase.h) -> finite differences at each
-//   averaging factor (deviation.h) -> noise type by lag-1 ACF / B1 (noise_id.h) -> Greenhall EDF
-//   (edf.h) -> chi-square bounds sigma sqrt(edf / chi2) (common/chi_square.h).
+//   averaging factor (deviation.h) -> noise type by lag-1 ACF / B1 (noise_id.h) -> EDF (edf.h:
+//   Greenhall; SP 1065 for TOTDEV) -> chi-square bounds sigma sqrt(edf / chi2)
+//   (common/chi_square.h).
 #pragma once
 
 #include <Eigen/Core>
@@ -36,7 +38,7 @@ struct AllanOptions {
 struct AllanTable {
   std::vector<double> tau_s;     ///< Averaging time m / sample_rate_hz [s].
   std::vector<long long> m;      ///< Averaging factor.
-  std::vector<double> sigma;     ///< Deviation [rate unit].
+  std::vector<double> sigma;     ///< Deviation [rate unit]; TDEV: [rate unit x s] (an angle).
   std::vector<double> ci_low;    ///< Lower bound sigma sqrt(edf / chi2_{(1+c)/2}) [rate unit].
   std::vector<double> ci_high;   ///< Upper bound sigma sqrt(edf / chi2_{(1-c)/2}) [rate unit].
   std::vector<double> edf;       ///< Equivalent degrees of freedom (Greenhall & Riley 2003).

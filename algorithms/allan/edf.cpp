@@ -1,5 +1,6 @@
 #include "algorithms/allan/edf.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -82,6 +83,16 @@ constexpr double kTable2[7][3][2] = {
     {{kNaN, kNaN}, {kNaN, kNaN}, {1.053, 0.553}},                              // alpha = -3
     {{kNaN, kNaN}, {kNaN, kNaN}, {1.302, 0.535}},                              // alpha = -4
 };
+// Table 1 (modified variances, F = 1): {a0, a1} for d = 1, 2, 3; rows alpha = 2 .. -4.
+constexpr double kTable1[7][3][2] = {
+    {{2.0 / 3.0, 1.0 / 3.0}, {7.0 / 9.0, 1.0 / 2.0}, {22.0 / 25.0, 2.0 / 3.0}},  // alpha = 2
+    {{0.840, 0.345}, {0.997, 0.616}, {1.141, 0.843}},                            // alpha = 1
+    {{1.079, 0.368}, {1.033, 0.607}, {1.184, 0.848}},                            // alpha = 0
+    {{kNaN, kNaN}, {1.048, 0.534}, {1.180, 0.816}},                              // alpha = -1
+    {{kNaN, kNaN}, {1.302, 0.535}, {1.175, 0.777}},                              // alpha = -2
+    {{kNaN, kNaN}, {kNaN, kNaN}, {1.194, 0.703}},                                // alpha = -3
+    {{kNaN, kNaN}, {kNaN, kNaN}, {1.489, 0.702}},                                // alpha = -4
+};
 // Table 3 (alpha = 1): {b0, b1} for d = 1, 2, 3.
 constexpr double kTable3[3][2] = {{6.0, 4.0}, {15.23, 12.0}, {47.8, 40.0}};
 
@@ -140,6 +151,62 @@ double GreenhallEdf(int alpha, int d, long long m, long long n_phase, bool overl
   }
   if (!(inv_edf > 0.0)) return kNaN;
   return 1.0 / inv_edf;
+}
+
+double GreenhallModifiedEdf(int alpha, int d, long long m, long long n_phase) {
+  if (d < 1 || d > 3 || alpha > 2 || alpha < -4 || alpha + 2 * d <= 1 || m < 1) return kNaN;
+  const double s = static_cast<double>(m);            // overlapping: S = m
+  const double l = static_cast<double>(m) * (1 + d);  // filter length m / F + m d, F = 1
+  const double big_m = 1.0 + std::floor(s * (static_cast<double>(n_phase) - l) / m);
+  if (big_m < 1.0) return kNaN;
+  const double j = std::min(big_m, (d + 1) * s);
+  const double r = big_m / s;
+  double inv_edf = kNaN;
+  if (j <= kJmax) {
+    inv_edf = InverseEdfFromSum(j, big_m, s, 1.0, alpha, d, 1.0);  // case 1.1
+  } else if (r > d + 1) {
+    const double* t1 = kTable1[2 - alpha][d - 1];
+    inv_edf = (t1[0] - t1[1] / r) / r;  // case 1.2
+  } else {
+    inv_edf = InverseEdfFromSum(kJmax, kJmax, kJmax / r, 1.0, alpha, d, 1.0);  // case 1.3
+  }
+  if (!(inv_edf > 0.0)) return kNaN;
+  return 1.0 / inv_edf;
+}
+
+double TotalVarianceEdf(int alpha, long long m, long long n_rate_samples) {
+  if (m < 1 || m > MaxAveragingFactor(Deviation::kTotal, n_rate_samples)) return kNaN;
+  const double ratio = static_cast<double>(n_rate_samples) / static_cast<double>(m);  // T / tau
+  const double big_n = static_cast<double>(n_rate_samples + 1);
+  const double mm = static_cast<double>(m);
+  double edf = kNaN;
+  switch (alpha) {
+    case 2:
+      edf = (big_n + 1.0) * (big_n - 2.0 * mm) / (2.0 * (big_n - mm));
+      break;
+    case 1:
+      edf = std::exp(std::sqrt(std::log((big_n - 1.0) / (2.0 * mm)) *
+                               std::log((2.0 * mm + 1.0) * (big_n - 1.0) / 4.0)));
+      break;
+    case 0:
+      edf = 1.50 * ratio;
+      break;
+    case -1:
+      edf = 1.17 * ratio - 0.22;
+      break;
+    case -2:
+      edf = 0.93 * ratio - 0.36;
+      break;
+  }
+  return edf > 0.0 ? edf : kNaN;
+}
+
+double DeviationEdf(Deviation deviation, int alpha, long long m, long long n_rate_samples,
+                    bool sampled_phase) {
+  if (deviation == Deviation::kTotal) return TotalVarianceEdf(alpha, m, n_rate_samples);
+  const int d = DifferenceOrder(deviation);
+  if (IsModified(deviation)) return GreenhallModifiedEdf(alpha, d, m, n_rate_samples + 1);
+  return GreenhallEdf(alpha, d, m, n_rate_samples + 1, IsOverlapping(deviation), sampled_phase);
 }
 
 }  // namespace fogpipe::allan

@@ -45,6 +45,9 @@ TEST(Deviation, MatchesTheNist1000PointSetAtThePublishedDigits) {
       {Deviation::kOverlappingAllan, {1, 10, 100}, {2.922319e-01, 9.159953e-02, 3.241343e-02}},
       {Deviation::kHadamard, {1, 10, 100}, {2.943883e-01, 1.052754e-01, 3.910860e-02}},
       {Deviation::kOverlappingHadamard, {1, 10, 100}, {2.943883e-01, 9.581083e-02, 3.237638e-02}},
+      {Deviation::kModifiedAllan, {1, 10, 100}, {2.922319e-01, 6.172376e-02, 2.170921e-02}},
+      {Deviation::kTime, {1, 10, 100}, {1.687202e-01, 3.563623e-01, 1.253382e+00}},
+      {Deviation::kTotal, {1, 10, 100}, {2.922319e-01, 9.134743e-02, 3.406530e-02}},
   };
   for (const Published& p : published) {
     const std::vector<double> sigma = Deviations(y, p.deviation, p.m);
@@ -65,6 +68,9 @@ TEST(Deviation, MatchesTheNbs9PointSet) {
       {Deviation::kOverlappingAllan, {1, 2}, {91.22945, 85.95287}},
       {Deviation::kHadamard, {1, 2}, {70.80608, 116.7980}},
       {Deviation::kOverlappingHadamard, {1, 2}, {70.80607, 85.61487}},
+      {Deviation::kModifiedAllan, {1, 2}, {91.22945, 74.78849}},
+      {Deviation::kTime, {1, 2}, {52.67135, 86.35831}},
+      {Deviation::kTotal, {1, 2}, {91.22945, 93.90379}},
   };
   for (const Published& p : published) {
     const std::vector<double> sigma = Deviations(y, p.deviation, p.m);
@@ -92,6 +98,12 @@ TEST(Deviation, MatchesStable32AllTauReports) {
       {"ocxo/stable32_adev_alltau.txt", Deviation::kAllan, true},
       {"ocxo/stable32_hdev_alltau.txt", Deviation::kHadamard, true},
       {"ocxo/stable32_ohdev_alltau.txt", Deviation::kOverlappingHadamard, true},
+      {"phasedat/phase_dat_mdev.txt", Deviation::kModifiedAllan, false},
+      {"phasedat/phase_dat_tdev.txt", Deviation::kTime, false},
+      {"phasedat/phase_dat_totdev.txt", Deviation::kTotal, false},
+      {"ocxo/stable32_mdev_alltau.txt", Deviation::kModifiedAllan, true},
+      {"ocxo/stable32_tdev_alltau.txt", Deviation::kTime, true},
+      {"ocxo/stable32_totdev_alltau.txt", Deviation::kTotal, true},
   };
   const Eigen::VectorXd phasedat = testing::PhaseDatFrequency();
   const Eigen::VectorXd ocxo = testing::OcxoFractionalFrequency();
@@ -111,15 +123,132 @@ TEST(Deviation, MatchesStable32AllTauReports) {
   }
 }
 
+// The total variance has n - 1 terms at every factor (the reflections supply the missing ends);
+// its limit m <= (n - 1) / 2 is Stable32's (tau up to T / 2), checked in the all-tau reports.
+// MDEV's S_j spans only 3m - 1 phase steps, so a term can exist one factor beyond T / 3; we stop
+// at SP 1065's tau <= T / 3 as for the Hadamard variance.
 TEST(Deviation, MaxAveragingFactorKeepsAtLeastOneDifference) {
-  for (Deviation dev : {Deviation::kOverlappingAllan, Deviation::kAllan,
-                        Deviation::kOverlappingHadamard, Deviation::kHadamard}) {
+  for (Deviation dev : AllDeviations()) {
     for (long long n : {2, 3, 7, 1000, 19982}) {
       const long long max_m = MaxAveragingFactor(dev, n);
       if (max_m < 1) continue;
       EXPECT_GE(DifferenceCount(dev, n, max_m), 1) << ToString(dev) << " n=" << n;
-      EXPECT_LT(DifferenceCount(dev, n, max_m + 1), 1) << ToString(dev) << " n=" << n;
+      if (dev != Deviation::kTotal && !IsModified(dev)) {
+        EXPECT_LT(DifferenceCount(dev, n, max_m + 1), 1) << ToString(dev) << " n=" << n;
+      }
     }
+  }
+  EXPECT_EQ(MaxAveragingFactor(Deviation::kTotal, 1000), 499);
+  EXPECT_EQ(MaxAveragingFactor(Deviation::kModifiedAllan, 1000), 333);
+}
+
+TEST(Deviation, NamesRoundTripAndOnlyAllanTablesTakeTheIeeeModel) {
+  for (Deviation dev : AllDeviations()) {
+    Deviation parsed = Deviation::kHadamard;
+    ASSERT_TRUE(ParseDeviation(ToString(dev), &parsed)) << ToString(dev);
+    EXPECT_EQ(parsed, dev);
+    EXPECT_EQ(IeeeModelApplies(dev),
+              dev == Deviation::kOverlappingAllan || dev == Deviation::kAllan)
+        << ToString(dev);
+  }
+  Deviation unused;
+  EXPECT_FALSE(ParseDeviation("theoh", &unused));
+  EXPECT_EQ(AllDeviations().size(), 7u);
+}
+
+// Plain scalar references, written from the definitions in NIST SP 1065 (eqs. 14, 15 and 25)
+// with no prefix sum, no blocks and no shortcut at the ends, in long double on the plain running
+// sum of the rate (no mean removal): what the blocked sweeps are held against.
+std::vector<long double> ReferencePhases(const Eigen::VectorXd& y) {
+  long double mean = 0.0L;
+  for (Eigen::Index i = 0; i < y.size(); ++i) mean += y[i];
+  mean /= y.size();
+  std::vector<long double> x(y.size() + 1, 0.0L);
+  for (Eigen::Index i = 0; i < y.size(); ++i)
+    x[i + 1] = x[i] + (static_cast<long double>(y[i]) - mean);
+  return x;
+}
+
+// Mod sigma^2 = sum_j [sum_{i=j}^{j+m-1} (x_{i+2m} - 2 x_{i+m} + x_i)]^2 / (2 m^4 (N - 3m + 1)).
+long double ReferenceMvar(const std::vector<long double>& x, long long m) {
+  const long long big_n = static_cast<long long>(x.size());
+  const long long count = big_n - 3 * m + 1;
+  long double sum = 0.0L;
+  for (long long j = 0; j < count; ++j) {
+    long double s = 0.0L;
+    for (long long i = j; i < j + m; ++i) s += x[i + 2 * m] - 2.0L * x[i + m] + x[i];
+    sum += s * s;
+  }
+  const long double mm = m;
+  return sum / (2.0L * mm * mm * mm * mm * count);
+}
+
+// SP 1065 eq. 25 with the extended sequence built explicitly: x*_{1-j} = 2 x_1 - x_{1+j} and
+// x*_{N+j} = 2 x_N - x_{N-j}, j = 1 .. N - 2 (1-based), then all centres i = 2 .. N - 1.
+long double ReferenceTotvar(const std::vector<long double>& x, long long m) {
+  const long long big_n = static_cast<long long>(x.size());
+  std::vector<long double> ext;
+  for (long long j = big_n - 2; j >= 1; --j) ext.push_back(2.0L * x[0] - x[j]);
+  const long long offset = static_cast<long long>(ext.size());
+  ext.insert(ext.end(), x.begin(), x.end());
+  for (long long j = 1; j <= big_n - 2; ++j) ext.push_back(2.0L * x[big_n - 1] - x[big_n - 1 - j]);
+  long double sum = 0.0L;
+  for (long long i = 1; i <= big_n - 2; ++i) {
+    const long double d = ext[offset + i - m] - 2.0L * ext[offset + i] + ext[offset + i + m];
+    sum += d * d;
+  }
+  const long double mm = m;
+  return sum / (2.0L * mm * mm * (big_n - 2));
+}
+
+// Each fast value against its reference. Double sums of ~4000 terms are good to ~1e-13
+// relative here (the noise has no term that makes S_j cancel by more than ~1e3); 1e-10 leaves
+// room and still catches any slip in a formula or an end term (>= 1e-4).
+TEST(Deviation, ModifiedTimeAndTotalEqualPlainScalarReferences) {
+  testing::GyroTruth truth;
+  truth.n_rad_sqrt_s = 1.0;
+  truth.k_rad_s_sqrt_s = 0.01;
+  truth.q_rad = 0.3;
+  Eigen::VectorXd y = testing::SimulateGyro(truth, 4099, 1.0, 21);
+  y.array() += 50.0;  // a bias many times the noise, as a gyro has
+  const std::vector<long double> x = ReferencePhases(y);
+  const std::vector<long long> m = {1, 2, 3, 4, 7, 8, 16, 33, 64, 100, 128, 256, 512, 1000, 1365};
+  const std::vector<double> mdev = Deviations(y, Deviation::kModifiedAllan, m);
+  const std::vector<double> tdev = Deviations(y, Deviation::kTime, m);
+  std::vector<long long> m_total = m;
+  m_total.push_back(2048);  // beyond N / 3: more reflected terms than ordinary ones
+  m_total.push_back(MaxAveragingFactor(Deviation::kTotal, y.size()));
+  const std::vector<double> totdev = Deviations(y, Deviation::kTotal, m_total);
+  for (size_t k = 0; k < m.size(); ++k) {
+    const double ref = static_cast<double>(std::sqrt(ReferenceMvar(x, m[k])));
+    EXPECT_NEAR(mdev[k], ref, 1e-10 * ref) << "mdev m=" << m[k];
+    const double ref_t = ref * m[k] / std::sqrt(3.0);
+    EXPECT_NEAR(tdev[k], ref_t, 1e-10 * ref_t) << "tdev m=" << m[k];
+  }
+  for (size_t k = 0; k < m_total.size(); ++k) {
+    const double ref = static_cast<double>(std::sqrt(ReferenceTotvar(x, m_total[k])));
+    EXPECT_NEAR(totdev[k], ref, 1e-10 * ref) << "totdev m=" << m_total[k];
+  }
+}
+
+// The window sums P_{j+m} - P_j of the phase's prefix sum P must keep their digits however large
+// P grows. Random-walk plus white rate noise, 1e5 samples on a 1e6 bias: the phase reaches ~3e7
+// and P ~3e12, while S_j at m = 1 (a first difference of the rate) is ~2. A plain double prefix
+// sum would put a rounding of P (~3e-4) into every S_j, ~1e-6 of the variance after averaging;
+// the double-double one leaves only the phase's own rounding (~3e-9 per S_j, ~1e-11 of the
+// variance). The reference is the long double definition; 1e-9 relative separates the two.
+TEST(Deviation, ModifiedVarianceKeepsFullPrecisionOnALongWanderingRecord) {
+  testing::GyroTruth walk;
+  walk.k_rad_s_sqrt_s = 1.0;
+  walk.n_rad_sqrt_s = 1.0;
+  Eigen::VectorXd y = testing::SimulateGyro(walk, 100003, 1.0, 33);
+  y.array() += 1e6;
+  const std::vector<long double> x = ReferencePhases(y);
+  const std::vector<long long> m = {1, 2, 5, 16};
+  const std::vector<double> mdev = Deviations(y, Deviation::kModifiedAllan, m);
+  for (size_t k = 0; k < m.size(); ++k) {
+    const double ref = static_cast<double>(std::sqrt(ReferenceMvar(x, m[k])));
+    EXPECT_NEAR(mdev[k], ref, 1e-9 * ref) << "m=" << m[k];
   }
 }
 

@@ -26,11 +26,11 @@ inline std::string ReferencePath(const std::string& relative) {
   return std::string(FOGPIPE_TEST_DATA_DIR) + "/allan-reference/" + relative;
 }
 
-/// Rows of a Stable32 report. Header and comment lines start with '#'; a data row is any other
-/// line with exactly seven numeric fields. Blank or malformed lines are skipped, so a report with
-/// trailing text still parses.
-inline std::vector<Stable32Row> ReadStable32Report(const std::string& relative) {
-  std::ifstream in(ReferencePath(relative));
+/// Rows of the Stable32 report at `path`. Header and comment lines start with '#'; a data row is
+/// any other line with exactly seven numeric fields. Blank or malformed lines are skipped, so a
+/// report with trailing text still parses.
+inline std::vector<Stable32Row> ReadStable32ReportAt(const std::string& path) {
+  std::ifstream in(path);
   std::vector<Stable32Row> rows;
   std::string line;
   while (std::getline(in, line)) {
@@ -52,6 +52,11 @@ inline std::vector<Stable32Row> ReadStable32Report(const std::string& relative) 
     rows.push_back(row);
   }
   return rows;
+}
+
+/// ReadStable32ReportAt of a file in tests/data/allan-reference.
+inline std::vector<Stable32Row> ReadStable32Report(const std::string& relative) {
+  return ReadStable32ReportAt(ReferencePath(relative));
 }
 
 /// The first numeric column of a text file; '#' lines and blank lines are skipped.
