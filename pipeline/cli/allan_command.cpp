@@ -20,6 +20,7 @@ namespace {
 struct AllanArgs {
   std::string recording;
   std::string axis;  // empty: the first axis
+  std::string deviation = allan::ToString(allan::AllanOptions{}.deviation);
   std::string taus = "octave";
   bool json = false;
   bool csv = false;
@@ -37,6 +38,11 @@ int RunAllan(const AllanArgs& args) {
   Eigen::VectorXd rate_rad_s;
   allan::AllanOptions options;
   options.confidence = args.confidence;
+  if (!allan::ParseDeviation(args.deviation, &options.deviation)) {
+    std::cerr << "fogpipe allan: --deviation must be one of " << io::DeviationList() << ", got '"
+              << args.deviation << "'\n";
+    return 2;
+  }
   try {
     io::ReadOptions read;
     read.max_nan_gap_samples = args.max_nan_gap;
@@ -72,7 +78,10 @@ int RunAllan(const AllanArgs& args) {
     return 1;
   }
   report.table = std::move(allan.table);
-  report.fit = allan::FitNoiseTerms(report.table, allan::NoiseFitOptions{});
+  // The IEEE terms are coefficients of the Allan variance's response; on any other table they
+  // would be wrong without saying so.
+  report.fitted = allan::IeeeModelApplies(options.deviation);
+  if (report.fitted) report.fit = allan::FitNoiseTerms(report.table, allan::NoiseFitOptions{});
   if (args.json) {
     std::cout << io::AllanReportJson(report).dump(2) << "\n";
   } else if (args.csv) {
@@ -89,11 +98,12 @@ void AddAllanCommand(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<AllanArgs>();
   auto* cmd = app.add_subcommand(
       "allan",
-      "Allan deviation table (tau, sigma in the recording's unit and deg/h, CI, EDF, count) and "
-      "the noise terms Q, N, B, K, R of one recording axis. Exit code 0: done, 1: bad recording, "
-      "2: usage error.");
+      "Allan-type deviation table (tau, sigma in the recording's unit and deg/h, CI, EDF, count) "
+      "and, for OADEV / ADEV, the noise terms Q, N, B, K, R of one recording axis. Exit code 0: "
+      "done, 1: bad recording, 2: usage error.");
   cmd->add_option("RECORDING", args->recording, "HDF5 recording (input contract v1)");
   cmd->add_option("--axis", args->axis, "Axis name (from the file's `axes`) or index; default 0");
+  cmd->add_option("--deviation", args->deviation, io::DeviationHelp())->capture_default_str();
   cmd->add_option("--taus", args->taus,
                   "Tau grid: octave (1, 2, 4, ... samples), decade:K (K log-spaced per decade), "
                   "all (every m), log10 (allantools' taus='log10')")

@@ -10,9 +10,32 @@
 namespace fogpipe::io {
 namespace {
 
-/// sigma in rad/s -> the recording's unit.
-double ToFileUnit(double rad_s, units::RateUnit unit) {
-  return rad_s / units::ToRadPerSecond(unit);
+/// What each kind is, for --help; the unit is added from UnitsOf.
+const char* Description(allan::Deviation deviation) {
+  switch (deviation) {
+    case allan::Deviation::kOverlappingAllan:
+      return "overlapping Allan (IEEE 952 terms fitted)";
+    case allan::Deviation::kAllan:
+      return "non-overlapping Allan (IEEE 952 terms fitted)";
+    case allan::Deviation::kModifiedAllan:
+      return "modified Allan, separates white from flicker angle noise";
+    case allan::Deviation::kTime:
+      return "time deviation tau MDEV / sqrt(3), an angle";
+    case allan::Deviation::kOverlappingHadamard:
+      return "overlapping Hadamard, blind to a rate ramp";
+    case allan::Deviation::kHadamard:
+      return "non-overlapping Hadamard";
+    case allan::Deviation::kTotal:
+      return "total (doubly reflected), tighter bounds at long tau";
+  }
+  return "";
+}
+
+/// The IEEE 952 terms are not fitted on this table: why, for the text and the JSON.
+std::string NotFittedReason(allan::Deviation deviation) {
+  return std::string("not fitted: the IEEE 952 terms are coefficients of the Allan variance; ") +
+         allan::ToString(deviation) +
+         " responds differently to the same noises (use --deviation oadev or adev)";
 }
 
 std::string Fixed(double value, const char* format) {
@@ -25,6 +48,29 @@ std::string Fixed(double value, const char* format) {
 nlohmann::json Number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
 }  // namespace
+
+std::string DeviationList() {
+  std::string list;
+  for (allan::Deviation d : allan::AllDeviations())
+    list += (list.empty() ? "" : ", ") + std::string(allan::ToString(d));
+  return list;
+}
+
+std::string DeviationHelp() {
+  std::string help = "Which deviation, in the units shown:";
+  for (allan::Deviation d : allan::AllDeviations()) {
+    help += std::string("\n  ") + allan::ToString(d) + ": " + Description(d) + " [" +
+            (allan::IsTimeDeviation(d) ? "rad and arcsec" : "recording's unit and deg/h") + "]";
+  }
+  return help;
+}
+
+DeviationUnits UnitsOf(allan::Deviation deviation, const std::string& rate_units,
+                       units::RateUnit rate_unit) {
+  if (allan::IsTimeDeviation(deviation)) return {"rad", 1.0, "arcsec", units::kArcsecPerRad};
+  return {rate_units, 1.0 / units::ToRadPerSecond(rate_unit), "deg/h",
+          units::RadPerSecondToDegPerHour(1.0)};
+}
 
 std::string UnitToken(const std::string& units) {
   std::string token = units;
@@ -83,28 +129,33 @@ bool ParseTauGrid(const std::string& text, long long n_samples, allan::Deviation
 }
 
 void PrintAllanText(std::ostream& out, const AllanReport& r) {
-  const std::string u = r.rate_units;
   const allan::AllanTable& t = r.table;
+  const DeviationUnits du = UnitsOf(t.deviation, r.rate_units, r.rate_unit);
+  const std::string e = " [" + du.engineering + "]";
   out << "fogpipe allan: " << r.file << ", axis " << r.axis << "\n"
       << "  " << r.samples << " samples at " << r.sample_rate_hz << " Hz ("
-      << Fixed(r.samples / r.sample_rate_hz / 3600.0, "%.3f") << " h), rate in " << u;
+      << Fixed(r.samples / r.sample_rate_hz / 3600.0, "%.3f") << " h), rate in " << r.rate_units;
   if (r.nan_bridged > 0) out << ", " << r.nan_bridged << " missing samples bridged";
   out << "\n  " << allan::ToString(t.deviation) << " on the " << r.taus << " grid, "
       << Fixed(100.0 * r.confidence, "%.1f") << " % confidence interval (Stable32 convention)\n\n";
-  const std::string sigma_u = "sigma [" + u + "]";
-  out << std::setw(14) << "tau [s]" << std::setw(10) << "m" << std::setw(15) << sigma_u
-      << std::setw(15) << "sigma [deg/h]" << std::setw(15) << "ci_low [deg/h]" << std::setw(16)
-      << "ci_high [deg/h]" << std::setw(10) << "EDF" << std::setw(11) << "count"
+  out << std::setw(14) << "tau [s]" << std::setw(10) << "m" << std::setw(15)
+      << "sigma [" + du.primary + "]" << std::setw(16) << "sigma" + e << std::setw(16)
+      << "ci_low" + e << std::setw(17) << "ci_high" + e << std::setw(10) << "EDF" << std::setw(11)
+      << "count"
       << "\n";
   for (size_t i = 0; i < t.size(); ++i) {
     out << std::setw(14) << Fixed(t.tau_s[i], "%.6g") << std::setw(10) << t.m[i] << std::setw(15)
-        << Fixed(ToFileUnit(t.sigma[i], r.rate_unit), "%.6e") << std::setw(15)
-        << Fixed(units::RadPerSecondToDegPerHour(t.sigma[i]), "%.6e") << std::setw(15)
-        << Fixed(units::RadPerSecondToDegPerHour(t.ci_low[i]), "%.6e") << std::setw(16)
-        << Fixed(units::RadPerSecondToDegPerHour(t.ci_high[i]), "%.6e") << std::setw(10)
+        << Fixed(t.sigma[i] * du.primary_per_si, "%.6e") << std::setw(16)
+        << Fixed(t.sigma[i] * du.engineering_per_si, "%.6e") << std::setw(16)
+        << Fixed(t.ci_low[i] * du.engineering_per_si, "%.6e") << std::setw(17)
+        << Fixed(t.ci_high[i] * du.engineering_per_si, "%.6e") << std::setw(10)
         << Fixed(t.edf[i], "%.4g") << std::setw(11) << t.count[i] << "\n";
   }
-  const allan::NoiseTermsEngineering e = allan::ToEngineeringUnits(r.fit.terms);
+  if (!r.fitted) {
+    out << "\nNoise terms: " << NotFittedReason(t.deviation) << ".\n";
+    return;
+  }
+  const allan::NoiseTermsEngineering terms = allan::ToEngineeringUnits(r.fit.terms);
   out << "\nNoise terms (joint non-negative weighted fit of sigma^2, IEEE Std 952-1997 Annex C; "
       << ToString(r.fit.summary.termination) << ", " << r.fit.summary.points << " points):\n";
   auto row = [&out](const char* symbol, const char* name, double value, double se,
@@ -113,49 +164,51 @@ void PrintAllanText(std::ostream& out, const AllanReport& r) {
         << std::setw(13) << Fixed(value, "%.4e") << " +- " << std::left << std::setw(11)
         << Fixed(se, "%.2e") << std::right << unit << "\n";
   };
-  row("Q", "quantization", e.q_arcsec, e.q_se, units::kQuantizationUnit);
-  row("N", "angle random walk", e.n_deg_sqrt_h, e.n_se, units::kArwUnit);
-  row("B", "bias instability", e.b_deg_h, e.b_se, units::kBiasUnit);
-  row("K", "rate random walk", e.k_deg_h_sqrt_h, e.k_se, units::kRrwUnit);
-  row("R", "rate ramp", e.r_deg_h2, e.r_se, units::kRampUnit);
+  row("Q", "quantization", terms.q_arcsec, terms.q_se, units::kQuantizationUnit);
+  row("N", "angle random walk", terms.n_deg_sqrt_h, terms.n_se, units::kArwUnit);
+  row("B", "bias instability", terms.b_deg_h, terms.b_se, units::kBiasUnit);
+  row("K", "rate random walk", terms.k_deg_h_sqrt_h, terms.k_se, units::kRrwUnit);
+  row("R", "rate ramp", terms.r_deg_h2, terms.r_se, units::kRampUnit);
   if (!r.fit.summary.message.empty()) out << "  (" << r.fit.summary.message << ")\n";
 }
 
 void PrintAllanCsv(std::ostream& out, const AllanReport& r) {
-  const std::string u = UnitToken(r.rate_units);
   const allan::AllanTable& t = r.table;
+  const DeviationUnits du = UnitsOf(t.deviation, r.rate_units, r.rate_unit);
+  const std::string e = UnitToken(du.engineering);
   out << "# fogpipe allan: " << r.file << ", axis " << r.axis << ", " << r.samples << " samples at "
       << r.sample_rate_hz << " Hz, " << allan::ToString(t.deviation) << ", " << r.taus
       << " taus, CI " << r.confidence << "\n";
-  out << "tau_s,m,sigma_" << u << ",sigma_deg_h,ci_low_deg_h,ci_high_deg_h,edf,count\n";
+  out << "tau_s,m,sigma_" << UnitToken(du.primary) << ",sigma_" << e << ",ci_low_" << e
+      << ",ci_high_" << e << ",edf,count\n";
   auto g = [](double v) { return Fixed(v, "%.17g"); };
   for (size_t i = 0; i < t.size(); ++i) {
-    out << g(t.tau_s[i]) << "," << t.m[i] << "," << g(ToFileUnit(t.sigma[i], r.rate_unit)) << ","
-        << g(units::RadPerSecondToDegPerHour(t.sigma[i])) << ","
-        << g(units::RadPerSecondToDegPerHour(t.ci_low[i])) << ","
-        << g(units::RadPerSecondToDegPerHour(t.ci_high[i])) << "," << g(t.edf[i]) << ","
-        << t.count[i] << "\n";
+    out << g(t.tau_s[i]) << "," << t.m[i] << "," << g(t.sigma[i] * du.primary_per_si) << ","
+        << g(t.sigma[i] * du.engineering_per_si) << "," << g(t.ci_low[i] * du.engineering_per_si)
+        << "," << g(t.ci_high[i] * du.engineering_per_si) << "," << g(t.edf[i]) << "," << t.count[i]
+        << "\n";
   }
 }
 
 nlohmann::json AllanReportJson(const AllanReport& r) {
   const allan::AllanTable& t = r.table;
-  const std::string u = UnitToken(r.rate_units);
+  const DeviationUnits du = UnitsOf(t.deviation, r.rate_units, r.rate_unit);
+  const std::string e = UnitToken(du.engineering);
   nlohmann::json table;
-  std::vector<nlohmann::json> sigma_file, sigma_deg_h, low, high, edf;
+  std::vector<nlohmann::json> sigma_file, sigma_eng, low, high, edf;
   for (size_t i = 0; i < t.size(); ++i) {
-    sigma_file.push_back(Number(ToFileUnit(t.sigma[i], r.rate_unit)));
-    sigma_deg_h.push_back(Number(units::RadPerSecondToDegPerHour(t.sigma[i])));
-    low.push_back(Number(units::RadPerSecondToDegPerHour(t.ci_low[i])));
-    high.push_back(Number(units::RadPerSecondToDegPerHour(t.ci_high[i])));
+    sigma_file.push_back(Number(t.sigma[i] * du.primary_per_si));
+    sigma_eng.push_back(Number(t.sigma[i] * du.engineering_per_si));
+    low.push_back(Number(t.ci_low[i] * du.engineering_per_si));
+    high.push_back(Number(t.ci_high[i] * du.engineering_per_si));
     edf.push_back(Number(t.edf[i]));
   }
   table["tau_s"] = t.tau_s;
   table["m"] = t.m;
-  table["sigma_" + u] = sigma_file;
-  table["sigma_deg_h"] = sigma_deg_h;
-  table["ci_low_deg_h"] = low;
-  table["ci_high_deg_h"] = high;
+  table["sigma_" + UnitToken(du.primary)] = sigma_file;
+  table["sigma_" + e] = sigma_eng;
+  table["ci_low_" + e] = low;
+  table["ci_high_" + e] = high;
   table["edf"] = edf;
   table["count"] = t.count;
   auto terms_json = [](const allan::NoiseTerms& terms) {
@@ -171,7 +224,7 @@ nlohmann::json AllanReportJson(const AllanReport& r) {
                           {"r_deg_h2", Number(e.r_deg_h2)},
                           {"r_deg_h2_se", Number(e.r_se)}};
   };
-  return nlohmann::json{
+  nlohmann::json report{
       {"file", r.file},
       {"axis", r.axis},
       {"rate_units", r.rate_units},
@@ -179,18 +232,25 @@ nlohmann::json AllanReportJson(const AllanReport& r) {
       {"samples", r.samples},
       {"nan_bridged", r.nan_bridged},
       {"deviation", allan::ToString(t.deviation)},
+      {"deviation_units", du.primary},
       {"taus", r.taus},
       {"confidence", r.confidence},
       {"table", table},
-      {"noise_terms", terms_json(r.fit.terms)},
-      {"noise_fit",
-       {{"termination", ToString(r.fit.summary.termination)},
-        {"message", r.fit.summary.message},
-        {"points", r.fit.summary.points},
-        {"chi2", Number(r.fit.chi2)},
-        {"dof", r.fit.dof}}},
-      {"slope_readoff", terms_json(r.fit.slope_readoff)},
   };
+  if (!r.fitted) {
+    report["noise_terms"] = nullptr;
+    report["noise_fit"] = {{"termination", "not_fitted"},
+                           {"message", NotFittedReason(t.deviation)}};
+    return report;
+  }
+  report["noise_terms"] = terms_json(r.fit.terms);
+  report["noise_fit"] = {{"termination", ToString(r.fit.summary.termination)},
+                         {"message", r.fit.summary.message},
+                         {"points", r.fit.summary.points},
+                         {"chi2", Number(r.fit.chi2)},
+                         {"dof", r.fit.dof}};
+  report["slope_readoff"] = terms_json(r.fit.slope_readoff);
+  return report;
 }
 
 }  // namespace fogpipe::io

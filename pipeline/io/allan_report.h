@@ -27,6 +27,23 @@ std::vector<long long> AllantoolsLog10Factors(long long n_samples, long long max
 bool ParseTauGrid(const std::string& text, long long n_samples, allan::Deviation deviation,
                   allan::TauGridOptions* grid, std::string* error);
 
+/// "oadev, adev, mdev, tdev, ohdev, hdev, totdev".
+std::string DeviationList();
+/// --deviation's help: every kind with what it is, its unit and which one is the default.
+std::string DeviationHelp();
+
+/// The units a table of `deviation` is printed in: rate kinds in the recording's unit and deg/h;
+/// TDEV (an angle) in rad and arcsec. Labels are as printed ("deg/s"), tokens as in CSV / JSON
+/// column names ("deg_s").
+struct DeviationUnits {
+  std::string primary;      ///< e.g. "deg/s", or "rad" for TDEV
+  double primary_per_si;    ///< value in primary units per SI value (rad/s or rad)
+  std::string engineering;  ///< "deg/h", or "arcsec" for TDEV
+  double engineering_per_si;
+};
+DeviationUnits UnitsOf(allan::Deviation deviation, const std::string& rate_units,
+                       units::RateUnit rate_unit);
+
 /// Everything `fogpipe allan` prints.
 struct AllanReport {
   std::string file;
@@ -38,8 +55,9 @@ struct AllanReport {
   long long nan_bridged = 0;
   std::string taus;           ///< the grid as asked, e.g. "octave"
   double confidence = 0.683;  ///< of ci_low / ci_high
-  allan::AllanTable table;    ///< SI: sigma, ci_low, ci_high in rad/s
-  allan::NoiseFitResult fit;  ///< SI
+  allan::AllanTable table;    ///< SI: sigma, ci_low, ci_high in rad/s (TDEV: rad)
+  bool fitted = true;         ///< false: no noise terms (the table is not an Allan variance)
+  allan::NoiseFitResult fit;  ///< SI; meaningful only when fitted
 };
 
 /// Human-readable table + noise terms, units in every header.

@@ -155,6 +155,77 @@ TEST(AllanCommand, ExitCodesSeparateBadRecordingsFromUsageErrors) {
   EXPECT_NE(bad.output.find(text + ": is not an HDF5 file"), std::string::npos) << bad.output;
 }
 
+// Every kind of --deviation on one small recording (deg/s at 10 Hz): the kind's name and the units
+// in each output, the IEEE terms only on the Allan tables, and TDEV = tau MDEV / sqrt(3) across
+// the two unit systems (deg/s -> rad/s by pi / 180, written out here).
+TEST(AllanCommand, EveryDeviationKindCarriesItsNameAndUnitsInTextCsvAndJson) {
+  testing::TempDir dir;
+  const std::string path = WriteNoiseRecording(dir, Noise(2000, 0.5, 0.001, 17), "deg/s", 10.0);
+  std::vector<double> mdev_deg_s;
+  for (const std::string kind : {"oadev", "adev", "mdev", "tdev", "ohdev", "hdev", "totdev"}) {
+    const bool angle = kind == "tdev";
+    const bool allan = kind == "oadev" || kind == "adev";
+    const std::string primary = angle ? "sigma_rad" : "sigma_deg_s";
+    const std::string eng = angle ? "arcsec" : "deg_h";
+    const auto json = RunFogpipe("allan " + Quote(path) + " --deviation " + kind + " --json");
+    ASSERT_EQ(json.exit_code, 0) << kind << "\n" << json.output;
+    const nlohmann::json j = nlohmann::json::parse(json.output);
+    EXPECT_EQ(j["deviation"], kind);
+    EXPECT_EQ(j["deviation_units"], angle ? "rad" : "deg/s");
+    const auto& t = j["table"];
+    for (const std::string& key : {std::string("tau_s"), primary, "sigma_" + eng, "ci_low_" + eng,
+                                   "ci_high_" + eng, std::string("edf"), std::string("count")})
+      ASSERT_TRUE(t.contains(key)) << kind << " lacks " << key;
+    ASSERT_GE(t["tau_s"].size(), 8u) << kind;
+    for (size_t i = 0; i < t["tau_s"].size(); ++i) {
+      const double sigma = t["sigma_" + eng][i], low = t["ci_low_" + eng][i],
+                   high = t["ci_high_" + eng][i];
+      EXPECT_GT(sigma, 0.0) << kind;
+      EXPECT_LT(low, sigma) << kind << " row " << i;
+      EXPECT_GT(high, sigma) << kind << " row " << i;
+    }
+    EXPECT_EQ(j["noise_terms"].is_object(), allan) << kind;
+    if (!allan) {
+      EXPECT_EQ(j["noise_fit"]["termination"], "not_fitted") << kind;
+    }
+    if (kind == "mdev") mdev_deg_s = t["sigma_deg_s"].get<std::vector<double>>();
+    if (angle) {
+      ASSERT_EQ(mdev_deg_s.size(), t["tau_s"].size());
+      for (size_t i = 0; i < mdev_deg_s.size(); ++i) {
+        const double tau = t["tau_s"][i];
+        const double expected = tau * mdev_deg_s[i] * kPi / 180.0 / std::sqrt(3.0);
+        EXPECT_NEAR(t["sigma_rad"][i].get<double>(), expected, 1e-12 * expected);
+        EXPECT_NEAR(t["sigma_arcsec"][i].get<double>(), expected * 180.0 / kPi * 3600.0,
+                    1e-12 * expected * 206264.8);
+      }
+    }
+    const auto csv = RunFogpipe("allan " + Quote(path) + " --deviation " + kind + " --csv");
+    ASSERT_EQ(csv.exit_code, 0) << csv.output;
+    EXPECT_NE(csv.output.find(", " + kind + ", octave taus"), std::string::npos) << csv.output;
+    EXPECT_NE(csv.output.find("tau_s,m," + primary + ",sigma_" + eng + ",ci_low_" + eng +
+                              ",ci_high_" + eng + ",edf,count\n"),
+              std::string::npos)
+        << csv.output;
+    const auto text = RunFogpipe("allan " + Quote(path) + " --deviation " + kind);
+    ASSERT_EQ(text.exit_code, 0) << text.output;
+    EXPECT_NE(text.output.find("  " + kind + " on the octave grid"), std::string::npos)
+        << text.output;
+    const std::string unit_header = angle ? "sigma [arcsec]" : "sigma [deg/h]";
+    EXPECT_NE(text.output.find(unit_header), std::string::npos) << text.output;
+    EXPECT_NE(text.output.find(angle ? "sigma [rad]" : "sigma [deg/s]"), std::string::npos);
+    EXPECT_EQ(text.output.find("Noise terms: not fitted") == std::string::npos, allan)
+        << text.output;
+  }
+  const auto bad = RunFogpipe("allan " + Quote(path) + " --deviation theoh", true);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("oadev, adev, mdev, tdev, ohdev, hdev, totdev"), std::string::npos)
+      << bad.output;
+  const auto help = RunFogpipe("allan --help");
+  for (const char* word : {"--deviation", "mdev:", "tdev:", "totdev:", "ohdev:", "hdev:", "adev:",
+                           "oadev:", "arcsec", "deg/h", "--deviation TEXT=oadev"})
+    EXPECT_NE(help.output.find(word), std::string::npos) << word << "\n" << help.output;
+}
+
 // allantools 2024.06 oadev(taus="log10") on 1e6 frequency samples at 100 Hz: the tau column of
 // adis16405_imu1_gyro_x_oadev_allantools.csv times 100 (the grid depends only on N, not on the
 // data). Lets this test run where the shared data is absent.
