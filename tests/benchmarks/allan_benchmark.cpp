@@ -1,5 +1,6 @@
 // Speed of algorithms/allan (one thread). Target: OADEV at 64 log-spaced taus of 1e7 samples,
-// confidence intervals included, <= 0.5 s (allantools: 3.6 s, 38 s with CIs).
+// confidence intervals included, <= 0.5 s (allantools: 3.6 s, 38 s with CIs). MDEV and TOTDEV
+// on the octave grid of the first 1e6 and of all 1e7 samples (results: docs/allan-deviations.md).
 //   build/tests/benchmarks/allan_benchmark --benchmark_repetitions=5 \
 //       --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
@@ -70,6 +71,23 @@ void BM_Ohdev64TausWithCi(benchmark::State& s) {
 }
 void BM_Hdev64TausWithCi(benchmark::State& s) { RunAllan(s, Deviation::kHadamard, true); }
 
+// The octave grid of the first state.range(0) samples; state.range(1) = 1: with intervals.
+void RunOctave(benchmark::State& state, Deviation deviation) {
+  const Eigen::VectorXd rate = Rate().head(state.range(0));
+  AllanOptions options;
+  options.deviation = deviation;
+  options.confidence_intervals = state.range(1) == 1;
+  for (auto _ : state) {
+    AllanResult r = ComputeAllan(rate, 100.0, options);
+    benchmark::DoNotOptimize(r.table.sigma.data());
+    state.counters["taus"] = static_cast<double>(r.table.size());
+  }
+}
+
+void BM_MdevOctave(benchmark::State& s) { RunOctave(s, Deviation::kModifiedAllan); }
+void BM_TotdevOctave(benchmark::State& s) { RunOctave(s, Deviation::kTotal); }
+void BM_OadevOctave(benchmark::State& s) { RunOctave(s, Deviation::kOverlappingAllan); }
+
 void BM_FitNoiseTermsOctave(benchmark::State& state) {
   AllanOptions options;
   const AllanTable table = ComputeAllan(Rate(), 100.0, options).table;
@@ -84,6 +102,18 @@ BENCHMARK(BM_Oadev64TausNoCi)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Adev64TausWithCi)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Ohdev64TausWithCi)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Hdev64TausWithCi)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_MdevOctave)
+    ->ArgsProduct({{1'000'000, kSamples}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_TotdevOctave)
+    ->ArgsProduct({{1'000'000, kSamples}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_OadevOctave)
+    ->ArgsProduct({{1'000'000, kSamples}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_FitNoiseTermsOctave)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -225,9 +225,11 @@ bool ComputeNewKind(const NewKindCase& c, std::vector<testing::Stable32Row>* row
 // Sigma to Stable32's 5 printed digits (1e-4 relative, as in deviation_test), the "#" column,
 // and, with the noise type of Stable32's Alpha column, both bounds within 2 % on every row:
 // MDEV / TDEV by Greenhall's F = 1 EDF, TOTDEV by SP 1065's fits (edf.h).
-// The OCXO octave reports were run on f / f_mean (their header: Average = 1.000000e+00), not on
-// the fractional frequency: their Sigma differs from the all-tau reports of the same record by up
-// to 1.3e-3 (MDEV) and 1 % (TOTDEV at m = 512; 5e-4 for OADEV, see above). Their Sigma is not
+// The OCXO octave reports were run on other input (their header: Average = 1.000000e+00, i.e.
+// f / f_mean): their Sigma differs from the all-tau reports of the same record by up to 1.3e-3
+// (MDEV) and 1.2 % (TOTDEV at m = 512; 5e-4 for OADEV, see above). Recomputing TOTDEV from
+// f / f_mean in double does not reproduce it (5.133e-12 against 5.1857e-12 at m = 512), so the
+// cause is not established. Their Sigma is not
 // compared (the all-tau reports check it to 1e-4 in deviation_test), and every report's bounds
 // are compared as our ratio bound / sigma times Stable32's Sigma, which isolates EDF and
 // chi-square from that difference (for PHASE.DAT and the counter, whose Sigma agrees to 1e-4,
