@@ -27,6 +27,7 @@ bool MethodOptions::IsValid(std::string* error) const {
   if (direct_ar_order < 0) return fail("direct_ar_order must be >= 0 (0 = by BIC)");
   if (!allan.IsValid(&detail)) return fail("allan");
   if (!noise_fit.IsValid(&detail)) return fail("noise_fit");
+  if (!reference.IsValid(&detail)) return fail("reference");
   return true;
 }
 
@@ -97,14 +98,28 @@ void ModelComponents(const MethodOptions& options, const ForEach& for_each, Meth
   for (int k = 0; k <= num_imfs; ++k) result->method1 += result->components[k].Output();
 }
 
+void RunReferenceFilters(double sample_rate_hz, const MethodOptions& options,
+                         const ForEach& for_each, MethodResult* result) {
+  if (!HasResult(result->summary.termination)) return;
+  std::vector<filters::ReferenceOutput> outputs = filters::RunReferenceFilters(
+      result->preprocessed.signal, sample_rate_hz, options.reference, for_each);
+  result->reference.assign(outputs.size(), ReferenceEvaluation());
+  for (std::size_t i = 0; i < outputs.size(); ++i) result->reference[i].output = std::move(outputs[i]);
+}
+
 void EvaluateAllan(double sample_rate_hz, const MethodOptions& options, const ForEach& for_each,
                    MethodResult* result) {
   if (!HasResult(result->summary.termination)) return;
-  const Eigen::VectorXd* signals[3] = {&result->preprocessed.signal, &result->method1,
-                                       &result->direct.Output()};
-  AllanEvaluation* outputs[3] = {&result->raw_allan, &result->method1_allan,
-                                 &result->method2_allan};
-  for_each(3, [&](int i) {
+  std::vector<const Eigen::VectorXd*> signals = {&result->preprocessed.signal, &result->method1,
+                                                 &result->direct.Output()};
+  std::vector<AllanEvaluation*> outputs = {&result->raw_allan, &result->method1_allan,
+                                           &result->method2_allan};
+  for (ReferenceEvaluation& r : result->reference) {
+    if (!HasResult(r.output.termination)) continue;
+    signals.push_back(&r.output.signal);
+    outputs.push_back(&r.allan);
+  }
+  for_each(static_cast<int>(signals.size()), [&](int i) {
     outputs[i]->allan = allan::ComputeAllan(*signals[i], sample_rate_hz, options.allan);
     if (HasResult(outputs[i]->allan.summary.termination)) {
       outputs[i]->noise = allan::FitNoiseTerms(outputs[i]->allan.table, options.noise_fit);
@@ -125,6 +140,7 @@ MethodResult RunMethod(const Eigen::VectorXd& x, double sample_rate_hz,
   MethodResult result;
   PreprocessAndDecompose(x, sample_rate_hz, options, &result);
   ModelComponents(options, for_each, &result);
+  RunReferenceFilters(sample_rate_hz, options, for_each, &result);
   EvaluateAllan(sample_rate_hz, options, for_each, &result);
   return result;
 }

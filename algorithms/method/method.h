@@ -19,6 +19,7 @@
 #include "algorithms/common/for_each.h"
 #include "algorithms/common/status.h"
 #include "algorithms/emd/emd.h"
+#include "algorithms/filters/reference_filters.h"
 #include "algorithms/method/component.h"
 #include "algorithms/method/preprocess.h"
 
@@ -33,6 +34,8 @@ struct MethodOptions {
   int direct_ar_order = 0;
   allan::AllanOptions allan;
   allan::NoiseFitOptions noise_fit;
+  /// The reference filters run beside methods 1 and 2 on the preprocessed signal.
+  filters::ReferenceFilterOptions reference;
 
   bool IsValid(std::string* error) const;
 };
@@ -41,6 +44,13 @@ struct MethodOptions {
 struct AllanEvaluation {
   allan::AllanResult allan;
   allan::NoiseFitResult noise;
+};
+
+/// A reference filter's output (filters/reference_filters.h) and its Allan evaluation (empty when
+/// the filter failed: output.termination says why; the recording does not fail for it).
+struct ReferenceEvaluation {
+  filters::ReferenceOutput output;
+  AllanEvaluation allan;
 };
 
 struct MethodSummary {
@@ -59,6 +69,8 @@ struct MethodResult {
   /// Method 2: the direct AR + Kalman on the preprocessed signal.
   ComponentModel direct;
   AllanEvaluation raw_allan, method1_allan, method2_allan;
+  /// The reference filters in filters::ReferenceFilterNames() order (empty when disabled).
+  std::vector<ReferenceEvaluation> reference;
   MethodSummary summary;
 };
 
@@ -77,7 +89,12 @@ void PreprocessAndDecompose(const Eigen::VectorXd& x, double sample_rate_hz,
 /// Method 1's per-component models (IMFs then residue, through for_each) and method 2's model,
 /// then the reconstruction x1. Needs PreprocessAndDecompose first.
 void ModelComponents(const MethodOptions& options, const ForEach& for_each, MethodResult* result);
-/// The three Allan tables + noise fits (through for_each, one slot per signal).
+/// The reference filters on the preprocessed signal (through for_each). Needs
+/// PreprocessAndDecompose first; independent of ModelComponents.
+void RunReferenceFilters(double sample_rate_hz, const MethodOptions& options,
+                         const ForEach& for_each, MethodResult* result);
+/// The Allan tables + noise fits of raw, methods 1 and 2 and every reference filter with an
+/// output (through for_each, one slot per signal).
 void EvaluateAllan(double sample_rate_hz, const MethodOptions& options, const ForEach& for_each,
                    MethodResult* result);
 

@@ -1,6 +1,7 @@
 #include "algorithms/method/tables.h"
 
 #include <cstdio>
+#include <limits>
 
 #include "algorithms/common/units.h"
 #include "algorithms/method/method.h"
@@ -41,8 +42,18 @@ std::vector<FitRow> Table3(const MethodResult& result) {
 }
 
 std::vector<NoiseRow> Table5(const MethodResult& result) {
-  return {MakeNoiseRow("raw", result.raw_allan), MakeNoiseRow("method 1", result.method1_allan),
-          MakeNoiseRow("method 2", result.method2_allan)};
+  std::vector<NoiseRow> rows = {MakeNoiseRow("raw", result.raw_allan),
+                                MakeNoiseRow("method 1", result.method1_allan),
+                                MakeNoiseRow("method 2", result.method2_allan)};
+  for (const ReferenceEvaluation& r : result.reference) {
+    if (HasResult(r.allan.allan.summary.termination)) {
+      rows.push_back(MakeNoiseRow(r.output.name, r.allan));
+    } else {
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      rows.push_back({r.output.name, nan, nan, nan, nan, nan});
+    }
+  }
+  return rows;
 }
 
 std::string FormatTable3(const std::vector<FitRow>& rows) {
@@ -62,15 +73,15 @@ std::string FormatTable3(const std::vector<FitRow>& rows) {
 std::string FormatTable5(const std::vector<NoiseRow>& rows) {
   std::string out;
   char line[200];
-  std::snprintf(line, sizeof(line), "%-10s %12s %12s %12s %14s %12s\n", "signal", "Q", "N", "B",
+  std::snprintf(line, sizeof(line), "%-14s %12s %12s %12s %14s %12s\n", "signal", "Q", "N", "B",
                 "K", "R");
   out += line;
-  std::snprintf(line, sizeof(line), "%-10s %12s %12s %12s %14s %12s\n", "",
+  std::snprintf(line, sizeof(line), "%-14s %12s %12s %12s %14s %12s\n", "",
                 units::kQuantizationUnit, units::kArwUnit, units::kBiasUnit, units::kRrwUnit,
                 units::kRampUnit);
   out += line;
   for (const NoiseRow& r : rows) {
-    std::snprintf(line, sizeof(line), "%-10s %12.4e %12.4e %12.4e %14.4e %12.4e\n",
+    std::snprintf(line, sizeof(line), "%-14s %12.4e %12.4e %12.4e %14.4e %12.4e\n",
                   r.signal.c_str(), r.q_arcsec, r.n_deg_sqrt_h, r.b_deg_h, r.k_deg_h_sqrt_h,
                   r.r_deg_h2);
     out += line;

@@ -20,13 +20,15 @@ struct FitRow {
 
 /// One row of Table 5, in engineer's units (algorithms/common/units.h); NaN where not fitted.
 struct NoiseRow {
-  std::string signal;  ///< "raw", "method 1", "method 2"
+  std::string signal;  ///< "raw", "method 1", "method 2", then the reference filters' names
   double q_arcsec = 0.0, n_deg_sqrt_h = 0.0, b_deg_h = 0.0, k_deg_h_sqrt_h = 0.0, r_deg_h2 = 0.0;
 };
 
 /// Table 3 rows: method 2's direct model first, then every IMF and the residue.
 std::vector<FitRow> Table3(const MethodResult& result);
-/// Table 5 rows: raw, method 1, method 2.
+/// Table 5 rows: raw, method 1, method 2, then one row per reference filter
+/// (filters::ReferenceFilterNames(): butterworth, moving_average, rw_kalman, rw_rts; NaN terms for
+/// a filter that failed).
 std::vector<NoiseRow> Table5(const MethodResult& result);
 
 /// Fixed-width text, one header line and one line per row, units in the header.

@@ -416,6 +416,8 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
   AxisNode models(g, flow::unlimited, [&](AxisPtr w) {
     Guarded(*w, kModels, [&] {
       method::ModelComponents(options.method, TbbForEach, &w->result);
+      method::RunReferenceFilters(w->job->info.sample_rate_hz, options.method, TbbForEach,
+                                  &w->result);
       if (!HasResult(w->result.summary.termination)) {
         w->error = AxisError(*w->job, w->axis, w->result.summary.message);
       }

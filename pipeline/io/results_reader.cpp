@@ -1,6 +1,7 @@
 #include "pipeline/io/results_reader.h"
 
 #include <filesystem>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -37,6 +38,17 @@ method::NoiseRow ReadNoiseRow(const Group& allan, const std::string& signal,
   row.k_deg_h_sqrt_h = Scalar(noise, "K");
   row.r_deg_h2 = Scalar(noise, "R");
   return row;
+}
+
+/// Table 5 rows of the reference filters (signals/reference; absent in files written before).
+void ReadReferenceRows(const Group& axis, const Group& allan, std::vector<method::NoiseRow>* rows) {
+  if (!axis.Exists("signals/reference")) return;
+  const Group g = axis.OpenGroup("signals/reference");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const std::string& name : g.ReadStringArrayAttribute("names")) {
+    rows->push_back(allan.Exists(name) ? ReadNoiseRow(allan, name, name)
+                                       : method::NoiseRow{name, nan, nan, nan, nan, nan});
+  }
 }
 
 void ReadFitRows(const Group& models, const std::string& label_override,
@@ -97,6 +109,7 @@ ResultsSummary ReadResultsSummary(const std::string& path) {
     const Group allan = g.OpenGroup("allan");
     axis.table5 = {ReadNoiseRow(allan, "raw", "raw"), ReadNoiseRow(allan, "method1", "method 1"),
                    ReadNoiseRow(allan, "method2", "method 2")};
+    ReadReferenceRows(g, allan, &axis.table5);
     out.axes.push_back(std::move(axis));
   }
   return out;

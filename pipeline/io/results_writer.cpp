@@ -119,6 +119,34 @@ void WriteKalmanTable(Group group, const std::vector<std::string>& names,
   group.WriteDataset("switched_at_sample", switched, "samples");
 }
 
+void WriteAllan(Group group, const method::AllanEvaluation& evaluation);
+
+/// The reference filters (filters/reference_filters.h): signals/reference/<name> (the filtered
+/// signal, stored as method 1's; attributes: the tuned parameter, termination, message, note)
+/// and allan/<name> for those with an output.
+void WriteReferenceFilters(Group signals, Group allan,
+                           const std::vector<method::ReferenceEvaluation>& reference,
+                           const ColumnStorage& storage) {
+  if (reference.empty()) return;
+  Group g = signals.CreateGroup("reference");
+  std::vector<std::string> names;
+  for (const method::ReferenceEvaluation& r : reference) names.push_back(r.output.name);
+  g.WriteStringArrayAttribute("names", names);
+  for (const method::ReferenceEvaluation& r : reference) {
+    const filters::ReferenceOutput& o = r.output;
+    Group f = g.CreateGroup(o.name);
+    f.WriteStringAttribute("termination", ToString(o.termination));
+    f.WriteStringAttribute("message", o.message);
+    f.WriteStringAttribute("note", o.note);
+    f.WriteStringAttribute("parameter_name", o.parameter_name);
+    f.WriteStringAttribute("parameter_units", o.parameter_units);
+    f.WriteDoubleAttribute("parameter", o.parameter);
+    if (!HasResult(o.termination)) continue;
+    WriteColumnDataset(f, "signal", {&o.signal}, false, results::kRateUnits, storage);
+    if (HasResult(r.allan.allan.summary.termination)) WriteAllan(allan.CreateGroup(o.name), r.allan);
+  }
+}
+
 void WriteAllan(Group group, const method::AllanEvaluation& evaluation) {
   const allan::AllanTable& t = evaluation.allan.table;
   group.WriteStringAttribute("deviation", allan::ToString(t.deviation));
@@ -224,6 +252,7 @@ void WriteAxis(Group axes, const AxisResults& axis, const ResultsOptions& option
   WriteAllan(a.CreateGroup("raw"), r.raw_allan);
   WriteAllan(a.CreateGroup("method1"), r.method1_allan);
   WriteAllan(a.CreateGroup("method2"), r.method2_allan);
+  WriteReferenceFilters(s, a, r.reference, exact);
 }
 
 }  // namespace

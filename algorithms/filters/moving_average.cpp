@@ -1,0 +1,96 @@
+#include "algorithms/filters/moving_average.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "algorithms/filters/search.h"
+
+namespace fogpipe::filters {
+namespace {
+
+/// Prefix sums of x - mean (the mean removed keeps the partial sums small).
+std::vector<double> PrefixSums(const Eigen::VectorXd& x, double mean) {
+  std::vector<double> prefix(x.size() + 1, 0.0);
+  for (Eigen::Index i = 0; i < x.size(); ++i) prefix[i + 1] = prefix[i] + (x[i] - mean);
+  return prefix;
+}
+
+/// Calls out(i, window sum of x - mean, count) for every i.
+template <typename Out>
+void ForEachWindow(const std::vector<double>& prefix, Eigen::Index h, Out out) {
+  const auto n = static_cast<Eigen::Index>(prefix.size()) - 1;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::Index lo = std::max<Eigen::Index>(0, i - h);
+    const Eigen::Index hi = std::min<Eigen::Index>(n, i + h + 1);
+    out(i, prefix[hi] - prefix[lo], static_cast<double>(hi - lo));
+  }
+}
+
+}  // namespace
+
+Eigen::VectorXd CentredMovingAverage(const Eigen::VectorXd& x, Eigen::Index half_width) {
+  const double mean = x.size() > 0 ? x.mean() : 0.0;
+  const std::vector<double> prefix = PrefixSums(x, mean);
+  Eigen::VectorXd y(x.size());
+  ForEachWindow(prefix, half_width,
+                [&](Eigen::Index i, double sum, double count) { y[i] = mean + sum / count; });
+  return y;
+}
+
+bool MovingAverageOptions::IsValid(std::string* error) const {
+  auto fail = [&](const char* what) {
+    if (error) *error = what;
+    return false;
+  };
+  if (half_width < 0) return fail("moving average half_width must be >= 0 (0: by GCV)");
+  if (!(max_fraction > 0.0 && max_fraction <= 0.5))
+    return fail("moving average max_fraction must be in (0, 0.5]");
+  if (grid_points < 3) return fail("moving average grid_points must be >= 3");
+  return true;
+}
+
+MovingAverageGcv::MovingAverageGcv(const Eigen::VectorXd& x)
+    : x_(x), mean_(x.mean()) {
+  prefix_ = PrefixSums(x, mean_);
+}
+
+double MovingAverageGcv::Score(Eigen::Index half_width, double* trace) const {
+  double rss = 0.0, tr = 0.0;
+  ForEachWindow(prefix_, half_width, [&](Eigen::Index i, double sum, double count) {
+    const double r = (x_[i] - mean_) - sum / count;
+    rss += r * r;
+    tr += 1.0 / count;
+  });
+  if (trace) *trace = tr;
+  const double n = static_cast<double>(x_.size());
+  return n * rss / ((n - tr) * (n - tr));
+}
+
+MovingAverageResult MovingAverage(const Eigen::VectorXd& x, const MovingAverageOptions& options) {
+  MovingAverageResult out;
+  if (!options.IsValid(&out.message)) return out;
+  const Eigen::Index n = x.size();
+  if (n < 8) {
+    out.termination = Termination::kInsufficientData;
+    out.message = "moving average: fewer than 8 samples";
+    return out;
+  }
+  out.gcv = std::numeric_limits<double>::quiet_NaN();
+  out.half_width = options.half_width;
+  if (out.half_width == 0) {
+    const MovingAverageGcv gcv(x);
+    const double hi = std::max(2.0, options.max_fraction * static_cast<double>(n));
+    auto score = [&](double h) { return gcv.Score(std::llround(h)); };
+    const LogSearchResult best = MinimizeOnLogScale(score, 1.0, hi, options.grid_points, 1e-3);
+    out.half_width = std::llround(best.argument);
+    out.gcv = gcv.Score(out.half_width, &out.trace);
+    out.at_upper_bound = best.at_upper_bound;
+  }
+  out.output = CentredMovingAverage(x, out.half_width);
+  out.termination = out.output.allFinite() ? Termination::kSuccess : Termination::kNumericalFailure;
+  if (!HasResult(out.termination)) out.message = "moving average: non-finite output";
+  return out;
+}
+
+}  // namespace fogpipe::filters

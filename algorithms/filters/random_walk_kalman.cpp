@@ -1,0 +1,145 @@
+#include "algorithms/filters/random_walk_kalman.h"
+
+#include <cmath>
+#include <vector>
+
+#include "algorithms/filters/search.h"
+
+namespace fogpipe::filters {
+namespace {
+
+/// The recursion with R = 1 and q = ratio. Returns sum e_k^2 / f_k and sets *sum_log_f; fills
+/// filtered (when given) and gain (when given: the gains K_k = P_{k|k} until the steady state,
+/// whose value is *steady_gain from index gain->size() on).
+double RunFilter(const Eigen::VectorXd& y, double ratio, double* sum_log_f,
+                 Eigen::VectorXd* filtered, std::vector<double>* gain, double* steady_gain) {
+  const Eigen::Index n = y.size();
+  double x = y[0], p = 1.0;
+  if (filtered) (*filtered)[0] = x;
+  if (gain) gain->assign(1, p);
+  double sum_e2 = 0.0;
+  // log prod f_k, with the product renormalised every 64 steps (f_k <= 2 + ratio).
+  double product = 1.0;
+  long long exponent = 0;
+  Eigen::Index k = 1;
+  for (; k < n; ++k) {
+    const double pp = p + ratio;
+    const double f = pp + 1.0;
+    const double gain_k = pp / f;
+    const double e = y[k] - x;
+    sum_e2 += e * e / f;
+    x += gain_k * e;
+    if (filtered) (*filtered)[k] = x;
+    product *= f;
+    if ((k & 63) == 0) {
+      int e2 = 0;
+      product = std::frexp(product, &e2);
+      exponent += e2;
+    }
+    const bool steady = std::abs(gain_k - p) <= 1e-15 * gain_k;
+    p = gain_k;
+    if (gain) gain->push_back(p);
+    if (steady) {
+      ++k;
+      break;
+    }
+  }
+  // Constant gain from here on: f and K no longer change in double precision.
+  const double f = p + ratio + 1.0;
+  const double gain_k = (p + ratio) / f;
+  const double inv_f = 1.0 / f;
+  double sum_e2_tail = 0.0;
+  const Eigen::Index tail_start = k;
+  for (; k < n; ++k) {
+    const double e = y[k] - x;
+    sum_e2_tail += e * e;
+    x += gain_k * e;
+    if (filtered) (*filtered)[k] = x;
+  }
+  if (steady_gain) *steady_gain = p;
+  *sum_log_f = std::log(product) + exponent * std::log(2.0) +
+               static_cast<double>(n - tail_start) * std::log(f);
+  return sum_e2 + sum_e2_tail * inv_f;
+}
+
+}  // namespace
+
+bool RandomWalkKalmanOptions::IsValid(std::string* error) const {
+  auto fail = [&](const char* what) {
+    if (error) *error = what;
+    return false;
+  };
+  if ((q < 0.0) != (r < 0.0)) return fail("random-walk Kalman: give both q and r, or neither");
+  if (r == 0.0) return fail("random-walk Kalman r must be > 0");
+  if (!(min_ratio_times_n2 > 0.0) || !(max_ratio > 0.0))
+    return fail("random-walk Kalman ratio bounds must be > 0");
+  if (grid_points < 3) return fail("random-walk Kalman grid_points must be >= 3");
+  if (!(relative_tolerance > 0.0)) return fail("random-walk Kalman relative_tolerance must be > 0");
+  return true;
+}
+
+double RandomWalkProfileLikelihood(const Eigen::VectorXd& x, double ratio, double* r_hat) {
+  double sum_log_f = 0.0;
+  const double s = RunFilter(x, ratio, &sum_log_f, nullptr, nullptr, nullptr);
+  const double m = static_cast<double>(x.size() - 1);
+  const double r = s / m;
+  if (r_hat) *r_hat = r;
+  return -0.5 * m * std::log(r) - 0.5 * sum_log_f;
+}
+
+void RandomWalkFilterSmoother(const Eigen::VectorXd& x, double q, double r,
+                              Eigen::VectorXd* filtered, Eigen::VectorXd* smoothed) {
+  const double ratio = q / r;
+  const Eigen::Index n = x.size();
+  filtered->resize(n);
+  std::vector<double> gain;
+  double steady_gain = 0.0, sum_log_f = 0.0;
+  RunFilter(x, ratio, &sum_log_f, filtered, &gain, &steady_gain);
+  // RTS: x_{k|N} = x_{k|k} + C_k (x_{k+1|N} - x_{k+1|k}), x_{k+1|k} = x_{k|k},
+  // C_k = P_{k|k} / (P_{k|k} + q), in units of R (P_{k|k} = K_k).
+  *smoothed = *filtered;
+  const auto stored = static_cast<Eigen::Index>(gain.size());
+  for (Eigen::Index k = n - 2; k >= 0; --k) {
+    const double p = k < stored ? gain[k] : steady_gain;
+    const double c = p / (p + ratio);
+    (*smoothed)[k] = (*filtered)[k] + c * ((*smoothed)[k + 1] - (*filtered)[k]);
+  }
+}
+
+RandomWalkKalmanResult RandomWalkKalman(const Eigen::VectorXd& x,
+                                        const RandomWalkKalmanOptions& options) {
+  RandomWalkKalmanResult out;
+  if (!options.IsValid(&out.message)) return out;
+  const Eigen::Index n = x.size();
+  if (n < 8) {
+    out.termination = Termination::kInsufficientData;
+    out.message = "random-walk Kalman: fewer than 8 samples";
+    return out;
+  }
+  if (options.r > 0.0) {
+    out.q = options.q;
+    out.r = options.r;
+  } else {
+    const double nn = static_cast<double>(n);
+    const double lo = options.min_ratio_times_n2 / (nn * nn);
+    const LogSearchResult best = MinimizeOnLogScale(
+        [&](double ratio) { return -RandomWalkProfileLikelihood(x, ratio); }, lo,
+        options.max_ratio, options.grid_points, options.relative_tolerance);
+    out.log_likelihood = RandomWalkProfileLikelihood(x, best.argument, &out.r);
+    out.q = best.argument * out.r;
+    out.at_lower_bound = best.at_lower_bound;
+  }
+  if (!(out.r > 0.0) || !std::isfinite(out.q)) {
+    out.termination = Termination::kNumericalFailure;
+    out.message = "random-walk Kalman: no positive measurement variance (constant input?)";
+    return out;
+  }
+  RandomWalkFilterSmoother(x, out.q, out.r, &out.filtered, &out.smoothed);
+  out.termination = out.filtered.allFinite() && out.smoothed.allFinite()
+                        ? Termination::kSuccess
+                        : Termination::kNumericalFailure;
+  if (!HasResult(out.termination)) out.message = "random-walk Kalman: non-finite output";
+  return out;
+}
+
+}  // namespace fogpipe::filters

@@ -1,0 +1,24 @@
+// The one-dimensional search every truth-free tuning here uses: a criterion (GCV, minus a
+// likelihood) of one positive parameter, minimised over a log grid and then by golden-section
+// search (Kiefer 1953) in the log of the parameter between the best grid point's neighbours.
+#pragma once
+
+#include <functional>
+
+namespace fogpipe::filters {
+
+struct LogSearchResult {
+  double argument = 0.0;  ///< the minimiser found
+  double value = 0.0;     ///< the criterion there
+  bool at_lower_bound = false;  ///< the best grid point was the lowest one
+  bool at_upper_bound = false;  ///< the best grid point was the highest one
+  int evaluations = 0;
+};
+
+/// Minimises f over [lo, hi] (0 < lo < hi): `grid_points` (>= 3) log-spaced values, then golden
+/// section in log(argument) until the bracket is narrower than a factor (1 + relative_tolerance).
+/// Non-finite values of f count as +infinity.
+LogSearchResult MinimizeOnLogScale(const std::function<double(double)>& f, double lo, double hi,
+                                   int grid_points, double relative_tolerance);
+
+}  // namespace fogpipe::filters
