@@ -2,12 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <complex>
 #include <limits>
-#include <unsupported/Eigen/FFT>
 
 #include "algorithms/filters/search.h"
-#include "algorithms/model/spectrum.h"
 
 namespace fogpipe::filters {
 namespace {
@@ -97,47 +94,39 @@ bool ButterworthOptions::IsValid(std::string* error) const {
   return true;
 }
 
-ButterworthGcv::ButterworthGcv(const Eigen::VectorXd& x, double sample_rate_hz, int order)
-    : order_(order), sample_rate_hz_(sample_rate_hz), length_(static_cast<double>(x.size())) {
-  const long m = model::FastFftSizeAtMost(static_cast<long>(x.size()));
-  m_ = static_cast<double>(m);
-  // The least-squares line of the first M samples removed (see the header).
-  const Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(m, 0.0, m_ - 1.0);
-  const double t_mean = 0.5 * (m_ - 1.0);
-  const Eigen::VectorXd head = x.head(m);
-  const double y_mean = head.mean();
-  const double slope = ((t.array() - t_mean) * (head.array() - y_mean)).sum() /
-                       (t.array() - t_mean).square().sum();
-  std::vector<double> y(m);
-  for (long i = 0; i < m; ++i) y[i] = head[i] - y_mean - slope * (t[i] - t_mean);
-  Eigen::FFT<double> fft;
-  fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
-  std::vector<std::complex<double>> spectrum;
-  fft.fwd(spectrum, y);
-  const long half = m / 2;
-  tan2_.resize(half + 1);
-  power_.resize(half + 1);
-  weight_.resize(half + 1);
-  for (long k = 0; k <= half; ++k) {
-    const double tk = std::tan(kPi * k / m_);
-    tan2_[k] = tk * tk;
-    weight_[k] = (k == 0 || (m % 2 == 0 && k == half)) ? 1.0 : 2.0;
-    power_[k] = weight_[k] * std::norm(spectrum[k]) / m_;
+double ZeroPhaseButterworthTrace(int order, double cutoff_hz, double sample_rate_hz,
+                                 Eigen::Index n) {
+  // Bins above 100 fc (and their mirror images) have |H|^2 < 1e-16 for order 2 and 4.
+  const double nn = static_cast<double>(n);
+  const auto last = static_cast<Eigen::Index>(
+      std::min(0.5 * nn, std::ceil(100.0 * cutoff_hz / sample_rate_hz * nn)));
+  const double kc = std::tan(kPi * cutoff_hz / sample_rate_hz);
+  const double inv = 1.0 / (kc * kc);
+  double trace = 1.0;  // k = 0
+  for (Eigen::Index k = 1; k <= last; ++k) {
+    const double t = std::tan(kPi * static_cast<double>(k) / nn);
+    const double h = PowerResponse(order, t * t * inv);
+    trace += (2 * k == n) ? h : 2.0 * h;  // bins k and n - k
   }
+  return trace;
 }
 
+Eigen::Index ButterworthPad(double cutoff_hz, double sample_rate_hz) {
+  return static_cast<Eigen::Index>(std::ceil(8.0 * sample_rate_hz / cutoff_hz));
+}
+
+ButterworthGcv::ButterworthGcv(const Eigen::VectorXd& x, double sample_rate_hz, int order)
+    : x_(x), sample_rate_hz_(sample_rate_hz), order_(order) {}
+
 double ButterworthGcv::Score(double cutoff_hz, double* trace) const {
-  const double kc = std::tan(kPi * cutoff_hz / sample_rate_hz_);
-  const double inv = 1.0 / (kc * kc);
-  double rss = 0.0, tr = 0.0;
-  for (std::size_t k = 0; k < tan2_.size(); ++k) {
-    const double h = PowerResponse(order_, tan2_[k] * inv);
-    rss += (1.0 - h) * (1.0 - h) * power_[k];
-    tr += weight_[k] * h;
-  }
-  if (trace) *trace = tr * length_ / m_;
-  const double dof = m_ - tr;
-  return m_ * rss / (dof * dof);
+  const Eigen::VectorXd y = FilterForwardBackward(
+      ButterworthSections(order_, cutoff_hz, sample_rate_hz_), x_,
+      ButterworthPad(cutoff_hz, sample_rate_hz_));
+  const double rss = (x_ - y).squaredNorm();
+  const double tr = ZeroPhaseButterworthTrace(order_, cutoff_hz, sample_rate_hz_, x_.size());
+  if (trace) *trace = tr;
+  const double n = static_cast<double>(x_.size());
+  return n * rss / ((n - tr) * (n - tr));
 }
 
 ButterworthResult ZeroPhaseButterworth(const Eigen::VectorXd& x, double sample_rate_hz,
@@ -174,11 +163,9 @@ ButterworthResult ZeroPhaseButterworth(const Eigen::VectorXd& x, double sample_r
     out.gcv = gcv.Score(out.cutoff_hz, &out.trace);
     out.at_lower_bound = best.at_lower_bound;
   }
-  // Pad by eight cutoff periods: the start transient (a ramp's lag behind the steady-state
-  // start) decays as exp(-2 pi sin(pi / 8) fc t) for order 4, to 4e-9 after eight periods.
-  const auto pad = static_cast<Eigen::Index>(std::ceil(8.0 * sample_rate_hz / out.cutoff_hz));
   out.output = FilterForwardBackward(
-      ButterworthSections(options.order, out.cutoff_hz, sample_rate_hz), x, pad);
+      ButterworthSections(options.order, out.cutoff_hz, sample_rate_hz), x,
+      ButterworthPad(out.cutoff_hz, sample_rate_hz));
   out.termination = out.output.allFinite() ? Termination::kSuccess : Termination::kNumericalFailure;
   if (!HasResult(out.termination)) out.message = "butterworth: non-finite output";
   return out;

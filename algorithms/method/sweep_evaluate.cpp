@@ -54,6 +54,47 @@ const ar::ArModel& ModelOfOrder(const ComponentModels& c, int p) {
   return c.models[static_cast<std::size_t>(std::min<int>(p, c.models.size())) - 1];
 }
 
+/// The reference filters on the sweep's preprocessed signal, each scored like a grid setting.
+void EvaluateReferences(double sample_rate_hz, const SweepOptions& options,
+                        const Eigen::VectorXd* truth, const ForEach& for_each, SweepResult* out) {
+  const auto start = std::chrono::steady_clock::now();
+  RunReferenceFilters(sample_rate_hz, options.method, for_each, &out->base);
+  const int count = static_cast<int>(out->base.reference.size());
+  const double filter_seconds = SecondsSince(start) / std::max(1, count);
+  out->reference.assign(count, SweepReference());
+  const Preprocessed& pre = out->base.preprocessed;
+  for_each(count, [&](int i) {
+    const auto allan_start = std::chrono::steady_clock::now();
+    const filters::ReferenceOutput& o = out->base.reference[i].output;
+    SweepReference& r = out->reference[i];
+    r.name = o.name;
+    r.parameter_name = o.parameter_name;
+    r.parameter_units = o.parameter_units;
+    r.parameter = o.parameter;
+    r.point.termination = o.termination;
+    r.point.message = o.message;
+    r.point.rms_error = kNaN;
+    if (!HasResult(o.termination)) return;
+    r.point.allan.allan = allan::ComputeAllan(o.signal, sample_rate_hz, options.method.allan);
+    if (!HasResult(r.point.allan.allan.summary.termination)) {
+      r.point.termination = r.point.allan.allan.summary.termination;
+      r.point.message = "Allan variance: " + r.point.allan.allan.summary.message;
+      return;
+    }
+    r.point.allan.noise = allan::FitNoiseTerms(r.point.allan.allan.table, options.method.noise_fit);
+    if (truth != nullptr) {
+      const Eigen::Index n = o.signal.size();
+      r.point.rms_error = std::sqrt(((o.signal.array() + pre.mean_removed) -
+                                     truth->segment(pre.summary.dropped_samples, n).array())
+                                        .square()
+                                        .mean());
+    }
+    r.point.seconds = filter_seconds + SecondsSince(allan_start);
+  });
+  // The signals are not kept (the sweep stores scores only).
+  for (ReferenceEvaluation& e : out->base.reference) e.output.signal = Eigen::VectorXd();
+}
+
 }  // namespace
 
 bool SweepOptions::IsValid(std::string* error) const {
@@ -309,6 +350,7 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
       point.seconds = filter_seconds + SecondsSince(setting_start);
     });
   });
+  EvaluateReferences(sample_rate_hz, options, truth, for_each, &out);
   for (const SweepPoint& point : out.points)
     out.summary.settings_ok += HasResult(point.termination);
   out.summary.termination =
@@ -316,6 +358,21 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
   out.summary.message = std::to_string(out.summary.settings_ok) + " of " +
                         std::to_string(out.points.size()) + " settings evaluated";
   return out;
+}
+
+int RankAmongGrid(const std::vector<SweepPoint>& points, const SweepPoint& reference,
+                  const std::string& criterion) {
+  if (!HasResult(reference.termination)) return -1;
+  const double value = CriterionValue(reference, criterion);
+  if (std::isnan(value)) return -1;
+  const bool larger_is_better = criterion == "fit";
+  int better = 0;
+  for (const SweepPoint& p : points) {
+    if (!HasResult(p.termination)) continue;
+    const double v = CriterionValue(p, criterion);
+    if (!std::isnan(v) && (larger_is_better ? v > value : v < value)) ++better;
+  }
+  return better;
 }
 
 const std::vector<std::string>& RankCriteria() {

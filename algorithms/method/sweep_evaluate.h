@@ -61,6 +61,16 @@ struct SweepPoint {
   std::string message;
 };
 
+/// A reference filter (filters/reference_filters.h) scored like a grid setting, so that the
+/// sweep ranks it with the grid: its point has Allan terms, the RMS error against the truth and
+/// its time, but no AR setting or fit % (the "fit" criterion is NaN for it).
+struct SweepReference {
+  std::string name;  ///< "butterworth", "moving_average", "rw_kalman", "rw_rts"
+  std::string parameter_name, parameter_units;  ///< the tuned parameter (reference_filters.h)
+  double parameter = 0.0;
+  SweepPoint point;
+};
+
 struct SweepSummary {
   Termination termination = Termination::kInvalidOptions;
   std::string message;
@@ -75,6 +85,9 @@ struct SweepResult {
   MethodResult base;
   /// One per grid setting, in GridSettings() order.
   std::vector<SweepPoint> points;
+  /// The reference filters on the same preprocessed signal (empty when
+  /// method.reference.enabled is false).
+  std::vector<SweepReference> reference;
   SweepSummary summary;
 };
 
@@ -82,6 +95,11 @@ struct SweepResult {
 /// nullptr): the true rate of every input sample, same units and length as x, for the RMS error.
 SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const SweepOptions& options,
                      const Eigen::VectorXd* truth, const ForEach& for_each = SerialForEach);
+
+/// How many grid points rank strictly better than `reference` by `criterion` (its 0-based place
+/// among the grid's ranking); -1 when its value is NaN.
+int RankAmongGrid(const std::vector<SweepPoint>& points, const SweepPoint& reference,
+                  const std::string& criterion);
 
 /// Named ranking criteria: "rms_error", "q", "n", "b", "k", "r" (smaller is better) and "fit"
 /// (mean one-step fit % over the components, larger is better).

@@ -5,6 +5,10 @@
 //                                       emd_sifts, has_truth, decompose_seconds, models_seconds
 //     fit_one_step_percent [settings, components], fit_simulation_percent [settings, components]
 //     ranking                           row indices, best first by rank_by
+//     reference/                        the reference filters scored like settings, one row each:
+//                                       name, parameter (+ parameter_units), the Columns() terms
+//                                       that apply (Q..R with std errors, rms_error, seconds),
+//                                       grid_rank (grid settings ranked strictly better; -1: none)
 #include "pipeline/graph/sweep_runner.h"
 
 #include <oneapi/tbb/global_control.h>
@@ -86,6 +90,36 @@ std::string Format(double value) {
   char text[32];
   std::snprintf(text, sizeof(text), "%.6g", value);
   return text;
+}
+
+void WriteReferenceRows(hdf5::Group table_group, const SweepTable& table, const std::string& by,
+                        const std::vector<Column>& columns) {
+  const std::vector<method::SweepReference>& refs = table.result.reference;
+  if (refs.empty()) return;
+  hdf5::Group g = table_group.CreateGroup("reference");
+  std::vector<std::string> names, parameter_units, status;
+  std::vector<double> parameter;
+  std::vector<long long> grid_rank;
+  for (const auto& r : refs) {
+    names.push_back(r.name);
+    parameter_units.push_back(r.parameter_units);
+    parameter.push_back(r.parameter);
+    status.push_back(HasResult(r.point.termination) ? "ok" : r.point.message);
+    grid_rank.push_back(method::RankAmongGrid(table.result.points, r.point, by));
+  }
+  g.WriteStringDataset("name", names);
+  g.WriteStringDataset("parameter_units", parameter_units);
+  g.WriteDataset("parameter", parameter, "see parameter_units");
+  g.WriteStringDataset("status", status);
+  g.WriteDataset("grid_rank", grid_rank, "1");
+  for (const Column& column : columns) {
+    const bool applies = column.name == "rms_error" || column.name == "seconds" ||
+                         column.name.size() == 1 || column.name.find("_std_error") == 1;
+    if (!applies) continue;
+    std::vector<double> values;
+    for (const auto& r : refs) values.push_back(column.value(r.point));
+    g.WriteDataset(column.name, values, column.units);
+  }
 }
 
 }  // namespace
@@ -206,6 +240,7 @@ void WriteSweepHdf5(const std::string& path, const std::vector<SweepTable>& tabl
     for (int i : method::RankSweep(r.points, EffectiveRankBy(table, rank_by))) ranking.push_back(i);
     g.WriteDataset("ranking", ranking, "1");
     g.OpenDataset("ranking").WriteStringAttribute("rank_by", EffectiveRankBy(table, rank_by));
+    WriteReferenceRows(g, table, EffectiveRankBy(table, rank_by), columns);
   }
   out.Commit();
 }
@@ -274,6 +309,20 @@ std::string FormatSweepRanking(const std::vector<SweepTable>& tables, const std:
     }
     if (default_best >= 0) line("dflt", default_best);
     if (hardest_best >= 0) line("hard", hardest_best);
+    // The reference filters, tuned without the truth, with their place among the grid.
+    for (const method::SweepReference& r : table.result.reference) {
+      const auto& p = r.point;
+      const int place = method::RankAmongGrid(points, p, by);
+      char text[240];
+      std::snprintf(text, sizeof(text),
+                    "  ref   %-14s %s = %-10.4g %-7s  N %.5g  K %.5g  RMS vs truth %.5g deg/h  "
+                    "(ranks %s of the grid)\n",
+                    r.name.c_str(), r.parameter_name.c_str(), r.parameter,
+                    r.parameter_units.c_str(), method::CriterionValue(p, "n"),
+                    method::CriterionValue(p, "k"), units::RadPerSecondToDegPerHour(p.rms_error),
+                    place < 0 ? "-" : std::to_string(place + 1).c_str());
+      out << text;
+    }
   }
   return out.str();
 }
