@@ -96,8 +96,8 @@ void GradedPiece(const Pair& pair, double a, double b, Sums* sums) {
 
 // The flicker-only tail from x0 outwards (direction +1 or -1) to the end of the count range.
 void FlickerTail(const Pair& pair, double x0, double direction, Sums* sums) {
-  const double end = direction > 0 ? static_cast<double>(pair.count_b)
-                                   : -static_cast<double>(pair.count_a);
+  const double end =
+      direction > 0 ? static_cast<double>(pair.count_b) : -static_cast<double>(pair.count_a);
   if ((end - x0) * direction <= 0.0) return;
   const double width = static_cast<double>(std::max(pair.ma, pair.mb));
   double a = x0;
@@ -208,13 +208,13 @@ Eigen::MatrixXd AvarCovarianceModel::Covariance(const std::array<double, 4>& the
   Eigen::MatrixXd c(rows_, rows_);
   size_t idx = 0;
   for (int a = 0; a < rows_; ++a)
-    for (int b = a; b < rows_; ++b, ++idx) c(a, b) = c(b, a) = Evaluate(s_[idx], h_[idx], theta, r2);
+    for (int b = a; b < rows_; ++b, ++idx)
+      c(a, b) = c(b, a) = Evaluate(s_[idx], h_[idx], theta, r2);
   return c;
 }
 
 double AvarCovarianceBySum(long long ma, long long mb, long long count_a, long long count_b,
-                           double sample_period_s, const std::array<double, 4>& theta,
-                           double r2) {
+                           double sample_period_s, const std::array<double, 4>& theta, double r2) {
   const Pair pair{ma, mb, count_a, count_b};
   Sums sums;
   double c[4];

@@ -57,8 +57,10 @@ bool NoiseFitOptions::IsValid(std::string* error) const {
     if (error) *error = "gls_iterations must be in [1, 100]";
     return false;
   }
-  if (!(significance_z > 0.0) || !(misfit_level > 0.0 && misfit_level < 1.0)) {
-    if (error) *error = "need significance_z > 0 and 0 < misfit_level < 1";
+  if (!(significance_z > 0.0) || !(misfit_level > 0.0 && misfit_level < 1.0) ||
+      !(discrepancy_below_p >= 0.0 && discrepancy_below_p < 1.0)) {
+    if (error)
+      *error = "need significance_z > 0, 0 < misfit_level < 1, 0 <= discrepancy_below_p < 1";
     return false;
   }
   if (!(readoff_slope_tolerance > 0.0)) {
@@ -157,8 +159,7 @@ Points SelectRows(const AllanTable& table, const NoiseFitOptions& options) {
 
 // The covariance model needs m, the number of differences and one sample period for all rows.
 bool CovarianceModelApplies(const AllanTable& table, const Points& p, double* sample_period_s) {
-  if (table.deviation != Deviation::kOverlappingAllan || !p.have_edf || p.size() == 0)
-    return false;
+  if (table.deviation != Deviation::kOverlappingAllan || !p.have_edf || p.size() == 0) return false;
   *sample_period_s = p.tau[0] / static_cast<double>(p.m[0]);
   for (int i = 0; i < p.size(); ++i) {
     if (p.m[i] < 1 || p.count[i] < 1) return false;
@@ -189,18 +190,24 @@ Eigen::VectorXd DiagonalSqrtWeights(const Points& p, const Eigen::VectorXd& mode
   return w;
 }
 
+// Sampling covariance of the Allan variances under theta, plus an independent model discrepancy
+// (discrepancy * model_i)^2 on the diagonal (0 unless the model is rejected, see FitNoiseTerms).
 Eigen::MatrixXd ModelCovariance(const AvarCovarianceModel& cov, const std::vector<int>& cols,
-                                const Eigen::VectorXd& theta) {
+                                const Eigen::VectorXd& theta, const Eigen::MatrixXd& basis,
+                                double discrepancy) {
   std::array<double, 4> t{};
   double r2 = 0.0;
   for (size_t c = 0; c < cols.size(); ++c) {
-    if (cols[c] < 4) t[static_cast<size_t>(cols[c])] = theta[static_cast<Eigen::Index>(c)];
-    else r2 = theta[static_cast<Eigen::Index>(c)];
+    if (cols[c] < 4)
+      t[static_cast<size_t>(cols[c])] = theta[static_cast<Eigen::Index>(c)];
+    else
+      r2 = theta[static_cast<Eigen::Index>(c)];
   }
   Eigen::MatrixXd c = cov.Covariance(t, r2);
   // Dense grids make neighbouring rows nearly collinear; a relative 1e-9 on the diagonal keeps the
   // Cholesky factor finite without changing any fitted digit that matters.
   c.diagonal() *= 1.0 + 1e-9;
+  if (discrepancy > 0.0) c.diagonal() += (discrepancy * (basis * theta)).array().square().matrix();
   return c;
 }
 
@@ -213,11 +220,11 @@ struct Whitened {
 
 // Generalised NNLS iterated on the model covariance. Returns false if C is not positive definite.
 bool GeneralizedFit(const Points& p, const Eigen::MatrixXd& basis, const std::vector<int>& cols,
-                    const AvarCovarianceModel& cov, int iterations, Eigen::VectorXd* theta,
-                    bool* converged, int* solves, Whitened* out) {
+                    const AvarCovarianceModel& cov, double discrepancy, int iterations,
+                    Eigen::VectorXd* theta, bool* converged, int* solves, Whitened* out) {
   const Eigen::Map<const Eigen::VectorXd> v(p.v.data(), p.size());
   for (int pass = 0; pass < iterations; ++pass) {
-    const Eigen::LLT<Eigen::MatrixXd> llt(ModelCovariance(cov, cols, *theta));
+    const Eigen::LLT<Eigen::MatrixXd> llt(ModelCovariance(cov, cols, *theta, basis, discrepancy));
     if (llt.info() != Eigen::Success) return false;
     const Eigen::MatrixXd a = llt.matrixL().solve(basis);
     const Eigen::VectorXd b = llt.matrixL().solve(v);
@@ -227,13 +234,44 @@ bool GeneralizedFit(const Points& p, const Eigen::MatrixXd& basis, const std::ve
     const Eigen::VectorXd model = basis * *theta;
     if (((model - previous).cwiseAbs().array() / v.array()).maxCoeff() < 1e-7) break;
   }
-  const Eigen::MatrixXd c = ModelCovariance(cov, cols, *theta);
+  const Eigen::MatrixXd c = ModelCovariance(cov, cols, *theta, basis, discrepancy);
   const Eigen::LLT<Eigen::MatrixXd> llt(c);
   if (llt.info() != Eigen::Success) return false;
   out->aw = llt.matrixL().solve(basis);
   out->rw = llt.matrixL().solve(v - basis * *theta);
   out->point_variance = c.diagonal();
   return true;
+}
+
+int PositiveCount(const Eigen::VectorXd& theta) {
+  return static_cast<int>((theta.array() > 0.0).count());
+}
+
+// The relative model discrepancy d that brings the generalised chi2 / dof to 1 (bisection on
+// log d in [1e-3, 10]), with theta refitted at it. A rejected model (real gyros: filter roll-off,
+// vibration, temperature) otherwise gets weights that trust its shape more than the data; d adds
+// the model error as independent per-point noise, which widens the standard errors honestly and
+// lets the terms follow the curve's level (docs/allan-noise-fit.md).
+double FitWithDiscrepancy(const Points& p, const Eigen::MatrixXd& basis,
+                          const std::vector<int>& cols, const AvarCovarianceModel& cov,
+                          const NoiseFitOptions& options, Eigen::VectorXd* theta, bool* converged,
+                          int* solves, Whitened* out) {
+  double lo = std::log(1e-3), hi = std::log(10.0);
+  const Eigen::VectorXd start = *theta;
+  for (int step = 0; step < 14; ++step) {
+    const double mid = 0.5 * (lo + hi);
+    Eigen::VectorXd t = start;
+    Whitened w;
+    if (!GeneralizedFit(p, basis, cols, cov, std::exp(mid), options.gls_iterations, &t, converged,
+                        solves, &w))
+      break;
+    const int dof = std::max(1, p.size() - PositiveCount(t));
+    (w.rw.squaredNorm() / dof > 1.0 ? lo : hi) = mid;
+  }
+  const double d = std::exp(hi);
+  *theta = start;
+  GeneralizedFit(p, basis, cols, cov, d, options.gls_iterations, theta, converged, solves, out);
+  return d;
 }
 
 // Diagonal of (A_S^T W^T W A_S)^-1 for the column subset S.
@@ -257,7 +295,8 @@ std::string Engineering(int term, double si) {
   const NoiseTermsEngineering e = ToEngineeringUnits(t);
   const double values[kTerms] = {e.q_arcsec, e.n_deg_sqrt_h, e.b_deg_h, e.k_deg_h_sqrt_h,
                                  e.r_deg_h2};
-  const char* unit[kTerms] = {"arcsec", "deg/sqrt(h)", "deg/h", "deg/h/sqrt(h)", "deg/h^2"};
+  const char* unit[kTerms] = {units::kQuantizationUnit, units::kArwUnit, units::kBiasUnit,
+                              units::kRrwUnit, units::kRampUnit};
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.3g %s", values[term], unit[term]);
   return buf;
@@ -275,7 +314,8 @@ struct PointInterval {
 PointInterval ModelInterval(double model_v, double variance, double level) {
   const double edf = 2.0 * model_v * model_v / variance;
   const double tail = 0.5 * (1.0 - level);
-  return {stats::ChiSquareQuantile(tail, edf) / edf, stats::ChiSquareQuantile(1.0 - tail, edf) / edf};
+  return {stats::ChiSquareQuantile(tail, edf) / edf,
+          stats::ChiSquareQuantile(1.0 - tail, edf) / edf};
 }
 
 // Misfit ranges, and the terms that carry >= 25 % of the model inside them.
@@ -293,26 +333,30 @@ void AssessMisfit(const Points& p, const Eigen::VectorXd& model, const Eigen::Ve
     out[static_cast<size_t>(i)] = ratio < iv.low || ratio > iv.high;
   }
   // Rows are in tau order in every table fogpipe makes; a range is a run of rows outside.
+  std::vector<std::vector<TauRange>> carried(cols.size());
   for (int i = 0; i < p.size(); ++i) {
     if (!out[static_cast<size_t>(i)]) continue;
     int j = i;
     while (j + 1 < p.size() && out[static_cast<size_t>(j + 1)]) ++j;
     const TauRange range{p.tau[i], p.tau[j]};
     result->misfit_ranges.push_back(range);
-    const std::string text = "model does not describe the curve at " + FormatTauRanges({range});
     for (size_t c = 0; c < cols.size(); ++c) {
       double share = 0.0;
       for (int k = i; k <= j; ++k)
         if (model[k] > 0.0) share = std::max(share, theta[c] * basis(k, c) / model[k]);
-      if (share >= 0.25) AddReason(&result->assessment[cols[c]], text);
+      if (share >= 0.25) carried[c].push_back(range);
     }
     i = j;
   }
+  for (size_t c = 0; c < cols.size(); ++c)
+    if (!carried[c].empty())
+      AddReason(&result->assessment[cols[c]],
+                "model does not describe the curve at " + FormatTauRanges(carried[c]));
 }
 
 // Upper bound of each term from the curve, and agreement with the slope read-offs.
-void AssessBounds(const Points& p, double level,
-                  const std::vector<int>& cols, NoiseFitResult* result) {
+void AssessBounds(const Points& p, double level, const std::vector<int>& cols,
+                  NoiseFitResult* result) {
   const double tail = 0.5 * (1.0 - level);
   for (int c : cols) {
     TermAssessment& a = result->assessment[c];
@@ -331,8 +375,8 @@ void AssessBounds(const Points& p, double level,
     if (amp - margin > bound) {
       char buf[48];
       std::snprintf(buf, sizeof buf, "%.3g", at);
-      AddReason(&a, std::string("exceeds the bound the Allan curve sets at tau = ") + buf +
-                        " s (" + Engineering(c, bound) + ")");
+      AddReason(&a, std::string("exceeds the bound the Allan curve sets at tau = ") + buf + " s (" +
+                        Engineering(c, bound) + ")");
     }
     NoiseTerms readoff = result->slope_readoff;
     const double ro = *Amplitude(&readoff, c);
@@ -353,8 +397,10 @@ std::string FormatTauRanges(const std::vector<TauRange>& ranges) {
   std::string s;
   for (const TauRange& r : ranges) {
     char buf[64];
-    if (r.low_s == r.high_s) std::snprintf(buf, sizeof buf, "%.3g s", r.low_s);
-    else std::snprintf(buf, sizeof buf, "%.3g-%.3g s", r.low_s, r.high_s);
+    if (r.low_s == r.high_s)
+      std::snprintf(buf, sizeof buf, "%.3g s", r.low_s);
+    else
+      std::snprintf(buf, sizeof buf, "%.3g-%.3g s", r.low_s, r.high_s);
     s += (s.empty() ? "" : ", ") + std::string(buf);
   }
   return s;
@@ -419,24 +465,42 @@ NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& opt
     const AvarCovarianceModel cov(p.m, p.count, t0);
     Eigen::VectorXd theta_gls = theta;
     Whitened wg;
-    if (GeneralizedFit(p, basis, cols, cov, options.gls_iterations, &theta_gls, &converged,
+    if (GeneralizedFit(p, basis, cols, cov, 0.0, options.gls_iterations, &theta_gls, &converged,
                        &summary.iterations, &wg)) {
       theta = theta_gls, w = wg, model_v = basis * theta;
       result.generalized = true;
+      const int dof = npts - PositiveCount(theta);
+      const double p_value = dof > 0 ? stats::ChiSquareSurvival(w.rw.squaredNorm(), dof) : 1.0;
+      if (options.discrepancy_below_p > 0.0 && p_value < options.discrepancy_below_p) {
+        Whitened wd;
+        result.model_discrepancy = FitWithDiscrepancy(p, basis, cols, cov, options, &theta,
+                                                      &converged, &summary.iterations, &wd);
+        // Sampling-only residuals and point variances of the final model (the goodness of fit
+        // and the misfit ranges), the inflated covariance for the standard errors.
+        Whitened w0;
+        Eigen::VectorXd t = theta;
+        GeneralizedFit(p, basis, cols, cov, 0.0, 0, &t, &converged, &summary.iterations, &w0);
+        w = wd;
+        model_v = basis * theta;
+        result.chi2 = w0.rw.squaredNorm();
+        w.point_variance = w0.point_variance;
+      }
     }
   }
   if (!w.point_variance.size() && p.have_edf)
-    w.point_variance = (2.0 * model_v.array().square() / Eigen::Map<const Eigen::VectorXd>(
-                                                             p.edf.data(), npts).array()).matrix();
+    w.point_variance = (2.0 * model_v.array().square() /
+                        Eigen::Map<const Eigen::VectorXd>(p.edf.data(), npts).array())
+                           .matrix();
 
   // Step 3: chi2, standard errors, significance and upper limits.
-  result.chi2 = w.rw.squaredNorm();
+  if (!(result.model_discrepancy > 0.0)) result.chi2 = w.rw.squaredNorm();
   std::vector<int> free;
   for (int c = 0; c < ncol; ++c)
     if (theta[c] > 0.0) free.push_back(c);
   summary.free_terms = static_cast<int>(free.size());
   result.dof = npts - summary.free_terms;
-  if (p.have_edf && result.dof > 0) result.p_value = stats::ChiSquareSurvival(result.chi2, result.dof);
+  if (p.have_edf && result.dof > 0)
+    result.p_value = stats::ChiSquareSurvival(result.chi2, result.dof);
 
   NoiseTerms& terms = result.terms;
   for (int j = 0; j < kTerms; ++j) *Amplitude(&terms, j) = enabled[j] ? 0.0 : kNaN;
@@ -470,13 +534,17 @@ NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& opt
     AssessBounds(p, options.misfit_level, cols, &result);
   }
   summary.termination = converged ? Termination::kSuccess : Termination::kNoConvergence;
-  summary.message = std::string(result.generalized ? "generalised" : "weighted") + " NNLS on " +
-                    std::to_string(npts) + " points, " + std::to_string(summary.free_terms) +
-                    " terms positive" +
-                    (!p.have_edf ? " (no EDF: unit weights, no standard errors)"
-                     : result.generalized ? ""
-                                          : " (points treated as independent: optimistic "
-                                            "standard errors)");
+  summary.message =
+      std::string(result.generalized ? "generalised" : "weighted") + " NNLS on " +
+      std::to_string(npts) + " points, " + std::to_string(summary.free_terms) + " terms positive" +
+      (result.model_discrepancy > 0.0
+           ? " (model rejected: relative discrepancy " +
+                 std::to_string(result.model_discrepancy).substr(0, 6) + " added to each point)"
+           : "") +
+      (!p.have_edf          ? " (no EDF: unit weights, no standard errors)"
+       : result.generalized ? ""
+                            : " (points treated as independent: optimistic "
+                              "standard errors)");
   return result;
 }
 

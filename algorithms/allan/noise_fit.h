@@ -27,6 +27,11 @@
 // 2 standard errors): the read-off extrapolates a local line with slope tolerance 0.15 over up to
 // two decades, which moves it by up to ~2x.
 //
+// When the model is rejected (p < 1e-3, usual on real gyros) the GLS weights trust the model's
+// shape more than the data and the terms can leave the curve's level; a relative model
+// discrepancy d, independent per point, is then added to C with d chosen so that chi2 / dof = 1
+// (a standard "model error" inflation) and the terms refitted; their standard errors include it.
+//
 // Caveats: the bias-instability term is the flat floor of flicker noise; a real flicker region
 // ends at a cut-off, and the floor is only visible between the ARW and RRW slopes. The model terms
 // are the continuous-time IEEE forms; at tau of a few samples a sampled process deviates slightly
@@ -86,6 +91,10 @@ struct NoiseFitOptions {
   double significance_z = 2.0;
   /// Two-sided level of the per-point interval that defines the misfit ranges. Default 0.997.
   double misfit_level = 0.997;
+  /// When the GLS fit's p-value is below this, a relative model discrepancy d (independent,
+  /// d * model on each point's standard deviation) is added so that chi2 / dof = 1, and the terms
+  /// are refitted with it (robust option for real gyros; 0 disables). Default 1e-3.
+  double discrepancy_below_p = 1e-3;
 
   bool IsValid(std::string* error) const;
 };
@@ -133,6 +142,9 @@ struct NoiseFitResult {
   /// Per term, in the order Q, N, B, K, R.
   std::array<TermAssessment, kNoiseTermCount> assessment;
   bool generalized = false;  ///< true when the GLS covariance was used.
+  /// Relative model discrepancy d added because the model was rejected [1]; 0 when not needed.
+  /// chi2 and p_value stay those of the sampling covariance alone.
+  double model_discrepancy = 0.0;
   NoiseFitSummary summary;
 };
 

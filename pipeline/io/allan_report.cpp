@@ -1,5 +1,7 @@
 #include "pipeline/io/allan_report.h"
 
+#include "pipeline/io/noise_fit_report.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -104,21 +106,7 @@ void PrintAllanText(std::ostream& out, const AllanReport& r) {
         << Fixed(units::RadPerSecondToDegPerHour(t.ci_high[i]), "%.6e") << std::setw(10)
         << Fixed(t.edf[i], "%.4g") << std::setw(11) << t.count[i] << "\n";
   }
-  const allan::NoiseTermsEngineering e = allan::ToEngineeringUnits(r.fit.terms);
-  out << "\nNoise terms (joint non-negative weighted fit of sigma^2, IEEE Std 952-1997 Annex C; "
-      << ToString(r.fit.summary.termination) << ", " << r.fit.summary.points << " points):\n";
-  auto row = [&out](const char* symbol, const char* name, double value, double se,
-                    const char* unit) {
-    out << "  " << symbol << "  " << std::left << std::setw(20) << name << std::right
-        << std::setw(13) << Fixed(value, "%.4e") << " +- " << std::left << std::setw(11)
-        << Fixed(se, "%.2e") << std::right << unit << "\n";
-  };
-  row("Q", "quantization", e.q_arcsec, e.q_se, units::kQuantizationUnit);
-  row("N", "angle random walk", e.n_deg_sqrt_h, e.n_se, units::kArwUnit);
-  row("B", "bias instability", e.b_deg_h, e.b_se, units::kBiasUnit);
-  row("K", "rate random walk", e.k_deg_h_sqrt_h, e.k_se, units::kRrwUnit);
-  row("R", "rate ramp", e.r_deg_h2, e.r_se, units::kRampUnit);
-  if (!r.fit.summary.message.empty()) out << "  (" << r.fit.summary.message << ")\n";
+  PrintNoiseFitText(out, r.fit);
 }
 
 void PrintAllanCsv(std::ostream& out, const AllanReport& r) {
@@ -188,7 +176,11 @@ nlohmann::json AllanReportJson(const AllanReport& r) {
         {"message", r.fit.summary.message},
         {"points", r.fit.summary.points},
         {"chi2", Number(r.fit.chi2)},
-        {"dof", r.fit.dof}}},
+        {"dof", r.fit.dof},
+        {"p_value", Number(r.fit.p_value)},
+        {"generalized", r.fit.generalized},
+        {"misfit_tau_ranges", allan::FormatTauRanges(r.fit.misfit_ranges)},
+        {"terms", NoiseFitAssessmentJson(r.fit)}}},
       {"slope_readoff", terms_json(r.fit.slope_readoff)},
   };
 }

@@ -90,7 +90,8 @@ Calibration Simulate(const Scenario& s, int records, unsigned seed_base, bool co
   NoiseFitOptions options;
   options.correlated = correlated;
   for (int r = 0; r < records; ++r) {
-    const Eigen::VectorXd rate = testing::SimulateGyro(s.truth, s.samples, s.rate_hz, seed_base + r);
+    const Eigen::VectorXd rate =
+        testing::SimulateGyro(s.truth, s.samples, s.rate_hz, seed_base + r);
     const AllanResult allan = ComputeAllan(rate, s.rate_hz, AllanOptions());
     const NoiseFitResult fit = FitNoiseTerms(allan.table, options);
     ++c.records;
@@ -100,8 +101,10 @@ Calibration Simulate(const Scenario& s, int records, unsigned seed_base, bool co
       const double truth = TruthOf(s.truth, j), est = Value(fit.terms, j, false);
       if (fit.assessment[j].significant) ++t.significant;
       if (truth > 0.0) {
-        if (est > 0.0) t.z.push_back((est - truth) / Value(fit.terms, j, true));
-        else ++t.held_at_zero;
+        if (est > 0.0)
+          t.z.push_back((est - truth) / Value(fit.terms, j, true));
+        else
+          ++t.held_at_zero;
       }
     }
   }
@@ -109,8 +112,7 @@ Calibration Simulate(const Scenario& s, int records, unsigned seed_base, bool co
 }
 
 void Print(const Scenario& s, const Calibration& c, const char* fit) {
-  std::printf("%s, %s fit, %d records, p < 0.01 in %d\n", s.name, fit, c.records,
-              c.chi2_above_p01);
+  std::printf("%s, %s fit, %d records, p < 0.01 in %d\n", s.name, fit, c.records, c.chi2_above_p01);
   for (int j = 0; j < kNoiseTermCount; ++j) {
     const TermStats& t = c.term[j];
     if (TruthOf(s.truth, j) > 0.0)
