@@ -2,11 +2,15 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
+#include "algorithms/allan/avar_covariance.h"
 #include "algorithms/allan/nnls.h"
 #include "algorithms/allan/noise_model.h"
+#include "algorithms/common/chi_square.h"
 #include "algorithms/common/units.h"
 
 namespace fogpipe::allan {
@@ -47,6 +51,16 @@ bool NoiseFitOptions::IsValid(std::string* error) const {
   }
   if (reweight_iterations < 0 || reweight_iterations > 100) {
     if (error) *error = "reweight_iterations must be in [0, 100]";
+    return false;
+  }
+  if (gls_iterations < 1 || gls_iterations > 100) {
+    if (error) *error = "gls_iterations must be in [1, 100]";
+    return false;
+  }
+  if (!(significance_z > 0.0) || !(misfit_level > 0.0 && misfit_level < 1.0) ||
+      !(discrepancy_below_p >= 0.0 && discrepancy_below_p < 1.0)) {
+    if (error)
+      *error = "need significance_z > 0, 0 < misfit_level < 1, 0 <= discrepancy_below_p < 1";
     return false;
   }
   if (!(readoff_slope_tolerance > 0.0)) {
@@ -111,6 +125,293 @@ NoiseTerms SlopeReadoffs(const AllanTable& table, double slope_tolerance) {
   return out;
 }
 
+namespace {
+
+// Table rows the fit uses, with what the covariance model needs.
+struct Points {
+  std::vector<double> tau, v, edf;
+  std::vector<long long> m, count;
+  bool have_edf = false;
+  int size() const { return static_cast<int>(tau.size()); }
+};
+
+// Rows with an EDF are weighted by it; if no row has one, all get edf = 1 (relative least squares)
+// and no standard errors are given. Rows without EDF in a table that has some are skipped (they
+// are the ones whose noise type admits no EDF).
+Points SelectRows(const AllanTable& table, const NoiseFitOptions& options) {
+  Points p;
+  for (size_t i = 0; i < table.size() && i < table.edf.size(); ++i)
+    if (table.edf[i] > 0.0 && std::isfinite(table.edf[i])) p.have_edf = true;
+  for (size_t i = 0; i < table.size(); ++i) {
+    const double t = table.tau_s[i], s = table.sigma[i];
+    if (!(t >= options.min_tau_s && t <= options.max_tau_s) || !(s > 0.0) || !std::isfinite(s))
+      continue;
+    const double e = i < table.edf.size() ? table.edf[i] : kNaN;
+    if (p.have_edf && !(e > 0.0 && std::isfinite(e))) continue;
+    p.tau.push_back(t);
+    p.v.push_back(s * s);
+    p.edf.push_back(p.have_edf ? e : 1.0);
+    p.m.push_back(i < table.m.size() ? table.m[i] : 0);
+    p.count.push_back(i < table.count.size() ? table.count[i] : 0);
+  }
+  return p;
+}
+
+// The covariance model needs m, the number of differences and one sample period for all rows.
+bool CovarianceModelApplies(const AllanTable& table, const Points& p, double* sample_period_s) {
+  if (table.deviation != Deviation::kOverlappingAllan || !p.have_edf || p.size() == 0) return false;
+  *sample_period_s = p.tau[0] / static_cast<double>(p.m[0]);
+  for (int i = 0; i < p.size(); ++i) {
+    if (p.m[i] < 1 || p.count[i] < 1) return false;
+    const double t0 = p.tau[i] / static_cast<double>(p.m[i]);
+    if (std::abs(t0 / *sample_period_s - 1.0) > 1e-9) return false;
+  }
+  return true;
+}
+
+// NNLS on a (whitened) system with columns scaled to unit norm for conditioning.
+Eigen::VectorXd SolveScaled(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, bool* converged) {
+  Eigen::MatrixXd as = a;
+  const Eigen::VectorXd scale = a.colwise().norm().transpose();
+  for (Eigen::Index c = 0; c < as.cols(); ++c) as.col(c) /= scale[c] > 0.0 ? scale[c] : 1.0;
+  const NnlsResult nnls = SolveNnls(as, b);
+  *converged = *converged && nnls.converged;
+  Eigen::VectorXd theta = nnls.x;
+  for (Eigen::Index c = 0; c < theta.size(); ++c) theta[c] /= scale[c] > 0.0 ? scale[c] : 1.0;
+  return theta;
+}
+
+// Diagonal weights sqrt(edf / 2) / v, v the previous model (the measurement at first), never below
+// 1e-6 of the measurement (a term not yet found must not get an infinite weight).
+Eigen::VectorXd DiagonalSqrtWeights(const Points& p, const Eigen::VectorXd& model_v) {
+  Eigen::VectorXd w(p.size());
+  for (int i = 0; i < p.size(); ++i)
+    w[i] = std::sqrt(p.edf[i] / 2.0) / std::max(model_v[i], 1e-6 * p.v[i]);
+  return w;
+}
+
+// Sampling covariance of the Allan variances under theta, plus an independent model discrepancy
+// (discrepancy * model_i)^2 on the diagonal (0 unless the model is rejected, see FitNoiseTerms).
+Eigen::MatrixXd ModelCovariance(const AvarCovarianceModel& cov, const std::vector<int>& cols,
+                                const Eigen::VectorXd& theta, const Eigen::MatrixXd& basis,
+                                double discrepancy) {
+  std::array<double, 4> t{};
+  double r2 = 0.0;
+  for (size_t c = 0; c < cols.size(); ++c) {
+    if (cols[c] < 4)
+      t[static_cast<size_t>(cols[c])] = theta[static_cast<Eigen::Index>(c)];
+    else
+      r2 = theta[static_cast<Eigen::Index>(c)];
+  }
+  Eigen::MatrixXd c = cov.Covariance(t, r2);
+  // Dense grids make neighbouring rows nearly collinear; a relative 1e-9 on the diagonal keeps the
+  // Cholesky factor finite without changing any fitted digit that matters.
+  c.diagonal() *= 1.0 + 1e-9;
+  if (discrepancy > 0.0) c.diagonal() += (discrepancy * (basis * theta)).array().square().matrix();
+  return c;
+}
+
+// The whitened system of the final model: aw = W A, rw = W (v - A theta), W^T W = C^-1.
+struct Whitened {
+  Eigen::MatrixXd aw;
+  Eigen::VectorXd rw;
+  Eigen::VectorXd point_variance;  // var(v_i) under the model [(rad/s)^4]
+};
+
+// Generalised NNLS iterated on the model covariance. Returns false if C is not positive definite.
+bool GeneralizedFit(const Points& p, const Eigen::MatrixXd& basis, const std::vector<int>& cols,
+                    const AvarCovarianceModel& cov, double discrepancy, int iterations,
+                    Eigen::VectorXd* theta, bool* converged, int* solves, Whitened* out) {
+  const Eigen::Map<const Eigen::VectorXd> v(p.v.data(), p.size());
+  for (int pass = 0; pass < iterations; ++pass) {
+    const Eigen::LLT<Eigen::MatrixXd> llt(ModelCovariance(cov, cols, *theta, basis, discrepancy));
+    if (llt.info() != Eigen::Success) return false;
+    const Eigen::MatrixXd a = llt.matrixL().solve(basis);
+    const Eigen::VectorXd b = llt.matrixL().solve(v);
+    const Eigen::VectorXd previous = basis * *theta;
+    *theta = SolveScaled(a, b, converged);
+    ++*solves;
+    const Eigen::VectorXd model = basis * *theta;
+    if (((model - previous).cwiseAbs().array() / v.array()).maxCoeff() < 1e-7) break;
+  }
+  const Eigen::MatrixXd c = ModelCovariance(cov, cols, *theta, basis, discrepancy);
+  const Eigen::LLT<Eigen::MatrixXd> llt(c);
+  if (llt.info() != Eigen::Success) return false;
+  out->aw = llt.matrixL().solve(basis);
+  out->rw = llt.matrixL().solve(v - basis * *theta);
+  out->point_variance = c.diagonal();
+  return true;
+}
+
+int PositiveCount(const Eigen::VectorXd& theta) {
+  return static_cast<int>((theta.array() > 0.0).count());
+}
+
+// The relative model discrepancy d that brings the generalised chi2 / dof to 1 (bisection on
+// log d in [1e-3, 10]), with theta refitted at it. A rejected model (real gyros: filter roll-off,
+// vibration, temperature) otherwise gets weights that trust its shape more than the data; d adds
+// the model error as independent per-point noise, which widens the standard errors honestly and
+// lets the terms follow the curve's level (docs/allan-noise-fit.md).
+double FitWithDiscrepancy(const Points& p, const Eigen::MatrixXd& basis,
+                          const std::vector<int>& cols, const AvarCovarianceModel& cov,
+                          const NoiseFitOptions& options, Eigen::VectorXd* theta, bool* converged,
+                          int* solves, Whitened* out) {
+  double lo = std::log(1e-3), hi = std::log(10.0);
+  const Eigen::VectorXd start = *theta;
+  for (int step = 0; step < 14; ++step) {
+    const double mid = 0.5 * (lo + hi);
+    Eigen::VectorXd t = start;
+    Whitened w;
+    if (!GeneralizedFit(p, basis, cols, cov, std::exp(mid), options.gls_iterations, &t, converged,
+                        solves, &w))
+      break;
+    const int dof = std::max(1, p.size() - PositiveCount(t));
+    (w.rw.squaredNorm() / dof > 1.0 ? lo : hi) = mid;
+  }
+  const double d = std::exp(hi);
+  *theta = start;
+  GeneralizedFit(p, basis, cols, cov, d, options.gls_iterations, theta, converged, solves, out);
+  return d;
+}
+
+// Diagonal of (A_S^T W^T W A_S)^-1 for the column subset S.
+Eigen::VectorXd ThetaVariances(const Eigen::MatrixXd& aw, const std::vector<int>& set) {
+  Eigen::MatrixXd af(aw.rows(), static_cast<Eigen::Index>(set.size()));
+  for (size_t k = 0; k < set.size(); ++k) af.col(static_cast<Eigen::Index>(k)) = aw.col(set[k]);
+  const Eigen::VectorXd s = af.colwise().norm().transpose();
+  for (Eigen::Index k = 0; k < af.cols(); ++k) af.col(k) /= s[k];
+  const Eigen::MatrixXd normal = af.transpose() * af;
+  const Eigen::MatrixXd inv =
+      normal.ldlt().solve(Eigen::MatrixXd::Identity(normal.rows(), normal.cols()));
+  Eigen::VectorXd diag(static_cast<Eigen::Index>(set.size()));
+  for (Eigen::Index k = 0; k < diag.size(); ++k) diag[k] = inv(k, k) / (s[k] * s[k]);
+  return diag;
+}
+
+// A term's value in the engineer's unit, for reasons: "0.12 deg/h".
+std::string Engineering(int term, double si) {
+  NoiseTerms t;
+  *Amplitude(&t, term) = si;
+  const NoiseTermsEngineering e = ToEngineeringUnits(t);
+  const double values[kTerms] = {e.q_arcsec, e.n_deg_sqrt_h, e.b_deg_h, e.k_deg_h_sqrt_h,
+                                 e.r_deg_h2};
+  const char* unit[kTerms] = {units::kQuantizationUnit, units::kArwUnit, units::kBiasUnit,
+                              units::kRrwUnit, units::kRampUnit};
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.3g %s", values[term], unit[term]);
+  return buf;
+}
+
+void AddReason(TermAssessment* a, const std::string& reason) {
+  a->reliable = false;
+  a->reason += (a->reason.empty() ? "" : "; ") + reason;
+}
+
+// Per-point model edf 2 v^2 / var(v) and the two-sided interval of v_measured / v_model.
+struct PointInterval {
+  double low, high;
+};
+PointInterval ModelInterval(double model_v, double variance, double level) {
+  const double edf = 2.0 * model_v * model_v / variance;
+  const double tail = 0.5 * (1.0 - level);
+  return {stats::ChiSquareQuantile(tail, edf) / edf,
+          stats::ChiSquareQuantile(1.0 - tail, edf) / edf};
+}
+
+// Misfit ranges, and the terms that carry >= 25 % of the model inside them.
+void AssessMisfit(const Points& p, const Eigen::VectorXd& model, const Eigen::VectorXd& variance,
+                  const Eigen::MatrixXd& basis, const std::vector<int>& cols,
+                  const Eigen::VectorXd& theta, double level, NoiseFitResult* result) {
+  std::vector<bool> out(static_cast<size_t>(p.size()), false);
+  for (int i = 0; i < p.size(); ++i) {
+    if (!(model[i] > 0.0) || !(variance[i] > 0.0)) {
+      out[static_cast<size_t>(i)] = true;
+      continue;
+    }
+    const PointInterval iv = ModelInterval(model[i], variance[i], level);
+    const double ratio = p.v[i] / model[i];
+    out[static_cast<size_t>(i)] = ratio < iv.low || ratio > iv.high;
+  }
+  // Rows are in tau order in every table fogpipe makes; a range is a run of rows outside.
+  std::vector<std::vector<TauRange>> carried(cols.size());
+  for (int i = 0; i < p.size(); ++i) {
+    if (!out[static_cast<size_t>(i)]) continue;
+    int j = i;
+    while (j + 1 < p.size() && out[static_cast<size_t>(j + 1)]) ++j;
+    const TauRange range{p.tau[i], p.tau[j]};
+    result->misfit_ranges.push_back(range);
+    for (size_t c = 0; c < cols.size(); ++c) {
+      double share = 0.0;
+      for (int k = i; k <= j; ++k)
+        if (model[k] > 0.0) share = std::max(share, theta[c] * basis(k, c) / model[k]);
+      if (share >= 0.25) carried[c].push_back(range);
+    }
+    i = j;
+  }
+  for (size_t c = 0; c < cols.size(); ++c)
+    if (!carried[c].empty())
+      AddReason(&result->assessment[cols[c]],
+                "model does not describe the curve at " + FormatTauRanges(carried[c]));
+}
+
+// Upper bound of each term from the curve, and agreement with the slope read-offs.
+void AssessBounds(const Points& p, double level, const std::vector<int>& cols,
+                  NoiseFitResult* result) {
+  const double tail = 0.5 * (1.0 - level);
+  for (int c : cols) {
+    TermAssessment& a = result->assessment[c];
+    NoiseTerms copy = result->terms;
+    const double amp = *Amplitude(&copy, c), se = *StandardError(&copy, c);
+    if (!a.significant || !(amp > 0.0)) continue;
+    const double margin = std::isfinite(se) ? 2.0 * se : 0.0;
+    double bound = std::numeric_limits<double>::infinity(), at = kNaN;
+    for (int i = 0; i < p.size(); ++i) {
+      const double edf = p.edf[i];  // the table's own EDF: the bound should not rest on the fit
+      if (!(edf > 0.0) || !std::isfinite(edf)) continue;
+      const double v_high = p.v[i] * edf / stats::ChiSquareQuantile(tail, edf);
+      const double b = std::sqrt(v_high / Basis(c, p.tau[i]));
+      if (b < bound) bound = b, at = p.tau[i];
+    }
+    if (amp - margin > bound) {
+      char buf[48];
+      std::snprintf(buf, sizeof buf, "%.3g", at);
+      AddReason(&a, std::string("exceeds the bound the Allan curve sets at tau = ") + buf + " s (" +
+                        Engineering(c, bound) + ")");
+    }
+    NoiseTerms readoff = result->slope_readoff;
+    const double ro = *Amplitude(&readoff, c);
+    if (c != 2 && std::isfinite(ro) && ro > 0.0 &&
+        (amp - margin > 2.0 * ro || amp + margin < 0.5 * ro))
+      AddReason(&a, "differs from its slope read-off " + Engineering(c, ro) + " by more than 2x");
+  }
+}
+
+}  // namespace
+
+const char* TermSymbol(int term) {
+  static const char* kSymbols[kTerms] = {"Q", "N", "B", "K", "R"};
+  return term >= 0 && term < kTerms ? kSymbols[term] : "?";
+}
+
+std::string FormatTauRanges(const std::vector<TauRange>& ranges) {
+  std::string s;
+  for (const TauRange& r : ranges) {
+    char buf[64];
+    if (r.low_s == r.high_s)
+      std::snprintf(buf, sizeof buf, "%.3g s", r.low_s);
+    else
+      std::snprintf(buf, sizeof buf, "%.3g-%.3g s", r.low_s, r.high_s);
+    s += (s.empty() ? "" : ", ") + std::string(buf);
+  }
+  return s;
+}
+
+int UnreliableTermCount(const NoiseFitResult& fit) {
+  int n = 0;
+  for (const TermAssessment& a : fit.assessment) n += a.reliable ? 0 : 1;
+  return n;
+}
+
 NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& options) {
   NoiseFitResult result;
   NoiseFitSummary& summary = result.summary;
@@ -132,24 +433,8 @@ NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& opt
   std::vector<int> cols;
   for (int j = 0; j < kTerms; ++j)
     if (enabled[j]) cols.push_back(j);
-  // Rows with an EDF are weighted by it; if no row has one, all get edf = 1 (relative least
-  // squares) and no standard errors are given. Rows without EDF in a table that has some are
-  // skipped (they are the ones whose noise type admits no EDF).
-  bool have_edf = false;
-  for (size_t i = 0; i < table.size() && i < table.edf.size(); ++i)
-    if (table.edf[i] > 0.0 && std::isfinite(table.edf[i])) have_edf = true;
-  std::vector<double> tau, v, edf;
-  for (size_t i = 0; i < table.size(); ++i) {
-    const double t = table.tau_s[i], s = table.sigma[i];
-    if (!(t >= options.min_tau_s && t <= options.max_tau_s) || !(s > 0.0) || !std::isfinite(s))
-      continue;
-    const double e = i < table.edf.size() ? table.edf[i] : kNaN;
-    if (have_edf && !(e > 0.0 && std::isfinite(e))) continue;
-    tau.push_back(t);
-    v.push_back(s * s);
-    edf.push_back(have_edf ? e : 1.0);
-  }
-  const int npts = static_cast<int>(tau.size());
+  const Points p = SelectRows(table, options);
+  const int npts = p.size();
   const int ncol = static_cast<int>(cols.size());
   summary.points = npts;
   if (npts < ncol) {
@@ -157,77 +442,109 @@ NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& opt
     summary.message = "fewer usable table rows than terms to fit";
     return result;
   }
-  // Design matrix on unit amplitudes, then columns scaled to unit weighted norm for conditioning.
   Eigen::MatrixXd basis(npts, ncol);
   for (int i = 0; i < npts; ++i)
-    for (int c = 0; c < ncol; ++c) basis(i, c) = Basis(cols[c], tau[i]);
-  const Eigen::Map<const Eigen::VectorXd> measured(v.data(), npts);
-  Eigen::VectorXd model_v = measured;
-  Eigen::VectorXd theta = Eigen::VectorXd::Zero(ncol);
-  Eigen::VectorXd sqrt_w(npts);
+    for (int c = 0; c < ncol; ++c) basis(i, c) = Basis(cols[c], p.tau[i]);
+  const Eigen::Map<const Eigen::VectorXd> measured(p.v.data(), npts);
+
+  // Step 1: the diagonal fit (the start of GLS, and the fit itself when GLS does not apply).
   bool converged = true;
+  Eigen::VectorXd model_v = measured, theta = Eigen::VectorXd::Zero(ncol), sqrt_w;
   for (int pass = 0; pass <= options.reweight_iterations; ++pass) {
-    for (int i = 0; i < npts; ++i) {
-      // var(sigma^2_hat) = 2 v^2 / edf; the model value once available, never below 1e-6 of the
-      // measurement (a term the fit has not yet found must not get an infinite weight).
-      const double vi = std::max(model_v[i], 1e-6 * measured[i]);
-      sqrt_w[i] = std::sqrt(edf[i] / 2.0) / vi;
-    }
-    Eigen::MatrixXd a = sqrt_w.asDiagonal() * basis;
-    const Eigen::VectorXd scale = a.colwise().norm().transpose();
-    for (int c = 0; c < ncol; ++c) a.col(c) /= scale[c];
-    const Eigen::VectorXd b = sqrt_w.cwiseProduct(measured);
-    const NnlsResult nnls = SolveNnls(a, b);
-    converged = converged && nnls.converged;
-    theta = nnls.x.cwiseQuotient(scale);
+    sqrt_w = DiagonalSqrtWeights(p, model_v);
+    theta = SolveScaled(sqrt_w.asDiagonal() * basis, sqrt_w.cwiseProduct(measured), &converged);
     model_v = basis * theta;
     ++summary.iterations;
   }
-  // Final weights (those the last solve used) for chi2 and the covariance.
-  const Eigen::MatrixXd aw = sqrt_w.asDiagonal() * basis;
-  const Eigen::VectorXd resid = sqrt_w.cwiseProduct(measured - model_v);
-  result.chi2 = resid.squaredNorm();
+  Whitened w{sqrt_w.asDiagonal() * basis, sqrt_w.cwiseProduct(measured - model_v),
+             Eigen::VectorXd()};
+
+  // Step 2: GLS on the model covariance of the overlapping Allan variances.
+  double t0 = 0.0;
+  if (options.correlated && CovarianceModelApplies(table, p, &t0)) {
+    const AvarCovarianceModel cov(p.m, p.count, t0);
+    Eigen::VectorXd theta_gls = theta;
+    Whitened wg;
+    if (GeneralizedFit(p, basis, cols, cov, 0.0, options.gls_iterations, &theta_gls, &converged,
+                       &summary.iterations, &wg)) {
+      theta = theta_gls, w = wg, model_v = basis * theta;
+      result.generalized = true;
+      const int dof = npts - PositiveCount(theta);
+      const double p_value = dof > 0 ? stats::ChiSquareSurvival(w.rw.squaredNorm(), dof) : 1.0;
+      if (options.discrepancy_below_p > 0.0 && p_value < options.discrepancy_below_p) {
+        Whitened wd;
+        result.model_discrepancy = FitWithDiscrepancy(p, basis, cols, cov, options, &theta,
+                                                      &converged, &summary.iterations, &wd);
+        // Sampling-only residuals and point variances of the final model (the goodness of fit
+        // and the misfit ranges), the inflated covariance for the standard errors.
+        Whitened w0;
+        Eigen::VectorXd t = theta;
+        GeneralizedFit(p, basis, cols, cov, 0.0, 0, &t, &converged, &summary.iterations, &w0);
+        w = wd;
+        model_v = basis * theta;
+        result.chi2 = w0.rw.squaredNorm();
+        w.point_variance = w0.point_variance;
+      }
+    }
+  }
+  if (!w.point_variance.size() && p.have_edf)
+    w.point_variance = (2.0 * model_v.array().square() /
+                        Eigen::Map<const Eigen::VectorXd>(p.edf.data(), npts).array())
+                           .matrix();
+
+  // Step 3: chi2, standard errors, significance and upper limits.
+  if (!(result.model_discrepancy > 0.0)) result.chi2 = w.rw.squaredNorm();
   std::vector<int> free;
   for (int c = 0; c < ncol; ++c)
     if (theta[c] > 0.0) free.push_back(c);
   summary.free_terms = static_cast<int>(free.size());
   result.dof = npts - summary.free_terms;
+  if (p.have_edf && result.dof > 0)
+    result.p_value = stats::ChiSquareSurvival(result.chi2, result.dof);
 
   NoiseTerms& terms = result.terms;
   for (int j = 0; j < kTerms; ++j) *Amplitude(&terms, j) = enabled[j] ? 0.0 : kNaN;
-  // Covariance of theta on the free set: (A_F^T W A_F)^-1; for held-at-zero terms, the variance
-  // from the full normal matrix gives the one-sigma upper limit.
-  auto covariance_diagonal = [&](const std::vector<int>& set) {
-    Eigen::MatrixXd af(npts, static_cast<Eigen::Index>(set.size()));
-    for (size_t k = 0; k < set.size(); ++k) af.col(static_cast<Eigen::Index>(k)) = aw.col(set[k]);
-    const Eigen::VectorXd s = af.colwise().norm().transpose();
-    for (Eigen::Index k = 0; k < af.cols(); ++k) af.col(k) /= s[k];
-    const Eigen::MatrixXd normal = af.transpose() * af;
-    const Eigen::MatrixXd inv =
-        normal.ldlt().solve(Eigen::MatrixXd::Identity(normal.rows(), normal.cols()));
-    Eigen::VectorXd diag(set.size());
-    for (Eigen::Index k = 0; k < diag.size(); ++k) diag[k] = inv(k, k) / (s[k] * s[k]);
-    return diag;
-  };
   std::vector<int> all(static_cast<size_t>(ncol));
   for (int c = 0; c < ncol; ++c) all[c] = c;
-  const Eigen::VectorXd var_free = free.empty() ? Eigen::VectorXd() : covariance_diagonal(free);
-  const Eigen::VectorXd var_all = covariance_diagonal(all);
-  for (size_t k = 0; k < free.size(); ++k) {
-    const int c = free[k];
-    const double amp = std::sqrt(theta[c]);
-    *Amplitude(&terms, cols[c]) = amp;
-    if (have_edf) *StandardError(&terms, cols[c]) = std::sqrt(var_free[k]) / (2.0 * amp);
+  const Eigen::VectorXd var_free = free.empty() ? Eigen::VectorXd() : ThetaVariances(w.aw, free);
+  const Eigen::VectorXd var_all = ThetaVariances(w.aw, all);
+  for (int c = 0; c < ncol; ++c) {
+    TermAssessment& a = result.assessment[cols[c]];
+    const auto k = std::find(free.begin(), free.end(), c);
+    const double var = k != free.end() ? var_free[k - free.begin()] : var_all[c];
+    const double se_theta = p.have_edf && var > 0.0 ? std::sqrt(var) : kNaN;
+    if (k != free.end()) {
+      const double amp = std::sqrt(theta[c]);
+      *Amplitude(&terms, cols[c]) = amp;
+      *StandardError(&terms, cols[c]) = se_theta / (2.0 * amp);
+      a.z = theta[c] / se_theta;
+    } else {
+      // Held at zero: the "standard error" is the one-sigma upper limit sqrt(se(a^2)).
+      *StandardError(&terms, cols[c]) = std::sqrt(se_theta);
+      a.z = p.have_edf ? 0.0 : kNaN;
+    }
+    a.significant = a.z > options.significance_z;
+    a.upper_limit = std::sqrt(std::max(theta[c], 0.0) + 2.0 * se_theta);
   }
-  for (int c = 0; c < ncol; ++c)
-    if (theta[c] <= 0.0 && have_edf && var_all[c] > 0.0)
-      *StandardError(&terms, cols[c]) = std::sqrt(std::sqrt(var_all[c]));
 
+  // Step 4: read-offs and the honesty checks.
   result.slope_readoff = SlopeReadoffs(table, options.readoff_slope_tolerance);
+  if (p.have_edf) {
+    AssessMisfit(p, model_v, w.point_variance, basis, cols, theta, options.misfit_level, &result);
+    AssessBounds(p, options.misfit_level, cols, &result);
+  }
   summary.termination = converged ? Termination::kSuccess : Termination::kNoConvergence;
-  summary.message = "weighted NNLS on " + std::to_string(npts) + " points, " +
-                    std::to_string(summary.free_terms) + " terms positive" +
-                    (have_edf ? "" : " (no EDF: unit weights, no standard errors)");
+  summary.message =
+      std::string(result.generalized ? "generalised" : "weighted") + " NNLS on " +
+      std::to_string(npts) + " points, " + std::to_string(summary.free_terms) + " terms positive" +
+      (result.model_discrepancy > 0.0
+           ? " (model rejected: relative discrepancy " +
+                 std::to_string(result.model_discrepancy).substr(0, 6) + " added to each point)"
+           : "") +
+      (!p.have_edf          ? " (no EDF: unit weights, no standard errors)"
+       : result.generalized ? ""
+                            : " (points treated as independent: optimistic "
+                              "standard errors)");
   return result;
 }
 

@@ -2,24 +2,47 @@
 // slope read-offs as a cross-check (IEEE 952 Annex C; method.md's table).
 //
 // Fit: sigma^2(tau) = 3Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2 + K^2 tau/3 + R^2 tau^2/2 is linear in
-// theta = (Q^2, N^2, B^2, K^2, R^2) >= 0, so it is solved by non-negative weighted least squares
-// (Lawson-Hanson, nnls.h) on the variances. An Allan variance estimate with edf degrees of freedom
-// has var(sigma^2_hat) ~ 2 sigma^4 / edf (chi-square), so point i gets weight edf_i / (2 v_i^2).
-// v_i is the *model* variance from the previous pass (iteratively reweighted, starting from the
-// measured one), because weighting by the measured value favours points that fluctuated low and
-// biases the fit downwards. Standard errors come from the inverse of the weighted normal matrix on
-// the free terms, carried to amplitudes by the delta method, se(a) = se(a^2) / (2 a).
+// theta = (Q^2, N^2, B^2, K^2, R^2) >= 0. It is solved by generalised non-negative least squares
+// on the variances: the covariance matrix C of the overlapping Allan-variance estimates is computed
+// from the current model (avar_covariance.h: exact for Gaussian noise, neighbouring taus share
+// data and are strongly correlated), the system is whitened by C's Cholesky factor and solved by
+// Lawson-Hanson NNLS (nnls.h); C is recomputed from the new model until theta settles. The start
+// is the diagonal fit with weights edf / (2 v^2), v the model variance of the previous pass
+// (weighting by the measured value favours points that fluctuated low and biases the fit down).
+// Cov(theta) = (A_F^T C^-1 A_F)^-1 on the terms left positive; chi2 = r^T C^-1 r on
+// points - positive terms degrees of freedom, with its chi-square p-value. Why GLS and not the
+// diagonal weights: with independent-point weights the standard errors were 2-4x too small and
+// absent terms came out "significant" in a third of white-noise records (docs/allan-noise-fit.md).
 //
-// Caveats, stated rather than hidden: (1) Allan estimates at neighbouring taus share data and are
-// correlated; the fit treats them as independent, so the standard errors are optimistic, the more
-// so the denser the grid (use octave or ~5-per-decade grids for fitting). (2) The bias-instability
-// term is the flat floor of flicker noise; a real flicker region ends at a cut-off, and the floor
-// is only visible between the ARW and RRW slopes. (3) The model terms are the continuous-time
-// IEEE forms; at tau of a few samples a sampled process deviates slightly from them.
+// Significance is judged on the variance coefficient theta_j, which is linear in the data and
+// nearly Gaussian: z = theta_j / se(theta_j) > 2. The amplitude's standard error se(a) = se(a^2) /
+// (2a) (delta method) is only meaningful for significant terms.
+//
+// Honesty checks per term (TermAssessment): (1) the tau ranges where the measured variance leaves
+// the model's 99.7 % chi-square interval (edf of each point from the model covariance, 2 v^2 /
+// C_ii) are "misfit ranges"; a term carrying >= 25 % of the model there is marked unreliable;
+// (2) no term may exceed the curve: a_j^2 b_j(tau) <= the upper 99.85 % bound of sigma^2(tau) at
+// every tau (for B this is the Allan-minimum read-off min sigma / 0.664, for N the long-tau bound
+// sigma(tau) sqrt(tau)); (3) a term with a slope read-off must be within a factor 2 of it (beyond
+// 2 standard errors): the read-off extrapolates a local line with slope tolerance 0.15 over up to
+// two decades, which moves it by up to ~2x.
+//
+// When the model is rejected (p < 1e-3, usual on real gyros) the GLS weights trust the model's
+// shape more than the data and the terms can leave the curve's level; a relative model
+// discrepancy d, independent per point, is then added to C with d chosen so that chi2 / dof = 1
+// (a standard "model error" inflation) and the terms refitted; their standard errors include it.
+//
+// Caveats: the bias-instability term is the flat floor of flicker noise; a real flicker region
+// ends at a cut-off, and the floor is only visible between the ARW and RRW slopes. The model terms
+// are the continuous-time IEEE forms; at tau of a few samples a sampled process deviates slightly
+// from them. A non-overlapping ADEV table is fitted with the diagonal weights only (its
+// covariance is not modelled): its standard errors are then optimistic, and the summary says so.
 #pragma once
 
+#include <array>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "algorithms/allan/allan.h"
 #include "algorithms/common/status.h"
@@ -59,6 +82,19 @@ struct NoiseFitOptions {
   int reweight_iterations = 3;
   /// Largest |local slope - term slope| accepted by a slope read-off. Default 0.15.
   double readoff_slope_tolerance = 0.15;
+  /// Generalised least squares with the model covariance of the Allan points (default true);
+  /// false = the diagonal weights alone (points treated as independent).
+  bool correlated = true;
+  /// GLS passes (covariance recomputed from the previous model). Default 8.
+  int gls_iterations = 8;
+  /// A term is significant when theta / se(theta) exceeds this. Default 2.
+  double significance_z = 2.0;
+  /// Two-sided level of the per-point interval that defines the misfit ranges. Default 0.997.
+  double misfit_level = 0.997;
+  /// When the GLS fit's p-value is below this, a relative model discrepancy d (independent,
+  /// d * model on each point's standard deviation) is added so that chi2 / dof = 1, and the terms
+  /// are refitted with it (robust option for real gyros; 0 disables). Default 1e-3.
+  double discrepancy_below_p = 1e-3;
 
   bool IsValid(std::string* error) const;
 };
@@ -71,13 +107,52 @@ struct NoiseFitSummary {
   int iterations = 0;  ///< Weighted NNLS solves.
 };
 
+/// Index of a term in NoiseFitResult::assessment and TermSymbol: Q, N, B, K, R.
+constexpr int kNoiseTermCount = 5;
+/// "Q", "N", "B", "K", "R".
+const char* TermSymbol(int term);
+
+/// Reliability of one fitted term.
+struct TermAssessment {
+  /// theta / se(theta) for the variance coefficient theta = a^2 [dimensionless]; 0 for a term held
+  /// at zero, NaN when not fitted or without standard errors.
+  double z = std::numeric_limits<double>::quiet_NaN();
+  bool significant = false;  ///< z > NoiseFitOptions::significance_z.
+  /// Upper limit of the amplitude, sqrt(theta + 2 se(theta)) [the term's SI unit]; NaN if unknown.
+  double upper_limit = std::numeric_limits<double>::quiet_NaN();
+  bool reliable = true;  ///< false when a check in the file comment failed; `reason` says which.
+  std::string reason;    ///< "; "-joined reasons, empty when reliable.
+};
+
+/// A stretch of the tau axis [s].
+struct TauRange {
+  double low_s = 0.0, high_s = 0.0;
+};
+
 struct NoiseFitResult {
-  NoiseTerms terms;          ///< The joint NNLS fit.
+  NoiseTerms terms;          ///< The joint fit.
   NoiseTerms slope_readoff;  ///< Read-offs: N = sigma(1 s) on the -1/2 line, etc. (no SEs).
-  double chi2 = std::numeric_limits<double>::quiet_NaN();  ///< Weighted residual sum.
-  int dof = 0;                                             ///< points - free terms.
+  /// Generalised residual sum r^T C^-1 r [dimensionless] (diagonal weights without GLS).
+  double chi2 = std::numeric_limits<double>::quiet_NaN();
+  int dof = 0;  ///< points - free terms.
+  /// P(chi-square(dof) > chi2) [dimensionless]; NaN without standard errors or with dof = 0.
+  double p_value = std::numeric_limits<double>::quiet_NaN();
+  /// Tau ranges where the measured Allan variance leaves the model's interval (file comment).
+  std::vector<TauRange> misfit_ranges;
+  /// Per term, in the order Q, N, B, K, R.
+  std::array<TermAssessment, kNoiseTermCount> assessment;
+  bool generalized = false;  ///< true when the GLS covariance was used.
+  /// Relative model discrepancy d added because the model was rejected [1]; 0 when not needed.
+  /// chi2 and p_value stay those of the sampling covariance alone.
+  double model_discrepancy = 0.0;
   NoiseFitSummary summary;
 };
+
+/// "0.1-0.3 s, 200-800 s" (3 significant digits), or "" when there is no range.
+std::string FormatTauRanges(const std::vector<TauRange>& ranges);
+
+/// Number of fitted terms marked unreliable.
+int UnreliableTermCount(const NoiseFitResult& fit);
 
 /// Fits an OADEV or ADEV table (a Hadamard table gives kInvalidOptions: its term coefficients
 /// differ). tau_s, sigma and edf are used; rows with non-finite or non-positive values are

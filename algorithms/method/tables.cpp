@@ -27,6 +27,10 @@ NoiseRow MakeNoiseRow(const std::string& name, const AllanEvaluation& e) {
   row.b_deg_h = t.b_deg_h;
   row.k_deg_h_sqrt_h = t.k_deg_h_sqrt_h;
   row.r_deg_h2 = t.r_deg_h2;
+  if (e.noise.dof > 0) row.chi2_per_dof = e.noise.chi2 / e.noise.dof;
+  row.p_value = e.noise.p_value;
+  for (int j = 0; j < allan::kNoiseTermCount; ++j)
+    row.unreliable_reason[j] = e.noise.assessment[j].reason;
   return row;
 }
 
@@ -72,21 +76,29 @@ std::string FormatTable3(const std::vector<FitRow>& rows) {
 
 std::string FormatTable5(const std::vector<NoiseRow>& rows) {
   std::string out;
-  char line[200];
-  std::snprintf(line, sizeof(line), "%-14s %12s %12s %12s %14s %12s\n", "signal", "Q", "N", "B",
-                "K", "R");
+  char line[240];
+  std::snprintf(line, sizeof(line), "%-14s %13s %13s %13s %15s %13s %9s %9s\n", "signal", "Q", "N",
+                "B", "K", "R", "chi2/dof", "p-value");
   out += line;
-  std::snprintf(line, sizeof(line), "%-14s %12s %12s %12s %14s %12s\n", "",
+  std::snprintf(line, sizeof(line), "%-14s %13s %13s %13s %15s %13s %9s %9s\n", "",
                 units::kQuantizationUnit, units::kArwUnit, units::kBiasUnit, units::kRrwUnit,
-                units::kRampUnit);
+                units::kRampUnit, "1", "1");
   out += line;
+  std::string notes;
   for (const NoiseRow& r : rows) {
-    std::snprintf(line, sizeof(line), "%-14s %12.4e %12.4e %12.4e %14.4e %12.4e\n",
-                  r.signal.c_str(), r.q_arcsec, r.n_deg_sqrt_h, r.b_deg_h, r.k_deg_h_sqrt_h,
-                  r.r_deg_h2);
+    // '*' after a value: the noise fit marked the term unreliable (reasons below the table).
+    auto mark = [&r](int j) { return r.unreliable_reason[j].empty() ? ' ' : '*'; };
+    std::snprintf(
+        line, sizeof(line), "%-14s %12.4e%c %12.4e%c %12.4e%c %14.4e%c %12.4e%c %9.3g %9.2g\n",
+        r.signal.c_str(), r.q_arcsec, mark(0), r.n_deg_sqrt_h, mark(1), r.b_deg_h, mark(2),
+        r.k_deg_h_sqrt_h, mark(3), r.r_deg_h2, mark(4), r.chi2_per_dof, r.p_value);
     out += line;
+    for (int j = 0; j < 5; ++j)
+      if (!r.unreliable_reason[j].empty())
+        notes +=
+            "  * " + r.signal + " " + allan::TermSymbol(j) + ": " + r.unreliable_reason[j] + "\n";
   }
-  return out;
+  return out + notes;
 }
 
 }  // namespace fogpipe::method

@@ -3,6 +3,8 @@
 // results file; both print them with the same functions.
 #pragma once
 
+#include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -22,6 +24,11 @@ struct FitRow {
 struct NoiseRow {
   std::string signal;  ///< "raw", "method 1", "method 2", then the reference filters' names
   double q_arcsec = 0.0, n_deg_sqrt_h = 0.0, b_deg_h = 0.0, k_deg_h_sqrt_h = 0.0, r_deg_h2 = 0.0;
+  /// Goodness of the noise fit (allan/noise_fit.h): chi2 / dof and its p-value [1]; NaN unknown.
+  double chi2_per_dof = std::numeric_limits<double>::quiet_NaN();
+  double p_value = std::numeric_limits<double>::quiet_NaN();
+  /// Per term Q, N, B, K, R: why it is unreliable; empty when reliable (marked '*' in the table).
+  std::array<std::string, 5> unreliable_reason{};
 };
 
 /// Table 3 rows: method 2's direct model first, then every IMF and the residue.

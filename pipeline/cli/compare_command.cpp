@@ -88,6 +88,15 @@ void PrintText(const model::CompareResult& r) {
     for (const auto& p : ft.parameters)
       std::printf("  %-18s %-24s %.5g +- %.2g %s\n", ft.term.c_str(), p.name.c_str(), p.value,
                   p.standard_error, p.units.c_str());
+  std::printf(
+      "note: these stochastic terms are fitted jointly with the deterministic part above, on the\n"
+      "  Allan variance of its residual, with the extra terms chosen here (e.g. Gauss-Markov) and "
+      "a\n"
+      "  model-shape tolerance; `fogpipe allan`, `run`, `info` and `merge` report the five IEEE\n"
+      "  terms alone fitted to the whole record (generalised least squares, with reliability "
+      "flags).\n"
+      "  The two differ wherever the deterministic part or the extra terms carry Allan "
+      "variance.\n");
 }
 
 int PrintHistory(const std::string& results) {

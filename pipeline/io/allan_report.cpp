@@ -1,5 +1,7 @@
 #include "pipeline/io/allan_report.h"
 
+#include "pipeline/io/noise_fit_report.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -155,21 +157,7 @@ void PrintAllanText(std::ostream& out, const AllanReport& r) {
     out << "\nNoise terms: " << NotFittedReason(t.deviation) << ".\n";
     return;
   }
-  const allan::NoiseTermsEngineering terms = allan::ToEngineeringUnits(r.fit.terms);
-  out << "\nNoise terms (joint non-negative weighted fit of sigma^2, IEEE Std 952-1997 Annex C; "
-      << ToString(r.fit.summary.termination) << ", " << r.fit.summary.points << " points):\n";
-  auto row = [&out](const char* symbol, const char* name, double value, double se,
-                    const char* unit) {
-    out << "  " << symbol << "  " << std::left << std::setw(20) << name << std::right
-        << std::setw(13) << Fixed(value, "%.4e") << " +- " << std::left << std::setw(11)
-        << Fixed(se, "%.2e") << std::right << unit << "\n";
-  };
-  row("Q", "quantization", terms.q_arcsec, terms.q_se, units::kQuantizationUnit);
-  row("N", "angle random walk", terms.n_deg_sqrt_h, terms.n_se, units::kArwUnit);
-  row("B", "bias instability", terms.b_deg_h, terms.b_se, units::kBiasUnit);
-  row("K", "rate random walk", terms.k_deg_h_sqrt_h, terms.k_se, units::kRrwUnit);
-  row("R", "rate ramp", terms.r_deg_h2, terms.r_se, units::kRampUnit);
-  if (!r.fit.summary.message.empty()) out << "  (" << r.fit.summary.message << ")\n";
+  PrintNoiseFitText(out, r.fit);
 }
 
 void PrintAllanCsv(std::ostream& out, const AllanReport& r) {
@@ -248,7 +236,11 @@ nlohmann::json AllanReportJson(const AllanReport& r) {
                          {"message", r.fit.summary.message},
                          {"points", r.fit.summary.points},
                          {"chi2", Number(r.fit.chi2)},
-                         {"dof", r.fit.dof}};
+                         {"dof", r.fit.dof},
+                         {"p_value", Number(r.fit.p_value)},
+                         {"generalized", r.fit.generalized},
+                         {"misfit_tau_ranges", allan::FormatTauRanges(r.fit.misfit_ranges)},
+                         {"terms", NoiseFitAssessmentJson(r.fit)}};
   report["slope_readoff"] = terms_json(r.fit.slope_readoff);
   return report;
 }

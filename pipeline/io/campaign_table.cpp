@@ -42,6 +42,7 @@ CampaignRow EmptyRow(const std::string& input_path) {
   row.model_loop_error = kNaN;
   for (auto& signal : row.term) signal.fill(kNaN);
   for (auto& signal : row.term_std_error) signal.fill(kNaN);
+  row.noise_fit_p_value.fill(kNaN);
   return row;
 }
 
@@ -85,7 +86,12 @@ ResultsRows ReadResultsRows(const fs::path& path) {
       for (std::size_t t = 0; t < kCampaignTerms.size(); ++t) {
         row.term[s][t] = Scalar(n, kCampaignTerms[t]);
         row.term_std_error[s][t] = Scalar(n, std::string(kCampaignTerms[t]) + "_std_error");
+        const std::string reason = std::string(kCampaignTerms[t]) + "_reason";
+        if (n.HasAttribute(reason) && !n.ReadStringAttribute(reason).empty())
+          row.unreliable_terms[s] += (row.unreliable_terms[s].empty() ? "" : ",") +
+                                     std::string(kCampaignTerms[t]);
       }
+      row.noise_fit_p_value[s] = Scalar(n, "p_value");
     }
     // A model history (fogpipe compare) is not part of fogpipe-results-v1 yet.
     if (g.Exists("model_history/loop_rms_error")) {
@@ -145,6 +151,11 @@ std::vector<Column> Columns() {
       columns.push_back({name + "_std_error", kTermUnits[t], nullptr,
                          [s, t](const CampaignRow& r) { return r.term_std_error[s][t]; }});
     }
+    const std::string signal = kCampaignSignals[s];
+    columns.push_back({signal + "_unreliable_terms", "",
+                       [s](const CampaignRow& r) { return r.unreliable_terms[s]; }, nullptr});
+    columns.push_back({signal + "_noise_fit_p_value", "1", nullptr,
+                       [s](const CampaignRow& r) { return r.noise_fit_p_value[s]; }});
   }
   columns.push_back({"model_loop_error", "deg/h", nullptr,
                      [](const CampaignRow& r) { return r.model_loop_error; }});

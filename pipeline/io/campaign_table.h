@@ -34,6 +34,10 @@ struct CampaignRow {
   /// [signal][term]: value and standard error in Q arcsec, N deg/sqrt(h), B deg/h,
   /// K deg/h/sqrt(h), R deg/h^2; NaN where not fitted.
   std::array<std::array<double, 5>, 3> term{}, term_std_error{};
+  /// [signal]: the noise fit's terms marked unreliable, e.g. "B,K" ("" when none; reasons are in
+  /// the results file's noise/<T>_reason), and the fit's chi-square p-value (NaN when unknown).
+  std::array<std::string, 3> unreliable_terms{};
+  std::array<double, 3> noise_fit_p_value{};
   /// RMS error of the model loop (fogpipe compare) when the results file has a model history;
   /// NaN otherwise (fogpipe-results-v1 has none yet).
   double model_loop_error = 0.0;

@@ -12,3 +12,4 @@ set_source_files_properties(${CMAKE_CURRENT_LIST_DIR}/schema_validator.cpp
   COMPILE_DEFINITIONS "FOGPIPE_SCHEMAS_DIR=\"${PROJECT_SOURCE_DIR}/schemas\"")
 target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/file_validation.cpp)
 target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/allan_report.cpp)
+target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/noise_fit_report.cpp)

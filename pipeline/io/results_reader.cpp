@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "algorithms/allan/noise_fit.h"
 #include "pipeline/hdf5/file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/results_layout.h"
@@ -37,6 +38,17 @@ method::NoiseRow ReadNoiseRow(const Group& allan, const std::string& signal,
   row.b_deg_h = Scalar(noise, "B");
   row.k_deg_h_sqrt_h = Scalar(noise, "K");
   row.r_deg_h2 = Scalar(noise, "R");
+  // Goodness of fit and flags (absent from files written before they were stored: NaN / none).
+  if (noise.Exists("p_value")) {
+    row.p_value = Scalar(noise, "p_value");
+    const std::vector<long long> dof =
+        noise.Exists("dof") ? noise.OpenDataset("dof").ReadInt64s() : std::vector<long long>();
+    if (!dof.empty() && dof[0] > 0) row.chi2_per_dof = Scalar(noise, "chi2") / dof[0];
+  }
+  for (int j = 0; j < allan::kNoiseTermCount; ++j) {
+    const std::string reason = std::string(allan::TermSymbol(j)) + "_reason";
+    if (noise.HasAttribute(reason)) row.unreliable_reason[j] = noise.ReadStringAttribute(reason);
+  }
   return row;
 }
 

@@ -9,6 +9,7 @@
 #include "pipeline/hdf5/atomic_output_file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/column_datasets.h"
+#include "pipeline/io/noise_fit_report.h"
 #include "pipeline/io/results_layout.h"
 
 namespace fogpipe::io {
@@ -147,6 +148,29 @@ void WriteReferenceFilters(Group signals, Group allan,
   }
 }
 
+// Goodness of fit and per-term flags of the noise fit (allan/noise_fit.h), next to the terms.
+void WriteNoiseFitAssessment(Group& noise, const allan::NoiseFitResult& fit) {
+  WriteScalar(noise, "chi2", fit.chi2, "1");
+  WriteCount(noise, "dof", fit.dof, "1");
+  WriteScalar(noise, "p_value", fit.p_value, "1");
+  noise.WriteStringAttribute("misfit_tau_ranges", allan::FormatTauRanges(fit.misfit_ranges));
+  for (int j = 0; j < allan::kNoiseTermCount; ++j) {
+    const allan::TermAssessment& a = fit.assessment[j];
+    const std::string t = allan::TermSymbol(j);
+    const char* unit = io::EngineeringUnit(j);
+    allan::NoiseTerms limit;
+    double* amp[allan::kNoiseTermCount] = {&limit.q_rad, &limit.n_rad_sqrt_s, &limit.b_rad_s,
+                                           &limit.k_rad_s_sqrt_s, &limit.r_rad_s2};
+    *amp[j] = a.upper_limit;
+    WriteScalar(noise, t + "_z", a.z, "1");
+    WriteCount(noise, t + "_significant", a.significant ? 1 : 0, "1");
+    WriteScalar(noise, t + "_upper_limit", io::EngineeringValue(limit, j), unit);
+    WriteScalar(noise, t + "_readoff", io::EngineeringValue(fit.slope_readoff, j), unit);
+    WriteCount(noise, t + "_reliable", a.reliable ? 1 : 0, "1");
+    noise.WriteStringAttribute(t + "_reason", a.reason);
+  }
+}
+
 void WriteAllan(Group group, const method::AllanEvaluation& evaluation) {
   const allan::AllanTable& t = evaluation.allan.table;
   group.WriteStringAttribute("deviation", allan::ToString(t.deviation));
@@ -163,8 +187,9 @@ void WriteAllan(Group group, const method::AllanEvaluation& evaluation) {
   noise.WriteStringAttribute("message", evaluation.noise.summary.message);
   noise.WriteStringAttribute(
       "model",
-      "sigma^2 = 3Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2 + K^2 tau/3 + R^2 tau^2/2, "
-      "weighted NNLS (IEEE Std 952-1997 Annex C)");
+      std::string("sigma^2 = 3Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2 + K^2 tau/3 + R^2 tau^2/2, ") +
+          std::string(evaluation.noise.generalized ? "generalised" : "weighted") +
+          " NNLS (IEEE Std 952-1997 Annex C)");
   const allan::NoiseTermsEngineering e = allan::ToEngineeringUnits(evaluation.noise.terms);
   const struct {
     const char* name;
@@ -179,6 +204,7 @@ void WriteAllan(Group group, const method::AllanEvaluation& evaluation) {
     WriteScalar(noise, term.name, term.value, term.units);
     WriteScalar(noise, std::string(term.name) + "_std_error", term.se, term.units);
   }
+  WriteNoiseFitAssessment(noise, evaluation.noise);
 }
 
 void WriteAxis(Group axes, const AxisResults& axis, const ResultsOptions& options) {

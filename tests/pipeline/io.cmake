@@ -14,3 +14,7 @@ fogpipe_add_test(NAME cli_validate_command_test
   LIBS fogpipe::pipeline)
 target_compile_definitions(cli_validate_command_test PRIVATE FOGPIPE_BINARY="$<TARGET_FILE:fogpipe>")
 add_dependencies(cli_validate_command_test fogpipe)
+
+# The noise-term fit on the real recordings of /work/shared (skips when absent).
+fogpipe_add_test(NAME io_noise_fit_real_data_test
+  SOURCES ${CMAKE_CURRENT_LIST_DIR}/io/noise_fit_real_data_test.cpp LIBS fogpipe::pipeline)

@@ -1,0 +1,231 @@
+#include "algorithms/allan/avar_covariance.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "algorithms/common/units.h"
+
+namespace fogpipe::allan {
+namespace {
+
+constexpr int kQ = 0, kN = 1, kB = 2, kK = 3;
+constexpr double kW[3] = {1.0, -2.0, 1.0};
+// Integer lag ranges up to this length are summed exactly; longer ones by quadrature (whose error
+// relative to the sum is O(1 / m^2) there, below 1e-4).
+constexpr long long kExactLags = 320;
+// 4-point Gauss-Legendre on [-1, 1].
+constexpr double kGlX[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
+                            0.8611363115940526};
+constexpr double kGlW[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
+                            0.3478548451374538};
+
+// Lag sums in sample units (t0 = 1), before normalisation.
+struct Sums {
+  double s[4][4] = {};
+  double h[4] = {};
+  void Add(double weight, const double c[4]) {
+    for (int k = 0; k < 4; ++k) {
+      h[k] += weight * c[k];
+      for (int l = k; l < 4; ++l) s[k][l] += weight * c[k] * c[l];
+    }
+  }
+};
+
+struct Pair {
+  long long ma, mb, count_a, count_b;
+  // Number of (i, j) pairs, i < Ma, j < Mb, with j - i = l (continuous l: the same piecewise
+  // linear function).
+  double Count(double l) const {
+    const double hi = std::min(static_cast<double>(count_a), static_cast<double>(count_b) - l);
+    const double lo = std::max(0.0, -l);
+    return std::max(0.0, hi - lo);
+  }
+  // c_k(l) for N, B, K (Q left 0: it lives on integer knots only).
+  void Continuous(double l, double c[4]) const {
+    c[kQ] = c[kN] = c[kB] = c[kK] = 0.0;
+    for (int p = 0; p < 3; ++p)
+      for (int q = 0; q < 3; ++q) {
+        const double u = l + static_cast<double>(q * mb - p * ma);
+        const double a = std::abs(u);
+        const double w = kW[p] * kW[q];
+        c[kN] += w * (-0.5 * a);
+        c[kK] += w * (a * a * a / 12.0);
+        if (a > 0.0) c[kB] += w * (u * u * std::log(a) / (2.0 * units::kPi));
+      }
+  }
+  // White-PM coefficient at an integer lag: the weights of coinciding phase samples.
+  double WhitePm(long long l) const {
+    double c = 0.0;
+    for (int p = 0; p < 3; ++p)
+      for (int q = 0; q < 3; ++q)
+        if (l + q * mb - p * ma == 0) c += kW[p] * kW[q];
+    return c;
+  }
+  void Exact(long long l, double c[4]) const {
+    Continuous(static_cast<double>(l), c);
+    c[kQ] = WhitePm(l);
+  }
+};
+
+void GaussLegendre(const Pair& pair, double x0, double x1, Sums* sums) {
+  const double mid = 0.5 * (x0 + x1), half = 0.5 * (x1 - x0);
+  double c[4];
+  for (int g = 0; g < 4; ++g) {
+    const double l = mid + half * kGlX[g];
+    const double n = pair.Count(l);
+    if (n <= 0.0) continue;
+    pair.Continuous(l, c);
+    sums->Add(half * kGlW[g] * n, c);
+  }
+}
+
+// One piece between knots, split geometrically towards both ends: next to a knot the flicker
+// kernel carries a logarithm (of the distance to the other knots, a min(ma, mb) away), which one
+// 4-point rule over a long piece misses.
+void GradedPiece(const Pair& pair, double a, double b, Sums* sums) {
+  const double h0 = 0.5 * static_cast<double>(std::max(1LL, std::min(pair.ma, pair.mb)));
+  const double mid = 0.5 * (a + b);
+  double x = a, step = h0;
+  std::vector<double> left = {a}, right = {b};
+  while (x + step < mid) x += step, step *= 2.0, left.push_back(x);
+  x = b, step = h0;
+  while (x - step > mid) x -= step, step *= 2.0, right.push_back(x);
+  left.insert(left.end(), right.rbegin(), right.rend());
+  for (size_t k = 0; k + 1 < left.size(); ++k) GaussLegendre(pair, left[k], left[k + 1], sums);
+}
+
+// The flicker-only tail from x0 outwards (direction +1 or -1) to the end of the count range.
+void FlickerTail(const Pair& pair, double x0, double direction, Sums* sums) {
+  const double end =
+      direction > 0 ? static_cast<double>(pair.count_b) : -static_cast<double>(pair.count_a);
+  if ((end - x0) * direction <= 0.0) return;
+  const double width = static_cast<double>(std::max(pair.ma, pair.mb));
+  double a = x0;
+  for (int k = 1; k <= 6; ++k) {
+    double b = x0 + direction * width * (std::pow(2.0, k) - 1.0);
+    if ((b - end) * direction >= 0.0) b = end;
+    GaussLegendre(pair, std::min(a, b), std::max(a, b), sums);
+    a = b;
+    if (a == end) return;
+  }
+  // Far tail: c_B ~ -A / l^2 with A = ma^2 mb^2 / pi (the fourth difference of l^2 ln|l| / 2 pi);
+  // the count is taken constant at its value at the start (it decreases linearly, so this is an
+  // upper bound on a term that is already < 1e-4 of the total).
+  const double big_a =
+      static_cast<double>(pair.ma * pair.ma) * static_cast<double>(pair.mb * pair.mb) / units::kPi;
+  const double l0 = std::abs(a), l1 = std::abs(end), n0 = pair.Count(a);
+  sums->s[kB][kB] += n0 * big_a * big_a / 3.0 * (1.0 / (l0 * l0 * l0) - 1.0 / (l1 * l1 * l1));
+  sums->h[kB] += -n0 * big_a * (1.0 / l0 - 1.0 / l1);
+}
+
+Sums LagSums(const Pair& pair) {
+  Sums sums;
+  const long long lo = std::max(-2 * pair.mb, -(pair.count_a - 1));
+  const long long hi = std::min(2 * pair.ma, pair.count_b - 1);
+  if (hi < lo) return sums;
+  double c[4];
+  if (hi - lo + 1 <= kExactLags) {
+    for (long long l = lo; l <= hi; ++l) {
+      pair.Exact(l, c);
+      sums.Add(pair.Count(static_cast<double>(l)), c);
+    }
+  } else {
+    // Sum over integers ~ integral over [lo - 1/2, hi + 1/2] (midpoint rule), split at the knots.
+    std::vector<double> knots = {lo - 0.5, hi + 0.5, 0.0,
+                                 static_cast<double>(pair.count_b - pair.count_a)};
+    std::vector<long long> integer_knots;
+    for (int p = 0; p < 3; ++p)
+      for (int q = 0; q < 3; ++q) {
+        const long long l = p * pair.ma - q * pair.mb;
+        knots.push_back(static_cast<double>(l));
+        integer_knots.push_back(l);
+      }
+    std::sort(knots.begin(), knots.end());
+    for (size_t k = 0; k + 1 < knots.size(); ++k) {
+      const double a = std::max(knots[k], lo - 0.5), b = std::min(knots[k + 1], hi + 0.5);
+      if (b > a) GradedPiece(pair, a, b, &sums);
+    }
+    // White PM: exact contributions at the integer knots (each lag once).
+    std::sort(integer_knots.begin(), integer_knots.end());
+    integer_knots.erase(std::unique(integer_knots.begin(), integer_knots.end()),
+                        integer_knots.end());
+    for (long long l : integer_knots) {
+      if (l < lo || l > hi) continue;
+      pair.Exact(l, c);
+      const double n = pair.Count(static_cast<double>(l));
+      sums.s[kQ][kQ] += n * c[kQ] * c[kQ];
+      for (int k = kN; k <= kK; ++k) sums.s[kQ][k] += n * c[kQ] * c[k];
+      sums.h[kQ] += n * c[kQ];
+    }
+  }
+  FlickerTail(pair, hi + 0.5, +1.0, &sums);
+  FlickerTail(pair, lo - 0.5, -1.0, &sums);
+  return sums;
+}
+
+// Normalised coefficients for one pair: t0 powers 0, 1, 2, 3 for Q, N, B, K.
+void Normalise(const Pair& pair, const Sums& sums, double t0, std::array<double, 10>* s,
+               std::array<double, 4>* h) {
+  const double tau_a = pair.ma * t0, tau_b = pair.mb * t0;
+  const double mm = static_cast<double>(pair.count_a) * static_cast<double>(pair.count_b);
+  const double gauss = 2.0 / (4.0 * tau_a * tau_a * tau_b * tau_b * mm);
+  int idx = 0;
+  for (int k = 0; k < 4; ++k) {
+    (*h)[k] = std::pow(t0, k) * sums.h[k] / mm;
+    for (int l = k; l < 4; ++l) (*s)[idx++] = gauss * std::pow(t0, k + l) * sums.s[k][l];
+  }
+}
+
+double Evaluate(const std::array<double, 10>& s, const std::array<double, 4>& h,
+                const std::array<double, 4>& theta, double r2) {
+  double v = 0.0;
+  int idx = 0;
+  for (int k = 0; k < 4; ++k) {
+    v += r2 * theta[k] * h[k];
+    for (int l = k; l < 4; ++l) v += (k == l ? 1.0 : 2.0) * theta[k] * theta[l] * s[idx++];
+  }
+  return v;
+}
+
+}  // namespace
+
+AvarCovarianceModel::AvarCovarianceModel(const std::vector<long long>& m,
+                                         const std::vector<long long>& count,
+                                         double sample_period_s)
+    : rows_(static_cast<int>(m.size())) {
+  s_.resize(static_cast<size_t>(rows_) * (rows_ + 1) / 2);
+  h_.resize(s_.size());
+  size_t idx = 0;
+  for (int a = 0; a < rows_; ++a)
+    for (int b = a; b < rows_; ++b, ++idx) {
+      const Pair pair{m[a], m[b], count[a], count[b]};
+      Normalise(pair, LagSums(pair), sample_period_s, &s_[idx], &h_[idx]);
+    }
+}
+
+Eigen::MatrixXd AvarCovarianceModel::Covariance(const std::array<double, 4>& theta,
+                                                double r2) const {
+  Eigen::MatrixXd c(rows_, rows_);
+  size_t idx = 0;
+  for (int a = 0; a < rows_; ++a)
+    for (int b = a; b < rows_; ++b, ++idx)
+      c(a, b) = c(b, a) = Evaluate(s_[idx], h_[idx], theta, r2);
+  return c;
+}
+
+double AvarCovarianceBySum(long long ma, long long mb, long long count_a, long long count_b,
+                           double sample_period_s, const std::array<double, 4>& theta, double r2) {
+  const Pair pair{ma, mb, count_a, count_b};
+  Sums sums;
+  double c[4];
+  for (long long l = -(count_a - 1); l <= count_b - 1; ++l) {
+    pair.Exact(l, c);
+    sums.Add(pair.Count(static_cast<double>(l)), c);
+  }
+  std::array<double, 10> s;
+  std::array<double, 4> h;
+  Normalise(pair, sums, sample_period_s, &s, &h);
+  return Evaluate(s, h, theta, r2);
+}
+
+}  // namespace fogpipe::allan

@@ -1,0 +1,62 @@
+// Covariance matrix of overlapping Allan-variance estimates at several averaging factors, for a
+// Gaussian rate process made of the IEEE Std 952 noise terms (white angle Q, white rate N, flicker
+// rate B, random-walk rate K) plus a deterministic ramp R. It is what a generalised-least-squares
+// fit of the terms needs: neighbouring Allan points share data and are strongly correlated.
+//
+// With phase (angle) samples x_k [rad] at interval t0, D_i(m) = x_{i+2m} - 2 x_{i+m} + x_i and
+// s2(m) = sum_{i<M} D_i^2 / (2 tau^2 M), tau = m t0. For Gaussian D (Isserlis),
+//   Cov(s2(ma), s2(mb)) = sum_i sum_j [2 c_ij^2 + 4 mu_a mu_b c_ij] / (4 tau_a^2 tau_b^2 Ma Mb),
+// c_ij = Cov(D_i(ma), D_j(mb)) = sum_{p,q in 0,1,2} w_p w_q Rx(j - i + q mb - p ma), w = (1,-2,1),
+// and mu = R tau^2 the mean of D under the ramp. Rx is the generalised autocovariance of the phase
+// (defined up to an even quadratic, which second differences annihilate; Greenhall & Riley 2003,
+// eq. 7, and Greenhall 1992), per unit amplitude^2 and in sample lags u:
+//   Q (white PM):   delta(u)                     N (white FM):   -|u| t0 / 2
+//   B (flicker FM): u^2 ln|u| t0^2 / (2 pi)       K (RW FM):      |u|^3 t0^3 / 12
+// (each reproduces its IEEE Allan variance 3Q^2/tau^2, N^2/tau, (2 ln2/pi) B^2, K^2 tau/3). c_ij
+// depends only on the lag l = j - i, so the double sum is sum_l count(l) c(l)^2 with count(l) the
+// number of (i, j) pairs at that lag. c(l) is piecewise smooth between the knots l = p ma - q mb
+// (polynomial for N and K), so it is summed exactly over integer lags when the lag range is short
+// and otherwise integrated by 4-point Gauss-Legendre between knots (exact for the piecewise
+// polynomials of N and K; the white-PM deltas at the knots are added exactly). Outside the
+// support [-2 mb, 2 ma] only flicker remains, c ~ -ma^2 mb^2 / (pi l^2); that tail is integrated on
+// doubling panels and then in closed form.
+//
+// The covariance is quadratic in theta = (Q^2, N^2, B^2, K^2) and linear in R^2 theta, so the
+// lag sums are done once per table and the matrix for any model costs O(points^2).
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+namespace fogpipe::allan {
+
+/// Lag sums for every pair of rows (a <= b), independent of the noise amplitudes.
+class AvarCovarianceModel {
+ public:
+  /// m: averaging factors; count: number of overlapping differences M = n + 1 - 2m per row;
+  /// sample_period_s: t0. Rows need not be sorted.
+  AvarCovarianceModel(const std::vector<long long>& m, const std::vector<long long>& count,
+                      double sample_period_s);
+
+  /// Cov(s2_a, s2_b) [(rad/s)^4] for theta = (Q^2 [rad^2], N^2 [rad^2/s], B^2 [rad^2/s^2],
+  /// K^2 [rad^2/s^3]) and the ramp r2 = R^2 [rad^2/s^4].
+  Eigen::MatrixXd Covariance(const std::array<double, 4>& theta, double r2) const;
+
+  int size() const { return rows_; }
+
+ private:
+  int rows_ = 0;
+  // Per pair (a <= b, packed row-major upper triangle): S_kl = 2 sum count c_k c_l /
+  // (4 tau_a^2 tau_b^2 Ma Mb) with the t0 powers folded in (10 entries, k <= l), and
+  // H_k = sum count c_k / (Ma Mb) for the ramp interaction.
+  std::vector<std::array<double, 10>> s_;
+  std::vector<std::array<double, 4>> h_;
+};
+
+/// Reference: the same covariance for one pair by the explicit sum over every integer lag (slow
+/// for large m; for tests).
+double AvarCovarianceBySum(long long ma, long long mb, long long count_a, long long count_b,
+                           double sample_period_s, const std::array<double, 4>& theta, double r2);
+
+}  // namespace fogpipe::allan

@@ -1,0 +1,119 @@
+#include "pipeline/io/noise_fit_report.h"
+
+#include <cmath>
+#include <cstdio>
+#include <iomanip>
+
+#include "algorithms/common/units.h"
+
+namespace fogpipe::io {
+namespace {
+
+std::string Format(double value, const char* format) {
+  if (!std::isfinite(value)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, value);
+  return buf;
+}
+
+nlohmann::json Number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
+double StandardErrorValue(const allan::NoiseTerms& terms, int term) {
+  const allan::NoiseTermsEngineering e = allan::ToEngineeringUnits(terms);
+  const double se[allan::kNoiseTermCount] = {e.q_se, e.n_se, e.b_se, e.k_se, e.r_se};
+  return se[term];
+}
+
+// The SI amplitude in the term's engineer's unit (upper limits are amplitudes too).
+double ToEngineering(int term, double si) {
+  allan::NoiseTerms t;
+  double* a[allan::kNoiseTermCount] = {&t.q_rad, &t.n_rad_sqrt_s, &t.b_rad_s, &t.k_rad_s_sqrt_s,
+                                       &t.r_rad_s2};
+  *a[term] = si;
+  return EngineeringValue(t, term);
+}
+
+}  // namespace
+
+double EngineeringValue(const allan::NoiseTerms& terms, int term) {
+  const allan::NoiseTermsEngineering e = allan::ToEngineeringUnits(terms);
+  const double v[allan::kNoiseTermCount] = {e.q_arcsec, e.n_deg_sqrt_h, e.b_deg_h, e.k_deg_h_sqrt_h,
+                                            e.r_deg_h2};
+  return v[term];
+}
+
+const char* EngineeringUnit(int term) {
+  static const char* kUnits[allan::kNoiseTermCount] = {units::kQuantizationUnit, units::kArwUnit,
+                                                       units::kBiasUnit, units::kRrwUnit,
+                                                       units::kRampUnit};
+  return kUnits[term];
+}
+
+void PrintNoiseFitText(std::ostream& out, const allan::NoiseFitResult& fit) {
+  static const char* kNames[allan::kNoiseTermCount] = {
+      "quantization", "angle random walk", "bias instability", "rate random walk", "rate ramp"};
+  out << "\nNoise terms (joint non-negative " << (fit.generalized ? "generalised" : "weighted")
+      << " least squares on sigma^2, IEEE Std 952-1997 Annex C; "
+      << ToString(fit.summary.termination) << ", " << fit.summary.points << " points):\n";
+  out << "     term                        value +- SE            unit           read-off     z  "
+         "  verdict\n";
+  for (int j = 0; j < allan::kNoiseTermCount; ++j) {
+    const allan::TermAssessment& a = fit.assessment[j];
+    const double value = EngineeringValue(fit.terms, j);
+    std::string verdict =
+        !std::isfinite(a.z) ? ""
+        : a.significant
+            ? "significant"
+            : "not significant (< " + Format(ToEngineering(j, a.upper_limit), "%.2g") + ")";
+    if (!a.reliable) verdict += (verdict.empty() ? "" : ", ") + std::string("UNRELIABLE");
+    out << "  " << allan::TermSymbol(j) << "  " << std::left << std::setw(18) << kNames[j]
+        << std::right << std::setw(13) << Format(value, "%.4e") << " +- " << std::left
+        << std::setw(10) << Format(StandardErrorValue(fit.terms, j), "%.2e") << std::setw(15)
+        << EngineeringUnit(j) << std::right << std::setw(10)
+        << Format(EngineeringValue(fit.slope_readoff, j), "%.3e") << std::setw(7)
+        << Format(a.z, "%.1f") << "  " << verdict << "\n";
+    if (!a.reliable) out << "       " << allan::TermSymbol(j) << ": " << a.reason << "\n";
+  }
+  out << "  goodness of fit: chi2 " << Format(fit.chi2, "%.4g") << " on " << fit.dof
+      << " dof, chi2/dof " << Format(fit.dof > 0 ? fit.chi2 / fit.dof : NAN, "%.3g") << ", p-value "
+      << Format(fit.p_value, "%.3g") << "\n";
+  if (!fit.misfit_ranges.empty())
+    out << "  the model misses the curve at " << allan::FormatTauRanges(fit.misfit_ranges)
+        << " (measured sigma^2 outside the model's 99.7 % interval)\n";
+  if (!fit.summary.message.empty()) out << "  (" << fit.summary.message << ")\n";
+}
+
+nlohmann::json NoiseFitAssessmentJson(const allan::NoiseFitResult& fit) {
+  nlohmann::json terms = nlohmann::json::array();
+  for (int j = 0; j < allan::kNoiseTermCount; ++j) {
+    const allan::TermAssessment& a = fit.assessment[j];
+    terms.push_back({{"symbol", allan::TermSymbol(j)},
+                     {"unit", EngineeringUnit(j)},
+                     {"z", Number(a.z)},
+                     {"significant", a.significant},
+                     {"upper_limit", Number(ToEngineering(j, a.upper_limit))},
+                     {"readoff", Number(EngineeringValue(fit.slope_readoff, j))},
+                     {"reliable", a.reliable},
+                     {"reason", a.reason}});
+  }
+  return terms;
+}
+
+std::string UnreliableTermSymbols(const allan::NoiseFitResult& fit) {
+  std::string s;
+  for (int j = 0; j < allan::kNoiseTermCount; ++j)
+    if (!fit.assessment[j].reliable)
+      s += (s.empty() ? "" : ",") + std::string(allan::TermSymbol(j));
+  return s;
+}
+
+std::string NoiseFitFlagLine(const allan::NoiseFitResult& fit) {
+  std::string s = "chi2/dof " + Format(fit.dof > 0 ? fit.chi2 / fit.dof : NAN, "%.3g") + " (p " +
+                  Format(fit.p_value, "%.2g") + ")";
+  for (int j = 0; j < allan::kNoiseTermCount; ++j)
+    if (!fit.assessment[j].reliable)
+      s += std::string(", ") + allan::TermSymbol(j) + " unreliable: " + fit.assessment[j].reason;
+  return s;
+}
+
+}  // namespace fogpipe::io

@@ -1,0 +1,174 @@
+// Calibration of FitNoiseTerms' standard errors and significance over many simulated records
+// (simulated_gyro.h: each term from its own seeded stream; truth known). Two claims:
+//   (1) for every term present in the truth, z = (estimate - truth) / SE has standard deviation
+//       in [0.8, 1.25];
+//   (2) a term absent from the truth is significant (theta / se(theta) > 2) in <= 5 % of records.
+// The CI tests use 80 records per scenario (seeds 20000+); the study behind docs/allan-noise-fit.md
+// is the DISABLED_ test with 250 records per scenario on other seeds (40000+). Run it with
+//   allan_noise_fit_calibration_test --gtest_also_run_disabled_tests --gtest_filter=*Study*
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "algorithms/allan/allan.h"
+#include "algorithms/allan/noise_fit.h"
+#include "tests/algorithms/allan/simulated_gyro.h"
+
+namespace fogpipe::allan {
+namespace {
+
+struct Scenario {
+  const char* name;
+  testing::GyroTruth truth;
+  long long samples;
+  double rate_hz;
+};
+
+// Each scenario at 10 Hz, 2^18 samples (7.3 h), octave grid. Amplitudes put the crossovers
+// inside the tau range (see docs/allan-noise-fit.md): white only; all five terms (Q/N at 0.3 s,
+// N/B at 10 s, B/K at 300 s, K/R at 3000 s); navigation grade N + B + K (N/B at 30 s, B/K at
+// 1000 s). The Kasdin flicker generator's floor is within 1.5 % of the IEEE (2 ln2 / pi) B^2 from
+// m = 8 (10 Hz: 0.8 s) on, where B starts to matter here.
+std::vector<Scenario> Scenarios() {
+  std::vector<Scenario> s(3);
+  s[0].name = "white";
+  s[0].truth.n_rad_sqrt_s = 1e-5;
+  s[1].name = "five terms";
+  s[1].truth.q_rad = 3.16e-6;
+  s[1].truth.n_rad_sqrt_s = 1e-5;
+  s[1].truth.b_rad_s = 4.76e-6;
+  s[1].truth.k_rad_s_sqrt_s = 3.16e-7;
+  s[1].truth.r_rad_s2 = 4.7e-9;
+  s[2].name = "navigation N+B+K";
+  s[2].truth.n_rad_sqrt_s = 1e-6;
+  s[2].truth.b_rad_s = 2.75e-7;
+  s[2].truth.k_rad_s_sqrt_s = 1e-8;
+  for (Scenario& x : s) x.samples = 1 << 18, x.rate_hz = 10.0;
+  return s;
+}
+
+double TruthOf(const testing::GyroTruth& t, int term) {
+  const double v[kNoiseTermCount] = {t.q_rad, t.n_rad_sqrt_s, t.b_rad_s, t.k_rad_s_sqrt_s,
+                                     t.r_rad_s2};
+  return v[term];
+}
+double Value(const NoiseTerms& t, int term, bool se) {
+  const double v[kNoiseTermCount] = {t.q_rad, t.n_rad_sqrt_s, t.b_rad_s, t.k_rad_s_sqrt_s,
+                                     t.r_rad_s2};
+  const double e[kNoiseTermCount] = {t.q_se, t.n_se, t.b_se, t.k_se, t.r_se};
+  return se ? e[term] : v[term];
+}
+
+struct TermStats {
+  std::vector<double> z;  // present terms, records where the term is positive
+  int held_at_zero = 0;   // present terms fitted as 0
+  int significant = 0;    // absent terms: false alarms; present terms: detections
+};
+struct Calibration {
+  TermStats term[kNoiseTermCount];
+  int records = 0;
+  int chi2_above_p01 = 0;  // records with p-value < 0.01
+};
+
+double StandardDeviation(const std::vector<double>& x) {
+  double mean = 0.0, ss = 0.0;
+  for (double v : x) mean += v / x.size();
+  for (double v : x) ss += (v - mean) * (v - mean);
+  return std::sqrt(ss / (x.size() - 1.0));
+}
+double Mean(const std::vector<double>& x) {
+  double mean = 0.0;
+  for (double v : x) mean += v / x.size();
+  return mean;
+}
+
+Calibration Simulate(const Scenario& s, int records, unsigned seed_base, bool correlated) {
+  Calibration c;
+  NoiseFitOptions options;
+  options.correlated = correlated;
+  for (int r = 0; r < records; ++r) {
+    const Eigen::VectorXd rate =
+        testing::SimulateGyro(s.truth, s.samples, s.rate_hz, seed_base + r);
+    const AllanResult allan = ComputeAllan(rate, s.rate_hz, AllanOptions());
+    const NoiseFitResult fit = FitNoiseTerms(allan.table, options);
+    ++c.records;
+    if (fit.p_value < 0.01) ++c.chi2_above_p01;
+    for (int j = 0; j < kNoiseTermCount; ++j) {
+      TermStats& t = c.term[j];
+      const double truth = TruthOf(s.truth, j), est = Value(fit.terms, j, false);
+      if (fit.assessment[j].significant) ++t.significant;
+      if (truth > 0.0) {
+        if (est > 0.0)
+          t.z.push_back((est - truth) / Value(fit.terms, j, true));
+        else
+          ++t.held_at_zero;
+      }
+    }
+  }
+  return c;
+}
+
+void Print(const Scenario& s, const Calibration& c, const char* fit) {
+  std::printf("%s, %s fit, %d records, p < 0.01 in %d\n", s.name, fit, c.records, c.chi2_above_p01);
+  for (int j = 0; j < kNoiseTermCount; ++j) {
+    const TermStats& t = c.term[j];
+    if (TruthOf(s.truth, j) > 0.0)
+      std::printf("  %s present: sd(z) %.3f mean(z) %+.3f, held at 0 in %d, significant %d\n",
+                  TermSymbol(j), t.z.size() > 1 ? StandardDeviation(t.z) : NAN,
+                  t.z.empty() ? NAN : Mean(t.z), t.held_at_zero, t.significant);
+    else
+      std::printf("  %s absent: significant in %d (%.1f %%)\n", TermSymbol(j), t.significant,
+                  100.0 * t.significant / c.records);
+  }
+}
+
+// Tolerances for n records: the sample sd of z has relative sd ~ sqrt((kurtosis - 1) / (4 n))
+// (= 1 / sqrt(2 (n - 1)) for Gaussian z); the z of amplitudes from few-dof Allan points are
+// heavier-tailed, kurtosis up to ~5 measured in the study, so relative sd sqrt(4 / (4 * 80)) =
+// 0.11 and 2 sd = 0.22 around the claimed [0.8, 1.25]: the CI test accepts [0.8 / 1.22,
+// 1.25 * 1.22] = [0.65, 1.53] and fails on the uncalibrated fit (sd 2-4). False alarms: the
+// claim p <= 0.05; with 80 records the count is binomial, and 8 or more (10 %) has probability
+// 0.06 at p = 0.05, so 8 fails (a true rate of 0.15, typical of the diagonal fit, passes this only
+// with probability 0.03).
+void ExpectCalibrated(const Scenario& s, const Calibration& c) {
+  const double k = 2.0 * std::sqrt(4.0 / (4.0 * c.records));
+  for (int j = 0; j < kNoiseTermCount; ++j) {
+    const TermStats& t = c.term[j];
+    if (TruthOf(s.truth, j) > 0.0) {
+      ASSERT_GE(t.z.size(), 0.9 * c.records) << s.name << " " << TermSymbol(j);
+      const double sd = StandardDeviation(t.z);
+      EXPECT_GT(sd, 0.8 / (1.0 + k)) << s.name << " " << TermSymbol(j);
+      EXPECT_LT(sd, 1.25 * (1.0 + k)) << s.name << " " << TermSymbol(j);
+    } else {
+      EXPECT_LT(t.significant, 0.1 * c.records) << s.name << " " << TermSymbol(j);
+    }
+  }
+}
+
+TEST(NoiseFitCalibration, WhiteNoiseGivesCalibratedArwAndNoSpuriousTerms) {
+  const Scenario s = Scenarios()[0];
+  const Calibration c = Simulate(s, 80, 20000, true);
+  Print(s, c, "GLS");
+  ExpectCalibrated(s, c);
+}
+
+TEST(NoiseFitCalibration, NavigationGradeMixtureGivesCalibratedTerms) {
+  const Scenario s = Scenarios()[2];
+  const Calibration c = Simulate(s, 80, 21000, true);
+  Print(s, c, "GLS");
+  ExpectCalibrated(s, c);
+}
+
+TEST(NoiseFitCalibration, DISABLED_StudyOfAllScenariosWithAndWithoutCorrelation) {
+  for (const Scenario& s : Scenarios())
+    for (bool correlated : {true, false}) {
+      const Calibration c = Simulate(s, 250, 40000, correlated);
+      Print(s, c, correlated ? "GLS" : "diagonal");
+    }
+}
+
+}  // namespace
+}  // namespace fogpipe::allan
