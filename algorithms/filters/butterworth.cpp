@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
+#include <unsupported/Eigen/FFT>
 
 #include "algorithms/filters/search.h"
+#include "algorithms/model/spectrum.h"
 
 namespace fogpipe::filters {
 namespace {
@@ -94,39 +97,61 @@ bool ButterworthOptions::IsValid(std::string* error) const {
   return true;
 }
 
-double ZeroPhaseButterworthTrace(int order, double cutoff_hz, double sample_rate_hz,
-                                 Eigen::Index n) {
-  // Bins above 100 fc (and their mirror images) have |H|^2 < 1e-16 for order 2 and 4.
-  const double nn = static_cast<double>(n);
-  const auto last = static_cast<Eigen::Index>(
-      std::min(0.5 * nn, std::ceil(100.0 * cutoff_hz / sample_rate_hz * nn)));
-  const double kc = std::tan(kPi * cutoff_hz / sample_rate_hz);
-  const double inv = 1.0 / (kc * kc);
-  double trace = 1.0;  // k = 0
-  for (Eigen::Index k = 1; k <= last; ++k) {
-    const double t = std::tan(kPi * static_cast<double>(k) / nn);
-    const double h = PowerResponse(order, t * t * inv);
-    trace += (2 * k == n) ? h : 2.0 * h;  // bins k and n - k
-  }
-  return trace;
-}
-
 Eigen::Index ButterworthPad(double cutoff_hz, double sample_rate_hz) {
   return static_cast<Eigen::Index>(std::ceil(8.0 * sample_rate_hz / cutoff_hz));
 }
 
 ButterworthGcv::ButterworthGcv(const Eigen::VectorXd& x, double sample_rate_hz, int order)
-    : x_(x), sample_rate_hz_(sample_rate_hz), order_(order) {}
+    : order_(order), sample_rate_hz_(sample_rate_hz) {
+  // L = 2M - 2 a fast (even) FFT size with M <= N.
+  long l = model::FastFftSizeAtMost(2 * static_cast<long>(x.size()) - 2);
+  while (l % 2 != 0) l = model::FastFftSizeAtMost(l - 1);
+  samples_ = l / 2 + 1;
+  length_ = static_cast<double>(l);
+  const Eigen::Index m = samples_;
+  // The line through the end samples removed, then the antisymmetric extension.
+  std::vector<double> e(l);
+  const double x0 = x[0], slope = (x[m - 1] - x[0]) / static_cast<double>(m - 1);
+  for (Eigen::Index i = 0; i < m; ++i) e[i] = x[i] - x0 - slope * static_cast<double>(i);
+  for (Eigen::Index i = 1; i < m - 1; ++i) e[l - i] = -e[i];
+  e[m - 1] = 0.0;
+  Eigen::FFT<double> fft;
+  fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
+  std::vector<std::complex<double>> spectrum;
+  fft.fwd(spectrum, e);
+  const long half = l / 2;
+  tan2_.resize(half + 1);
+  power_.resize(half + 1);
+  weight_.resize(half + 1);
+  for (long k = 0; k <= half; ++k) {
+    const double t = std::tan(kPi * static_cast<double>(k) / length_);
+    tan2_[k] = t * t;
+    weight_[k] = (k == 0 || k == half) ? 1.0 : 2.0;
+    power_[k] = weight_[k] * std::norm(spectrum[k]) / (2.0 * length_);
+  }
+  tail_power_.assign(half + 2, 0.0);
+  for (long k = half; k >= 0; --k) tail_power_[k] = tail_power_[k + 1] + power_[k];
+}
 
-double ButterworthGcv::Score(double cutoff_hz, double* trace) const {
-  const Eigen::VectorXd y = FilterForwardBackward(
-      ButterworthSections(order_, cutoff_hz, sample_rate_hz_), x_,
-      ButterworthPad(cutoff_hz, sample_rate_hz_));
-  const double rss = (x_ - y).squaredNorm();
-  const double tr = ZeroPhaseButterworthTrace(order_, cutoff_hz, sample_rate_hz_, x_.size());
+double ButterworthGcv::Score(double cutoff_hz, double* trace, double* rss) const {
+  const double kc = std::tan(kPi * cutoff_hz / sample_rate_hz_);
+  const double inv = 1.0 / (kc * kc);
+  // Above `ratio` x fc, |H|^2 < 1e-16 (order 4: 1 / (1 + 100^8); order 2: 1 / (1 + 1e4^4)); the
+  // warping only makes it smaller. There the residual is the rest of the power.
+  const double ratio = order_ == 4 ? 100.0 : 1e4;
+  const auto last = static_cast<std::size_t>(std::min<double>(
+      static_cast<double>(tan2_.size() - 1), std::ceil(ratio * cutoff_hz / sample_rate_hz_ * length_)));
+  double residual = tail_power_[last + 1], sum_h = 0.0;
+  for (std::size_t k = 0; k <= last; ++k) {
+    const double h = PowerResponse(order_, tan2_[k] * inv);
+    residual += (1.0 - h) * (1.0 - h) * power_[k];
+    sum_h += weight_[k] * h;
+  }
+  const double m = static_cast<double>(samples_);
+  const double tr = sum_h * m / length_;
   if (trace) *trace = tr;
-  const double n = static_cast<double>(x_.size());
-  return n * rss / ((n - tr) * (n - tr));
+  if (rss) *rss = residual;
+  return m * residual / ((m - tr) * (m - tr));
 }
 
 ButterworthResult ZeroPhaseButterworth(const Eigen::VectorXd& x, double sample_rate_hz,

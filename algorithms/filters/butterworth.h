@@ -12,12 +12,15 @@
 //
 // GCV (Craven & Wahba 1979): the filter is a linear smoother yhat = S y, and
 //   GCV(fc) = N ||y - yhat||^2 / (N - tr S)^2.
-// The residual comes from filtering (one forward-backward pass per cutoff tried: a spectral
-// residual from the DFT of y was tried and misjudges records whose truth holds at a new level,
-// since the DFT's periodic extension adds a jump the real filter never sees). tr S comes from
-// the response: S is circulant up to the ends, with eigenvalues |H(k fs / N)|^2, so
-// tr S = sum_k |H(k fs / N)|^2, summed over the bins where |H|^2 exceeds 1e-16. Search: a log
-// grid of cutoffs, then golden-section refinement of log fc around the best grid point.
+// Both terms come from one FFT. The line through the two end samples is removed (the zero-phase
+// filter passes lines exactly) and the rest extended antisymmetrically about its zero ends into a
+// continuous periodic sequence of length L = 2M - 2 (M <= N, L a fast FFT size): on it the
+// forward-backward filter with odd-reflection ends is the circulant with eigenvalues
+// |H(k fs / L)|^2, so ||y - yhat||^2 = (1 / 2L) sum_k (1 - |H_k|^2)^2 |Y_k|^2 (half of the
+// extension's residual) and tr S = (M / L) sum_k |H_k|^2. (A plain DFT of y instead adds the jump
+// of its periodic extension and misjudges records whose truth ends at a new level.) Each cutoff
+// then costs one pass over the L/2 bins. Search: a log grid of cutoffs, then golden-section
+// refinement of log fc around the best grid point.
 #pragma once
 
 #include <Eigen/Core>
@@ -70,27 +73,31 @@ struct ButterworthResult {
   std::string message;
 };
 
-/// tr S of the zero-phase Butterworth on n samples: sum_k |H(k fs / n)|^2 (see above).
-double ZeroPhaseButterworthTrace(int order, double cutoff_hz, double sample_rate_hz,
-                                 Eigen::Index n);
-
-/// GCV score of the zero-phase Butterworth at cutoff_hz (see above). Exposed for tests; `x`
-/// must have >= 8 samples and outlive the object.
-class ButterworthGcv {
- public:
-  ButterworthGcv(const Eigen::VectorXd& x, double sample_rate_hz, int order);
-  /// GCV(fc), (units of x)^2; *trace (optional): tr S.
-  double Score(double cutoff_hz, double* trace = nullptr) const;
-
- private:
-  const Eigen::VectorXd& x_;
-  double sample_rate_hz_;
-  int order_;
-};
-
 /// The odd-reflection pad used for a cutoff: eight cutoff periods (the start transient of a
 /// ramp decays as exp(-2 pi sin(pi / 8) fc t) for order 4, to 4e-9 after eight periods).
 Eigen::Index ButterworthPad(double cutoff_hz, double sample_rate_hz);
+
+/// GCV score of the zero-phase Butterworth (see above) of the first M samples of x. Exposed for
+/// tests; `x` must have >= 8 samples.
+class ButterworthGcv {
+ public:
+  ButterworthGcv(const Eigen::VectorXd& x, double sample_rate_hz, int order);
+  /// GCV(fc), (units of x)^2; *trace (optional): tr S for the M samples; *rss (optional):
+  /// ||y - yhat||^2 over them.
+  double Score(double cutoff_hz, double* trace = nullptr, double* rss = nullptr) const;
+  /// M: the samples the score uses.
+  Eigen::Index samples() const { return samples_; }
+
+ private:
+  int order_;
+  double sample_rate_hz_;
+  Eigen::Index samples_ = 0;    // M
+  double length_ = 0.0;         // L = 2M - 2
+  std::vector<double> tan2_;    // tan^2(pi k / L), k = 0 .. L/2
+  std::vector<double> power_;   // weight_k |Y_k|^2 / (2 L)
+  std::vector<double> weight_;  // 1 at DC and Nyquist, else 2
+  std::vector<double> tail_power_;  // sum of power_ from k on
+};
 
 ButterworthResult ZeroPhaseButterworth(const Eigen::VectorXd& x, double sample_rate_hz,
                                        const ButterworthOptions& options);

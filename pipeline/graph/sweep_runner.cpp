@@ -5,7 +5,7 @@
 //                                       emd_sifts, has_truth, decompose_seconds, models_seconds
 //     fit_one_step_percent [settings, components], fit_simulation_percent [settings, components]
 //     ranking                           row indices, best first by rank_by
-//     reference/                        the reference filters scored like settings, one row each:
+//   /reference/<axis>/emd_sifts_<S>/    the reference filters scored like settings, one row each:
 //                                       name, parameter (+ parameter_units), the Columns() terms
 //                                       that apply (Q..R with std errors, rms_error, seconds),
 //                                       grid_rank (grid settings ranked strictly better; -1: none)
@@ -92,11 +92,12 @@ std::string Format(double value) {
   return text;
 }
 
-void WriteReferenceRows(hdf5::Group table_group, const SweepTable& table, const std::string& by,
+void WriteReferenceRows(hdf5::Group root, const SweepTable& table, const std::string& by,
                         const std::vector<Column>& columns) {
   const std::vector<method::SweepReference>& refs = table.result.reference;
   if (refs.empty()) return;
-  hdf5::Group g = table_group.CreateGroup("reference");
+  hdf5::Group g = root.CreateGroup("reference/" + table.axis + "/emd_sifts_" +
+                                   std::to_string(table.emd_sifts));
   std::vector<std::string> names, parameter_units, status;
   std::vector<double> parameter;
   std::vector<long long> grid_rank;
@@ -240,7 +241,7 @@ void WriteSweepHdf5(const std::string& path, const std::vector<SweepTable>& tabl
     for (int i : method::RankSweep(r.points, EffectiveRankBy(table, rank_by))) ranking.push_back(i);
     g.WriteDataset("ranking", ranking, "1");
     g.OpenDataset("ranking").WriteStringAttribute("rank_by", EffectiveRankBy(table, rank_by));
-    WriteReferenceRows(g, table, EffectiveRankBy(table, rank_by), columns);
+    WriteReferenceRows(root, table, EffectiveRankBy(table, rank_by), columns);
   }
   out.Commit();
 }
