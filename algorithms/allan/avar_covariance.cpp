@@ -12,7 +12,7 @@ constexpr int kQ = 0, kN = 1, kB = 2, kK = 3;
 constexpr double kW[3] = {1.0, -2.0, 1.0};
 // Integer lag ranges up to this length are summed exactly; longer ones by quadrature (whose error
 // relative to the sum is O(1 / m^2) there, below 1e-4).
-constexpr long long kExactLags = 320;
+constexpr long long kExactLags = 96;
 // 4-point Gauss-Legendre on [-1, 1].
 constexpr double kGlX[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
                             0.8611363115940526};
@@ -87,9 +87,9 @@ void GradedPiece(const Pair& pair, double a, double b, Sums* sums) {
   const double mid = 0.5 * (a + b);
   double x = a, step = h0;
   std::vector<double> left = {a}, right = {b};
-  while (x + step < mid) x += step, step *= 2.0, left.push_back(x);
+  while (x + step < mid) x += step, step *= 3.0, left.push_back(x);
   x = b, step = h0;
-  while (x - step > mid) x -= step, step *= 2.0, right.push_back(x);
+  while (x - step > mid) x -= step, step *= 3.0, right.push_back(x);
   left.insert(left.end(), right.rbegin(), right.rend());
   for (size_t k = 0; k + 1 < left.size(); ++k) GaussLegendre(pair, left[k], left[k + 1], sums);
 }
@@ -101,7 +101,7 @@ void FlickerTail(const Pair& pair, double x0, double direction, Sums* sums) {
   if ((end - x0) * direction <= 0.0) return;
   const double width = static_cast<double>(std::max(pair.ma, pair.mb));
   double a = x0;
-  for (int k = 1; k <= 6; ++k) {
+  for (int k = 1; k <= 4; ++k) {
     double b = x0 + direction * width * (std::pow(2.0, k) - 1.0);
     if ((b - end) * direction >= 0.0) b = end;
     GaussLegendre(pair, std::min(a, b), std::max(a, b), sums);
