@@ -5,11 +5,15 @@ target_sources(fogpipe_pipeline PRIVATE
   ${CMAKE_CURRENT_LIST_DIR}/missing_samples.cpp
   ${CMAKE_CURRENT_LIST_DIR}/recording_reader.cpp)
 target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/schema_validator.cpp)
-# The source tree's schemas/ folder: the last place `fogpipe validate` looks for schema files.
+# Where `fogpipe validate` looks for schema files after --schemas and $FOGPIPE_SCHEMAS_DIR: the
+# installed schemas relative to the executable's folder, then (for a binary inside this build tree
+# only) the source tree's schemas/ folder.
 # (Source properties apply to targets of the named directory: fogpipe_pipeline lives in pipeline/.)
+file(RELATIVE_PATH _fogpipe_schemas_from_bindir "${CMAKE_INSTALL_FULL_BINDIR}"
+     "${CMAKE_INSTALL_PREFIX}/${FOGPIPE_INSTALL_SCHEMASDIR}")
 set_source_files_properties(${CMAKE_CURRENT_LIST_DIR}/schema_validator.cpp
   DIRECTORY ${PROJECT_SOURCE_DIR}/pipeline PROPERTIES
-  COMPILE_DEFINITIONS "FOGPIPE_SCHEMAS_DIR=\"${PROJECT_SOURCE_DIR}/schemas\"")
+  COMPILE_DEFINITIONS "FOGPIPE_SCHEMAS_FROM_BINDIR=\"${_fogpipe_schemas_from_bindir}\";FOGPIPE_BUILD_DIR=\"${PROJECT_BINARY_DIR}\";FOGPIPE_SCHEMAS_DIR=\"${PROJECT_SOURCE_DIR}/schemas\"")
 target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/file_validation.cpp)
 target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/allan_report.cpp)
 target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/noise_fit_report.cpp)

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -580,6 +581,16 @@ std::string ExecutableFolder() {
   return ec ? std::string() : exe.parent_path().string();
 }
 
+/// True if `path` is `folder` or lies below it (both resolved, so symlinks and ".." compare equal).
+bool IsInside(const std::string& path, const std::string& folder) {
+  std::error_code ec;
+  const std::filesystem::path p = std::filesystem::weakly_canonical(path, ec);
+  const std::filesystem::path f = std::filesystem::weakly_canonical(folder, ec);
+  if (ec) return false;
+  const auto mismatch = std::mismatch(f.begin(), f.end(), p.begin(), p.end());
+  return mismatch.first == f.end();
+}
+
 }  // namespace
 
 struct Schema::Impl {
@@ -651,10 +662,10 @@ std::vector<std::string> SchemaSearchPath(const std::string& explicit_dir) {
   if (!explicit_dir.empty()) path.push_back(explicit_dir);
   if (const char* env = std::getenv("FOGPIPE_SCHEMAS_DIR"); env && *env) path.push_back(env);
   const std::string exe = ExecutableFolder();
-  if (!exe.empty()) path.push_back(exe + "/../share/fogpipe/schemas");
-#ifdef FOGPIPE_SCHEMAS_DIR
-  path.push_back(FOGPIPE_SCHEMAS_DIR);
-#endif
+  if (!exe.empty()) path.push_back(exe + "/" + FOGPIPE_SCHEMAS_FROM_BINDIR);
+  // The source tree is looked at only by a binary of this build tree: an installed copy must
+  // never pick up whatever a stale checkout on the build machine holds.
+  if (!exe.empty() && IsInside(exe, FOGPIPE_BUILD_DIR)) path.push_back(FOGPIPE_SCHEMAS_DIR);
   return path;
 }
 

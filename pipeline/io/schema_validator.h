@@ -63,8 +63,9 @@ class Schema {
 };
 
 /// Where schema files are looked for, in order: `explicit_dir` (the --schemas option) if not
-/// empty, $FOGPIPE_SCHEMAS_DIR, <folder of the running executable>/../share/fogpipe/schemas, and
-/// the source tree's schemas/ folder (compile-time path).
+/// empty, $FOGPIPE_SCHEMAS_DIR, the installed schemas relative to the running executable
+/// (<prefix>/bin/fogpipe -> <prefix>/share/fogpipe/schemas, GNUInstallDirs), and, for a binary
+/// inside the build tree only, the source tree's schemas/ folder (compile-time paths).
 std::vector<std::string> SchemaSearchPath(const std::string& explicit_dir);
 
 /// The path of "<name>.json" in the first folder of the search path that has it; empty if none.

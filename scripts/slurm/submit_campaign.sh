@@ -5,7 +5,12 @@
 # Prints the array job id and the merge job id.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
-FOGPIPE="${FOGPIPE:-$here/../../build/pipeline/fogpipe}"
+# The binary: $FOGPIPE, else the build tree's (run from a checkout), else fogpipe on PATH (installed).
+if [ -z "${FOGPIPE:-}" ]; then
+  FOGPIPE="$here/../../build/pipeline/fogpipe"
+  [ -x "$FOGPIPE" ] || FOGPIPE="$(command -v fogpipe || true)"
+  [ -n "$FOGPIPE" ] || { echo "$0: set FOGPIPE to the fogpipe binary" >&2; exit 2; }
+fi
 num_shards=4; max_running=4; cpus=2; outdir=""
 while getopts "n:k:c:o:" opt; do
   case "$opt" in
