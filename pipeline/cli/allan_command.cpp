@@ -12,6 +12,7 @@
 #include "pipeline/cli/commands.h"
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/allan_report.h"
+#include "pipeline/io/isolated_reader.h"
 #include "pipeline/io/recording_reader.h"
 
 namespace fogpipe::cli {
@@ -41,11 +42,14 @@ int RunAllan(const AllanArgs& args) {
     io::ReadOptions read;
     read.max_nan_gap_samples = args.max_nan_gap;
     io::ReadReport read_report;
-    auto lock = hdf5::LockHdf5();
-    io::RecordingReader reader(args.recording);
-    const int axis = args.axis.empty() ? 0 : reader.AxisIndex(args.axis);
-    rate_rad_s = reader.ReadAxisRadPerSecond(axis, read, &read_report);
-    const io::RecordingInfo& info = reader.info();
+    // Inspected and read in child processes: a file that crashes HDF5 is named, not fatal.
+    const io::RecordingInfo info = io::InspectRecordingIsolated(args.recording);
+    int axis = 0;
+    {
+      auto lock = hdf5::LockHdf5();
+      if (!args.axis.empty()) axis = io::RecordingReader(args.recording).AxisIndex(args.axis);
+    }
+    rate_rad_s = io::ReadAxisRadPerSecondIsolated(info, std::to_string(axis), read, &read_report);
     report.file = args.recording;
     report.axis = info.axis_names[axis];
     report.rate_units = info.rate_units;
