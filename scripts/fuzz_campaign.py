@@ -62,7 +62,10 @@ def main():
             try:
                 r = subprocess.run([FOGPIPE, "run", folder, "-o", outdir, "--threads", "2"],
                                    capture_output=True, text=True, timeout=1800)
-                crashes += r.returncode < 0 or r.returncode > 2
+                if r.returncode < 0 or r.returncode > 2:
+                    crashes += 1
+                    print(f"batch {batch_index}: exit {r.returncode}; stderr ends:\n"
+                          + r.stderr[-600:], flush=True)
             except subprocess.TimeoutExpired:
                 hangs += 1
                 done += count

@@ -1,7 +1,9 @@
 #include "pipeline/io/isolated_reader.h"
 
 #include <cstring>
+#include <nlohmann/json.hpp>
 #include <new>
+#include <stdexcept>
 #include <type_traits>
 
 #include "pipeline/hdf5/hdf5_lock.h"
@@ -76,6 +78,54 @@ void RunReaderChild(const std::string& path, const std::string& what,
   throw RecordingError(error_kind::kUnreadableFile, path, what + " " + outcome.Describe(limits));
 }
 
+std::string ToWire(const RecordingInfo& info) {
+  nlohmann::json j;
+  j["path"] = info.path;
+  j["samples"] = info.samples;
+  j["axis_count"] = info.axis_count;
+  j["two_dimensional"] = info.two_dimensional;
+  j["axis_names"] = info.axis_names;
+  j["axis_names_from_file"] = info.axis_names_from_file;
+  j["rate_units"] = info.rate_units;
+  j["rate_dtype"] = info.rate_dtype;
+  j["rate_chunk"] = info.rate_chunk;
+  j["sample_rate_hz"] = info.sample_rate_hz;
+  if (info.start_time_utc) j["start_time_utc"] = *info.start_time_utc;
+  if (info.instrument) j["instrument"] = *info.instrument;
+  if (info.serial) j["serial"] = *info.serial;
+  if (info.latitude_deg) j["latitude_deg"] = *info.latitude_deg;
+  for (const AuxChannelInfo& a : info.aux) j["aux"].push_back({a.name, a.units, a.dtype});
+  j["file_size_bytes"] = info.file_size_bytes;
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+RecordingInfo FromWire(const std::string& wire) {
+  const nlohmann::json j = nlohmann::json::parse(wire);
+  RecordingInfo info;
+  info.path = j.at("path").get<std::string>();
+  info.samples = j.at("samples").get<long long>();
+  info.axis_count = j.at("axis_count").get<int>();
+  info.two_dimensional = j.at("two_dimensional").get<bool>();
+  info.axis_names = j.at("axis_names").get<std::vector<std::string>>();
+  info.axis_names_from_file = j.at("axis_names_from_file").get<bool>();
+  info.rate_units = j.at("rate_units").get<std::string>();
+  const auto unit = units::ParseRateUnit(info.rate_units);
+  if (!unit) throw std::runtime_error("unknown units '" + info.rate_units + "'");
+  info.rate_unit = *unit;
+  info.rate_dtype = j.at("rate_dtype").get<std::string>();
+  info.rate_chunk = j.at("rate_chunk").get<std::vector<unsigned long long>>();
+  info.sample_rate_hz = j.at("sample_rate_hz").get<double>();
+  if (j.contains("start_time_utc")) info.start_time_utc = j["start_time_utc"].get<std::string>();
+  if (j.contains("instrument")) info.instrument = j["instrument"].get<std::string>();
+  if (j.contains("serial")) info.serial = j["serial"].get<std::string>();
+  if (j.contains("latitude_deg")) info.latitude_deg = j["latitude_deg"].get<double>();
+  if (j.contains("aux")) {
+    for (const auto& a : j["aux"]) info.aux.push_back({a[0], a[1], a[2]});
+  }
+  info.file_size_bytes = j.at("file_size_bytes").get<long long>();
+  return info;
+}
+
 }  // namespace
 
 IsolationLimits DataReadLimits() {
@@ -85,13 +135,19 @@ IsolationLimits DataReadLimits() {
 }
 
 RecordingInfo InspectRecordingIsolated(const std::string& path, const IsolationLimits& limits) {
-  std::string ignored;
+  // The child's findings come back as JSON: the parent never opens the file itself (HDF5 can
+  // corrupt memory on damaged metadata without crashing at once, so repeating the inspection
+  // here would not be safe even after the child succeeded).
+  std::string wire;
   RunReaderChild(
-      path, "reading its metadata", [&](std::string*) { RecordingReader reader(path); }, limits,
-      &ignored);
-  auto lock = hdf5::LockHdf5();
-  RecordingReader reader(path);
-  return reader.info();
+      path, "reading its metadata",
+      [&](std::string* out) { *out = ToWire(RecordingReader(path).info()); }, limits, &wire);
+  try {
+    return FromWire(wire);
+  } catch (const std::exception& e) {
+    throw RecordingError(error_kind::kUnreadableFile, path,
+                         std::string("the inspection's report could not be read: ") + e.what());
+  }
 }
 
 Eigen::VectorXd ReadAxisRadPerSecondIsolated(const RecordingInfo& info, const std::string& axis,

@@ -19,9 +19,8 @@ namespace fogpipe::io {
 /// takes seconds) and the default memory allowance on top of the axis itself.
 IsolationLimits DataReadLimits();
 
-/// InspectRecording in a child first; when the child succeeded the same inspection runs again
-/// here (the same code on the same bytes, so it cannot crash where the child did not). Throws
-/// RecordingError.
+/// InspectRecording in a child; its RecordingInfo comes back through a pipe and this process
+/// never opens the file. Throws RecordingError.
 RecordingInfo InspectRecordingIsolated(const std::string& path, const IsolationLimits& limits = {});
 
 /// ReadAxisRadPerSecond(info.path, axis) in a child; the samples come back through a pipe. `info`
