@@ -61,7 +61,8 @@ def main():
             outdir = os.path.join(tmp, f"out{batch_index}")
             try:
                 r = subprocess.run([FOGPIPE, "run", folder, "-o", outdir, "--threads", "2"],
-                                   capture_output=True, text=True, timeout=1800)
+                                   capture_output=True, text=True, errors="replace",
+                                   timeout=1800)
                 if r.returncode < 0 or r.returncode > 2:
                     crashes += 1
                     print(f"batch {batch_index}: exit {r.returncode}; stderr ends:\n"

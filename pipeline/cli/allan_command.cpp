@@ -4,6 +4,7 @@
 // Exit codes: 0 done, 1 the recording cannot be analysed (message names file and problem),
 // 2 usage error.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <iostream>
 #include <string>
 
@@ -44,12 +45,13 @@ int RunAllan(const AllanArgs& args) {
     io::ReadReport read_report;
     // Inspected and read in child processes: a file that crashes HDF5 is named, not fatal.
     const io::RecordingInfo info = io::InspectRecordingIsolated(args.recording);
-    int axis = 0;
-    {
-      auto lock = hdf5::LockHdf5();
-      if (!args.axis.empty()) axis = io::RecordingReader(args.recording).AxisIndex(args.axis);
-    }
-    rate_rad_s = io::ReadAxisRadPerSecondIsolated(info, std::to_string(axis), read, &read_report);
+    // The axis (name or index) is resolved by the reader in the child; an unknown one throws.
+    const std::string axis_arg = args.axis.empty() ? "0" : args.axis;
+    rate_rad_s = io::ReadAxisRadPerSecondIsolated(info, axis_arg, read, &read_report);
+    const auto named = std::find(info.axis_names.begin(), info.axis_names.end(), axis_arg);
+    const int axis = named != info.axis_names.end()
+                         ? static_cast<int>(named - info.axis_names.begin())
+                         : std::stoi(axis_arg);
     report.file = args.recording;
     report.axis = info.axis_names[axis];
     report.rate_units = info.rate_units;
