@@ -4,6 +4,7 @@
 // Exit codes: 0 done, 1 the recording cannot be analysed (message names file and problem),
 // 2 usage error.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <iostream>
 #include <string>
 
@@ -12,6 +13,7 @@
 #include "pipeline/cli/commands.h"
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/allan_report.h"
+#include "pipeline/io/isolated_reader.h"
 #include "pipeline/io/recording_reader.h"
 
 namespace fogpipe::cli {
@@ -47,11 +49,15 @@ int RunAllan(const AllanArgs& args) {
     io::ReadOptions read;
     read.max_nan_gap_samples = args.max_nan_gap;
     io::ReadReport read_report;
-    auto lock = hdf5::LockHdf5();
-    io::RecordingReader reader(args.recording);
-    const int axis = args.axis.empty() ? 0 : reader.AxisIndex(args.axis);
-    rate_rad_s = reader.ReadAxisRadPerSecond(axis, read, &read_report);
-    const io::RecordingInfo& info = reader.info();
+    // Inspected and read in child processes: a file that crashes HDF5 is named, not fatal.
+    const io::RecordingInfo info = io::InspectRecordingIsolated(args.recording);
+    // The axis (name or index) is resolved by the reader in the child; an unknown one throws.
+    const std::string axis_arg = args.axis.empty() ? "0" : args.axis;
+    rate_rad_s = io::ReadAxisRadPerSecondIsolated(info, axis_arg, read, &read_report);
+    const auto named = std::find(info.axis_names.begin(), info.axis_names.end(), axis_arg);
+    const int axis = named != info.axis_names.end()
+                         ? static_cast<int>(named - info.axis_names.begin())
+                         : std::stoi(axis_arg);
     report.file = args.recording;
     report.axis = info.axis_names[axis];
     report.rate_units = info.rate_units;

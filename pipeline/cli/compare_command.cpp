@@ -21,6 +21,7 @@
 #include "algorithms/model/compare.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/graph/tbb_for_each.h"
+#include "pipeline/io/isolated_reader.h"
 #include "pipeline/io/model_history.h"
 #include "pipeline/io/recording_reader.h"
 
@@ -141,9 +142,9 @@ int Run(const CompareArguments& a) {
       return 2;
     }
   }
-  const io::RecordingInfo info = io::InspectRecording(a.recording);
+  const io::RecordingInfo info = io::InspectRecordingIsolated(a.recording);
   io::ReadOptions ro;
-  const Eigen::VectorXd rate = io::ReadAxisRadPerSecond(a.recording, a.axis, ro);
+  const Eigen::VectorXd rate = io::ReadAxisRadPerSecondIsolated(info, a.axis, ro);
   model::CompareInput in;
   in.rate_rad_s = &rate;
   in.sample_rate_hz = info.sample_rate_hz;

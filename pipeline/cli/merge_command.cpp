@@ -6,7 +6,11 @@
 // Exit codes: 0 every recording ok; 1 the table was written but some recording failed or is
 // missing (its row says which), or a results file could not be read; 2 usage error or the table
 // could not be written.
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <cerrno>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -41,10 +45,16 @@ int RunMerge(const MergeConfig& config) {
     return 2;
   }
   if (!config.csv.empty()) {
-    std::ofstream csv(config.csv, std::ios::trunc);
-    csv << io::FormatCampaignCsv(table);
-    if (!csv) {
-      std::cerr << "fogpipe merge: " << config.csv << ": cannot write\n";
+    // O_NOFOLLOW: a symlink planted at the CSV's name is refused, never written through.
+    const std::string text = io::FormatCampaignCsv(table);
+    const int fd =
+        ::open(config.csv.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
+    const bool written =
+        fd >= 0 && ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
+    if (fd >= 0) ::close(fd);
+    if (!written) {
+      std::cerr << "fogpipe merge: " << config.csv << ": cannot write"
+                << (fd < 0 && errno == ELOOP ? " (it is a symbolic link; refused)" : "") << "\n";
       return 2;
     }
   }

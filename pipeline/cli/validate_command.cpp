@@ -31,7 +31,11 @@ int RunValidate(const ValidateArgs& args) {
   options.check_data = !args.no_data;
   int exit_code = 0;
   for (const std::string& file : args.files) {
-    const io::FileValidation v = io::ValidateFile(file, options);
+    // In a child process: a file that crashes or hangs HDF5 is one INVALID file, not the end of
+    // the command. Reading every sample of a long recording may take minutes.
+    io::IsolationLimits limits;
+    limits.seconds = 1800.0;
+    const io::FileValidation v = io::ValidateFileIsolated(file, options, limits);
     if (!v.usage_error.empty()) {
       std::cerr << "fogpipe validate: " << file << ": " << v.usage_error << "\n";
       return 2;

@@ -17,6 +17,7 @@
 #include "pipeline/graph/tbb_for_each.h"
 #include "pipeline/hdf5/atomic_output_file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/isolated_reader.h"
 #include "pipeline/io/results_reader.h"
 #include "pipeline/io/sha256.h"
 
@@ -90,8 +91,22 @@ void Guarded(AxisWork& work, Stage stage, Body&& body) {
   work.stage_seconds[stage] += Seconds(start);
 }
 
+/// Every input is inspected and read in a child process (io/isolated_call.h) that a stop request
+/// ends at once: a crash or hang in HDF5 fails that file alone.
+io::IsolationLimits InspectionLimits() {
+  io::IsolationLimits limits;
+  limits.stop = StopRequested;
+  return limits;
+}
+
+io::IsolationLimits ReadLimits() {
+  io::IsolationLimits limits = io::DataReadLimits();
+  limits.stop = StopRequested;
+  return limits;
+}
+
 std::string MiB(std::uint64_t bytes) {
-  return std::to_string((bytes + (1ull << 20) - 1) >> 20) + " MiB";
+  return std::to_string((bytes >> 20) + ((bytes & ((1ull << 20) - 1)) != 0)) + " MiB";
 }
 
 std::string OverBudgetMessage(const std::string& path, const FileJob& job, std::uint64_t need,
@@ -101,7 +116,7 @@ std::string OverBudgetMessage(const std::string& path, const FileJob& job, std::
          " samples x " + std::to_string(job.info.axis_count) +
          (job.info.axis_count == 1 ? " axis" : " axes") + "), more than --memory-budget " +
          MiB(options.memory_budget_bytes) + " leaves for recordings after " + MiB(fixed) +
-         " for the process; not analysed. Rerun it with --memory-budget " + MiB(need + fixed) +
+         " for the process; not analysed. Rerun it with --memory-budget " + MiB(need > UINT64_MAX - fixed ? UINT64_MAX : need + fixed) +
          " or more";
 }
 
@@ -217,7 +232,8 @@ int RemoveStaleTempFiles(const std::string& output_dir, const std::string& outpu
   std::error_code ec;
   for (fs::directory_iterator it(output_dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    if (name.rfind(output_name, 0) == 0 && hdf5::IsAtomicTempName(it->path())) {
+    if (name.rfind(output_name, 0) == 0 && hdf5::IsAtomicTempName(it->path()) &&
+        !hdf5::AtomicTempInUse(it->path())) {
       std::error_code remove_ec;
       if (fs::remove(it->path(), remove_ec)) ++removed;
     }
@@ -269,15 +285,20 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
     job->outcome_index = i;
     job->input = input;
     try {
-      job->info = io::InspectRecording(input.path);
+      job->info = io::InspectRecordingIsolated(input.path, InspectionLimits());
     } catch (const std::exception& e) {
       FileOutcome outcome{input.path, "", 0, FileStatus::kFailed, Seconds(start), e.what()};
       runner.Record(outcome, i);
       continue;
     }
-    const std::uint64_t need =
-        static_cast<std::uint64_t>(job->info.axis_count) *
-        BytesPerAxis(static_cast<std::uint64_t>(job->info.samples), options.method.emd.max_imfs);
+    // Overflow-free: a product that does not fit is as refused as one over the budget.
+    std::uint64_t need = 0;
+    const bool overflow = __builtin_mul_overflow(
+        static_cast<std::uint64_t>(std::max(job->info.axis_count, 1)),
+        BytesPerAxis(static_cast<std::uint64_t>(std::max(job->info.samples, 0ll)),
+                     options.method.emd.max_imfs),
+        &need);
+    if (overflow) need = UINT64_MAX;
     if (need > for_recordings) {
       // Never run over the budget: a recording that alone needs more is refused before it is
       // read, with what it needs, and the campaign goes on.
@@ -376,8 +397,8 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
       work->error = file_error;
       if (a == 0) work->stage_seconds[kRead] += hash_seconds;
       Guarded(*work, kRead, [&] {
-        work->rate_rad_s =
-            io::ReadAxisRadPerSecond(job->input.path, std::to_string(a), options.read);
+        work->rate_rad_s = io::ReadAxisRadPerSecondIsolated(job->info, std::to_string(a),
+                                                            options.read, nullptr, ReadLimits());
       });
       std::get<0>(ports).try_put(work);
     }

@@ -92,7 +92,8 @@ struct CampaignReport {
 CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignOptions& options);
 
 /// Removes temporary files that a killed run left for `output_name` in `output_dir`
-/// (hdf5::IsAtomicTempName). Returns how many were removed.
+/// (hdf5::IsAtomicTempName), never one that another run is still writing
+/// (hdf5::AtomicTempInUse). Returns how many were removed.
 int RemoveStaleTempFiles(const std::string& output_dir, const std::string& output_name);
 
 }  // namespace fogpipe::graph

@@ -10,16 +10,24 @@
 namespace fogpipe::graph {
 
 std::uint64_t AutoMemoryBudgetBytes() {
-  if (const char* slurm = std::getenv("SLURM_MEM_PER_NODE")) {
-    char* end = nullptr;
-    const double mib = std::strtod(slurm, &end);
-    if (end != slurm && mib > 0.0) return static_cast<std::uint64_t>(0.8 * mib * 1048576.0);
-  }
   const long pages = sysconf(_SC_PHYS_PAGES);
   const long page_size = sysconf(_SC_PAGE_SIZE);
-  if (pages > 0 && page_size > 0) {
-    return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page_size) / 2;
+  const std::uint64_t physical =
+      pages > 0 && page_size > 0
+          ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page_size)
+          : 0;
+  if (const char* slurm = std::getenv("SLURM_MEM_PER_NODE")) {
+    // A job's --mem in MiB: a whole number. Anything else is ignored, and no job can hold more
+    // than the machine, so the budget never exceeds 80 % of the physical memory either.
+    char* end = nullptr;
+    const unsigned long long mib = std::strtoull(slurm, &end, 10);
+    if (end != slurm && *end == '\0' && mib > 0 && mib < (1ull << 40)) {
+      std::uint64_t bytes = mib * 1048576ull / 5 * 4;
+      if (physical > 0) bytes = std::min(bytes, physical / 5 * 4);
+      return bytes;
+    }
   }
+  if (physical > 0) return physical / 2;
   return std::uint64_t{2} << 30;
 }
 
@@ -62,7 +70,12 @@ std::uint64_t BytesPerAxis(std::uint64_t num_samples, int max_imfs) {
   int imfs = static_cast<int>(std::ceil(log2n)) + 1;
   if (max_imfs > 0) imfs = std::min(imfs, max_imfs + 1);
   const std::uint64_t expected_imfs = 2 * static_cast<std::uint64_t>(imfs);
-  return (expected_imfs + 8) * std::max<std::uint64_t>(num_samples, 1) * 8;
+  std::uint64_t bytes = 0;
+  if (__builtin_mul_overflow((expected_imfs + 8) * 8, std::max<std::uint64_t>(num_samples, 1),
+                             &bytes)) {
+    return UINT64_MAX;  // saturates: never admitted, never 0
+  }
+  return bytes;
 }
 
 std::uint64_t FixedBytes(int threads) {

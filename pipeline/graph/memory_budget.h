@@ -12,7 +12,8 @@ namespace fogpipe::graph {
 std::optional<std::uint64_t> ParseByteSize(const std::string& text);
 
 /// The budget `--memory-budget auto` (the default) stands for: 80 % of SLURM_MEM_PER_NODE (MiB)
-/// when Slurm set it (a job's --mem), else half of the physical memory (sysconf), else 2 GiB.
+/// when Slurm set it (a job's --mem; at most 80 % of the physical memory), else half of the
+/// physical memory (sysconf), else 2 GiB.
 /// A fixed default would refuse long recordings on big machines (a 24 h record at 100 Hz needs
 /// about 4 GiB) or overrun small ones.
 std::uint64_t AutoMemoryBudgetBytes();
@@ -22,6 +23,7 @@ std::uint64_t AutoMemoryBudgetBytes();
 /// and work space. Estimated as (expected_imfs + 8) x N x 8 bytes with expected_imfs =
 /// 2 log2(N) (+1 for the residue): EMD of noise yields about log2(N) IMFs (Flandrin, Rilling &
 /// Goncalves 2004, "EMD as a filter bank"), and every IMF is held twice (raw and filtered).
+/// Saturates at UINT64_MAX instead of overflowing; never 0.
 std::uint64_t BytesPerAxis(std::uint64_t num_samples, int max_imfs);
 
 /// Memory the process needs whatever the recordings: the binary with its libraries, HDF5's and

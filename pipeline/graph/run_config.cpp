@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 #include <thread>
 
@@ -13,6 +14,9 @@
 
 namespace fogpipe::graph {
 namespace {
+
+/// --threads' upper bound, also applied to SLURM_CPUS_PER_TASK.
+constexpr long kMaxThreads = 4096;
 
 std::string Number(double value) {
   char text[40];
@@ -99,7 +103,7 @@ void AddRunOptions(CLI::App* cmd, RunConfig* c) {
                   "TOML file of options (keys are the long option names; unknown keys are errors)");
   cmd->add_option("--threads", c->threads,
                   "Worker threads (0: SLURM_CPUS_PER_TASK if set, else all cores)")
-      ->check(CLI::Range(0, 4096));
+      ->check(CLI::Range(0l, kMaxThreads));
   cmd->add_option("--memory-budget", c->memory_budget,
                   "Memory for recordings in flight, e.g. 512M, 8G, or auto (default: 80 % of "
                   "SLURM_MEM_PER_NODE, else half the physical memory)");
@@ -147,6 +151,14 @@ void AddRunOptions(CLI::App* cmd, RunConfig* c) {
 }
 
 bool ApplyConfigFile(CLI::App* cmd, const std::string& path, std::string* error) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    *error = path + ": --config needs a TOML file" +
+             (std::filesystem::is_directory(path, ec) ? ", not a folder"
+              : std::filesystem::exists(path, ec)     ? ", not a special file"
+                                                      : ", and there is no such file");
+    return false;
+  }
   try {
     for (const CLI::ConfigItem& item : CLI::ConfigTOML().from_file(path)) {
       const std::string key =
@@ -196,8 +208,10 @@ std::string EffectiveConfigToml(const RunConfig& c) {
 int ResolveThreads(int requested) {
   if (requested > 0) return requested;
   if (const char* slurm = std::getenv("SLURM_CPUS_PER_TASK")) {
-    const int n = std::atoi(slurm);
-    if (n > 0) return n;
+    // Held to --threads' own range: the environment may not grant what the option refuses.
+    char* end = nullptr;
+    const long n = std::strtol(slurm, &end, 10);
+    if (end != slurm && *end == '\0' && n > 0) return static_cast<int>(std::min(n, kMaxThreads));
   }
   return std::max(1u, std::thread::hardware_concurrency());
 }

@@ -1,5 +1,9 @@
 #include "pipeline/graph/status_log.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <nlohmann/json.hpp>
 
 namespace fogpipe::graph {
@@ -28,18 +32,22 @@ std::string ToJsonLine(const FileOutcome& outcome) {
   return line.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
-StatusLog::StatusLog(const std::string& path) : file_(std::fopen(path.c_str(), "a")) {}
+StatusLog::StatusLog(const std::string& path)
+    : fd_(::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644)) {}
 
 StatusLog::~StatusLog() {
-  if (file_ != nullptr) std::fclose(file_);
+  if (fd_ >= 0) ::close(fd_);
 }
 
 void StatusLog::Append(const FileOutcome& outcome) {
   const std::string line = ToJsonLine(outcome) + "\n";
   std::lock_guard<std::mutex> lock(mutex_);
-  if (file_ == nullptr) return;
-  std::fwrite(line.data(), 1, line.size(), file_);
-  std::fflush(file_);
+  if (fd_ < 0) return;
+  // One call: with O_APPEND the kernel places the whole line at the end at once.
+  ssize_t written = -1;
+  do {
+    written = ::write(fd_, line.data(), line.size());
+  } while (written < 0 && errno == EINTR);
 }
 
 }  // namespace fogpipe::graph

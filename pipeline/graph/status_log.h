@@ -1,10 +1,12 @@
-// OUTDIR/status.jsonl: one JSON object per line and per input file, appended and flushed line by
-// line, so that a run killed at any point leaves only complete lines behind.
+// OUTDIR/status.jsonl: one JSON object per line and per input file, each line one write(2) on a
+// descriptor opened with O_APPEND, so that a run killed at any point leaves only complete lines
+// and concurrent runs appending to one log never interleave within a line, whatever its length
+// (appends to a regular file are atomic with respect to each other on Linux). The log is opened
+// with O_NOFOLLOW: a symlink planted in its place is refused, never written through.
 //   {"file": "...", "output": "...", "axes": 3, "status": "ok", "seconds": 12.5, "message": ""}
 // status is "ok", "failed" or "skipped" (output present with the same configuration hash).
 #pragma once
 
-#include <cstdio>
 #include <mutex>
 #include <string>
 
@@ -30,14 +32,14 @@ class StatusLog {
   StatusLog(const StatusLog&) = delete;
   StatusLog& operator=(const StatusLog&) = delete;
 
-  bool ok() const { return file_ != nullptr; }
-  /// Appends one line and flushes it to the OS (fflush + fsync are not needed for a killed
-  /// process; the kernel keeps written data). Thread-safe.
+  bool ok() const { return fd_ >= 0; }
+  /// Appends one line in one write(2) (fsync is not needed for a killed process; the kernel
+  /// keeps written data). Thread-safe.
   void Append(const FileOutcome& outcome);
 
  private:
   std::mutex mutex_;
-  std::FILE* file_ = nullptr;
+  int fd_ = -1;
 };
 
 /// The JSON line for one outcome (no trailing newline).

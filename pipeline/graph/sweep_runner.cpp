@@ -25,6 +25,7 @@
 #include "pipeline/graph/tbb_for_each.h"
 #include "pipeline/hdf5/atomic_output_file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/isolated_reader.h"
 #include "pipeline/io/recording_reader.h"
 #include "pipeline/io/recording_writer.h"
 
@@ -131,7 +132,7 @@ bool SweepRecording(const std::string& recording, const SweepRunOptions& options
   io::RecordingInfo info;
   std::optional<Eigen::VectorXd> truth;
   try {
-    info = io::InspectRecording(recording);
+    info = io::InspectRecordingIsolated(recording);
     const std::string sidecar = io::TruthSidecarPath(recording);
     if (fs::exists(sidecar)) {
       std::ifstream in(sidecar);
@@ -146,7 +147,7 @@ bool SweepRecording(const std::string& recording, const SweepRunOptions& options
   for (const std::string& axis : info.axis_names) {
     Eigen::VectorXd x;
     try {
-      x = io::ReadAxisRadPerSecond(recording, axis, options.read);
+      x = io::ReadAxisRadPerSecondIsolated(info, axis, options.read);
     } catch (const std::exception& e) {
       *error = recording + ": axis " + axis + ": " + e.what();
       return false;

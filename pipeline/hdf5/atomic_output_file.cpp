@@ -1,10 +1,14 @@
 #include "pipeline/hdf5/atomic_output_file.h"
 
 #include <fcntl.h>
+#include <signal.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cctype>
+#include <cerrno>
+#include <cstdlib>
 #include <system_error>
 
 namespace fogpipe::hdf5 {
@@ -44,6 +48,18 @@ bool IsAtomicTempName(const std::filesystem::path& path) {
   const size_t dash = rest.find('-');
   if (dash == std::string::npos) return false;
   return AllDigits(rest.substr(0, dash)) && AllDigits(rest.substr(dash + 1));
+}
+
+bool AtomicTempInUse(const std::filesystem::path& path) {
+  const std::string name = path.filename().string();
+  const std::string rest = name.substr(name.rfind(".tmp-") + 5);
+  const long pid = std::strtol(rest.c_str(), nullptr, 10);
+  if (pid > 0 && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM)) return true;
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) return false;
+  const bool locked = ::flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  ::close(fd);  // releases the probe's own lock
+  return locked;
 }
 
 AtomicOutputFile::AtomicOutputFile(std::filesystem::path final_path)

@@ -52,4 +52,10 @@ std::filesystem::path MakeAtomicTempPath(const std::filesystem::path& final_path
 /// True when `path`'s file name has the form "<something>.tmp-<digits>-<digits>".
 bool IsAtomicTempName(const std::filesystem::path& path);
 
+/// True when a temporary file may still be written by a live process: its writer's pid (from the
+/// name) is alive on this machine, or another process holds a lock on it (HDF5 1.10 flock()s
+/// every file it opens for writing; a killed writer's lock is gone with it). A cleaner removes
+/// only temporary files for which this is false, so overlapping runs never delete each other's.
+bool AtomicTempInUse(const std::filesystem::path& path);
+
 }  // namespace fogpipe::hdf5

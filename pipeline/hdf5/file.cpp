@@ -1,5 +1,6 @@
 #include "pipeline/hdf5/file.h"
 
+#include <atomic>
 #include <utility>
 
 #include "pipeline/hdf5/detail.h"
@@ -10,6 +11,8 @@ File::File(std::string path, std::unique_ptr<H5::H5File> file)
     : path_(std::move(path)), file_(std::move(file)) {}
 
 namespace {
+
+std::atomic<int> g_abandoned_files{0};
 
 /// fogpipe reports HDF5's error stack inside hdf5::Error; the library's own printing to stderr
 /// is turned off for the calling thread (per-thread state; the caller holds the lock).
@@ -50,9 +53,21 @@ void File::Flush() {
 
 void File::Close() {
   if (!file_) return;
-  detail::Checked(path_, "", "close", [&] { file_->close(); });
+  try {
+    detail::Checked(path_, "", "close", [&] { file_->close(); });
+  } catch (...) {
+    // HDF5 1.10 frees part of a file whose close failed (a write error while flushing: ENOSPC,
+    // EFBIG) yet keeps its id; the second H5Fclose that ~H5File would issue dereferences freed
+    // memory (SIGSEGV in H5F__close). The object is therefore never destroyed: a few hundred
+    // bytes and one descriptor per failed file, against a crash of the process.
+    new std::shared_ptr<H5::H5File>(std::move(file_));
+    ++g_abandoned_files;
+    throw;
+  }
   file_.reset();
 }
+
+int AbandonedFiles() { return g_abandoned_files.load(); }
 
 hid_t File::id() const { return file_ ? file_->getId() : -1; }
 

@@ -30,7 +30,8 @@ class File {
   /// Writes buffered data and metadata to the file (H5Fflush, global scope).
   void Flush();
   /// Closes the file; a no-op when already closed. Wrappers taken from a created file are
-  /// invalid afterwards.
+  /// invalid afterwards. When HDF5 fails to close it (a write error while flushing: ENOSPC),
+  /// throws and abandons the file: never closed again (AbandonedFiles()).
   void Close();
   hid_t id() const;
 
@@ -40,5 +41,10 @@ class File {
   std::string path_;
   std::shared_ptr<H5::H5File> file_;
 };
+
+/// How many files Close() abandoned. HDF5 1.10 crashes when such a file is closed a second time,
+/// including by its own clean-up at exit (H5close): a process with abandoned files must end by
+/// _Exit after flushing its streams, not by returning from main.
+int AbandonedFiles();
 
 }  // namespace fogpipe::hdf5

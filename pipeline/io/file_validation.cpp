@@ -1,5 +1,9 @@
 #include "pipeline/io/file_validation.h"
 
+#include <algorithm>
+#include <new>
+#include <nlohmann/json.hpp>
+
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/recording_reader.h"
 
@@ -89,6 +93,100 @@ FileValidation ValidateFile(const std::string& path, const FileValidationOptions
     result.usage_error = e.what();
   }
   return result;
+}
+
+namespace {
+
+// FileValidation across the pipe (the child is this same binary; JSON keeps strings exact).
+std::string ToWire(const FileValidation& v) {
+  nlohmann::json j;
+  j["detected"] = v.detected;
+  j["schema"] = v.schema;
+  j["schema_path"] = v.schema_path;
+  j["objects_checked"] = v.objects_checked;
+  j["samples_checked"] = v.samples_checked;
+  j["usage_error"] = v.usage_error;
+  for (const SchemaProblem& p : v.problems) j["problems"].push_back({p.object, p.message});
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+FileValidation FromWire(const std::string& path, const std::string& wire) {
+  const nlohmann::json j = nlohmann::json::parse(wire);
+  FileValidation v;
+  v.file = path;
+  v.detected = j.at("detected").get<std::string>();
+  v.schema = j.at("schema").get<std::string>();
+  v.schema_path = j.at("schema_path").get<std::string>();
+  v.objects_checked = j.at("objects_checked").get<long long>();
+  v.samples_checked = j.at("samples_checked").get<long long>();
+  v.usage_error = j.at("usage_error").get<std::string>();
+  if (j.contains("problems")) {
+    for (const auto& p : j["problems"]) v.problems.push_back({p[0], p[1]});
+  }
+  return v;
+}
+
+FileValidation ValidateInChild(const std::string& path, const FileValidationOptions& options,
+                               const IsolationLimits& limits) {
+  constexpr int kOutOfMemory = 3;
+  auto child = [&](std::string* out) {
+    try {
+      *out = ToWire(ValidateFile(path, options));
+      return 0;
+    } catch (const std::bad_alloc&) {
+      return kOutOfMemory;
+    }
+  };
+  IsolatedOutcome outcome;
+  {
+    // Held across the fork so that the child finds HDF5 idle; ValidateFile in the child must not
+    // lock it again, hence the unlock inside the child.
+    auto lock = hdf5::LockHdf5();
+    outcome = RunIsolated(
+        [&](std::string* out) {
+          lock.unlock();
+          return child(out);
+        },
+        limits);
+  }
+  if (outcome.end == IsolatedOutcome::End::kExited && outcome.exit_code == 0) {
+    try {
+      return FromWire(path, outcome.output);
+    } catch (const std::exception& e) {
+      outcome.error = e.what();
+    }
+  }
+  FileValidation v;
+  v.file = path;
+  const char* kind = outcome.end == IsolatedOutcome::End::kSignalled ? error_kind::kReaderCrashed
+                     : outcome.end == IsolatedOutcome::End::kTimedOut ? error_kind::kReaderTimeout
+                     : outcome.end == IsolatedOutcome::End::kExited &&
+                             outcome.exit_code == kOutOfMemory
+                         ? error_kind::kReaderOutOfMemory
+                         : error_kind::kUnreadableFile;
+  v.problems.push_back({"/", "validating it in a child process: the HDF5 library " +
+                                 outcome.Describe(limits) +
+                                 " (damaged HDF5 metadata, a file that blocks, or an allocation "
+                                 "beyond the memory limit); the file is not usable [" +
+                                 std::string(kind) + "]"});
+  return v;
+}
+
+}  // namespace
+
+FileValidation ValidateFileIsolated(const std::string& path, const FileValidationOptions& options,
+                                    const IsolationLimits& limits) {
+  // Metadata first, under the short limit that suits it (a loop in damaged metadata is found in
+  // seconds), then the samples under the caller's limit.
+  if (options.check_data) {
+    FileValidationOptions metadata = options;
+    metadata.check_data = false;
+    IsolationLimits short_limits = limits;
+    short_limits.seconds = std::min(limits.seconds, IsolationLimits().seconds);
+    FileValidation first = ValidateInChild(path, metadata, short_limits);
+    if (!first.valid()) return first;
+  }
+  return ValidateInChild(path, options, limits);
 }
 
 }  // namespace fogpipe::io

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/io/isolated_call.h"
 #include "pipeline/io/schema_validator.h"
 
 namespace fogpipe::io {
@@ -43,6 +44,12 @@ struct FileValidation {
 
 /// Validates one file; never throws for problems of the file itself. Takes the HDF5 lock.
 FileValidation ValidateFile(const std::string& path, const FileValidationOptions& options);
+
+/// ValidateFile in a child process (isolated_call.h): a file that crashes or hangs the HDF5
+/// library, or needs more memory than `limits` allow, is reported as one problem of that file
+/// ("[reader_crashed]", "[reader_timeout]", "[reader_out_of_memory]"). Take no lock around it.
+FileValidation ValidateFileIsolated(const std::string& path, const FileValidationOptions& options,
+                                    const IsolationLimits& limits);
 
 /// The schema name for a `fogpipe_format` tag: "fogpipe-results-v1" -> "results-v1"; "" (no
 /// tag) -> "recording-v1".

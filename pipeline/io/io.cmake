@@ -17,3 +17,6 @@ set_source_files_properties(${CMAKE_CURRENT_LIST_DIR}/schema_validator.cpp
 target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/file_validation.cpp)
 target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/allan_report.cpp)
 target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/noise_fit_report.cpp)
+# Inputs inspected and read in child processes (a crash or hang in HDF5 stays in the child).
+target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/isolated_call.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/isolated_reader.cpp)

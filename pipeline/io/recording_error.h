@@ -33,6 +33,18 @@ inline constexpr const char* kNanGapTooLong = "nan_gap_too_long";
 inline constexpr const char* kNonFiniteValue = "non_finite_value";  ///< +-Inf in /rate
 inline constexpr const char* kTooFewSamples = "too_few_samples";
 inline constexpr const char* kConstantSignal = "constant_signal";
+inline constexpr const char* kNotRegularFile = "not_regular_file";  ///< a FIFO, device, socket
+/// External links, virtual datasets or external raw storage: data from outside the file.
+inline constexpr const char* kExternalData = "external_data";
+inline constexpr const char* kUnwrittenDataset = "unwritten_dataset";  ///< declared, never written
+/// Declared dims the file cannot hold, or beyond what fogpipe accepts (recording_limits.h).
+inline constexpr const char* kImplausibleShape = "implausible_shape";
+inline constexpr const char* kExtremeMagnitude = "extreme_magnitude";  ///< |x| beyond 1e+-100
+/// The isolated inspection or read (isolated_call.h) crashed, hung or ran out of memory.
+inline constexpr const char* kReaderCrashed = "reader_crashed";
+inline constexpr const char* kReaderTimeout = "reader_timeout";
+inline constexpr const char* kReaderOutOfMemory = "reader_out_of_memory";
+inline constexpr const char* kInterrupted = "interrupted";
 }  // namespace error_kind
 
 class RecordingError : public std::runtime_error {

@@ -1,15 +1,18 @@
 #include "pipeline/io/recording_reader.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <set>
 #include <sstream>
 
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/recording_limits.h"
 
 namespace fogpipe::io {
 namespace {
@@ -61,6 +64,93 @@ void CheckFiltersAvailable(const hdf5::Dataset& dataset) {
   H5Pclose(plist);
 }
 
+/// Refuses a path whose links lead out of the file (an external link, or a user-defined one,
+/// anywhere along it, also behind soft links) and soft-link cycles: fogpipe reads the input file
+/// and nothing else. Checked link by link before anything is opened, so nothing outside the
+/// file is ever touched. `path` is absolute; a missing link is left to the caller to report.
+void CheckPathStaysInFile(const hdf5::Group& root, const std::string& path,
+                          const std::string& shown, int depth = 0) {
+  constexpr int kMaxSoftLinks = 16;
+  const hid_t file = root.id();
+  const std::string& file_path = root.file_path();
+  std::string prefix;
+  std::size_t begin = 1;
+  while (begin <= path.size()) {
+    std::size_t end = path.find('/', begin);
+    if (end == std::string::npos) end = path.size();
+    if (end > begin) {
+      prefix += "/" + path.substr(begin, end - begin);
+      H5L_info_t link{};
+      if (H5Lget_info(file, prefix.c_str(), &link, H5P_DEFAULT) < 0) return;
+      if (link.type == H5L_TYPE_SOFT) {
+        if (depth >= kMaxSoftLinks) {
+          throw RecordingError(error_kind::kWrongType, file_path,
+                               shown + " goes through more than " +
+                                   std::to_string(kMaxSoftLinks) +
+                                   " soft links (a link cycle?); refused");
+        }
+        std::string target(link.u.val_size + 1, '\0');
+        if (H5Lget_val(file, prefix.c_str(), target.data(), target.size(), H5P_DEFAULT) < 0) {
+          return;
+        }
+        target.resize(std::strlen(target.c_str()));
+        if (target.empty() || target[0] != '/') {
+          target = prefix.substr(0, prefix.rfind('/') + 1) + target;
+        }
+        CheckPathStaysInFile(root, target, shown, depth + 1);
+      } else if (link.type != H5L_TYPE_HARD) {
+        throw RecordingError(error_kind::kExternalData, file_path,
+                             shown + " is reached through an external link (" + prefix +
+                                 "); fogpipe reads only the input file itself (refused: copy "
+                                 "the data into the recording)");
+      }
+    }
+    begin = end + 1;
+  }
+}
+
+/// Refuses datasets whose samples live outside the file (virtual datasets, external raw
+/// storage: a FIFO, a device or any other file could stand there), and datasets declared but
+/// never written. `values` is the declared element count, `element_bytes` the stored size.
+void CheckStorage(const hdf5::Dataset& dataset, unsigned long long values,
+                  std::size_t element_bytes, long long file_size_bytes) {
+  const std::string& path = dataset.file_path();
+  const hid_t plist = H5Dget_create_plist(dataset.id());
+  if (plist < 0) return;
+  const H5D_layout_t layout = H5Pget_layout(plist);
+  const int external = H5Pget_external_count(plist);
+  H5Pclose(plist);
+  if (layout == H5D_VIRTUAL) {
+    throw RecordingError(error_kind::kExternalData, path,
+                         dataset.path() + " is a virtual dataset (its samples live in other "
+                                          "files); fogpipe reads only the input file itself "
+                                          "(refused: copy the data into the recording)");
+  }
+  if (external > 0) {
+    throw RecordingError(error_kind::kExternalData, path,
+                         dataset.path() + " keeps its samples in " + std::to_string(external) +
+                             " external raw file(s); fogpipe reads only the input file itself "
+                             "(refused: copy the data into the recording)");
+  }
+  H5D_space_status_t status = H5D_SPACE_STATUS_ERROR;
+  if (values > 0 && H5Dget_space_status(dataset.id(), &status) >= 0 &&
+      status == H5D_SPACE_STATUS_NOT_ALLOCATED) {
+    throw RecordingError(error_kind::kUnwrittenDataset, path,
+                         dataset.path() + " is declared with " + std::to_string(values) +
+                             " values but none was ever written (no storage allocated)");
+  }
+  unsigned long long declared = 0;
+  if (__builtin_mul_overflow(values, static_cast<unsigned long long>(element_bytes), &declared) ||
+      static_cast<double>(declared) >
+          limits::kMaxExpansion * static_cast<double>(std::max(file_size_bytes, 1ll))) {
+    throw RecordingError(error_kind::kImplausibleShape, path,
+                         dataset.path() + " declares " + std::to_string(values) + " values of " +
+                             std::to_string(element_bytes) + " bytes, more than a " +
+                             std::to_string(file_size_bytes) +
+                             "-byte file can hold even compressed (1032:1, deflate's limit)");
+  }
+}
+
 /// An optional root attribute of the given class; a wrong class is a contract violation.
 template <typename T>
 std::optional<T> OptionalRootAttribute(const hdf5::Group& root, const std::string& name,
@@ -108,6 +198,23 @@ std::string RequiredUnits(const hdf5::Dataset& dataset) {
   return dataset.ReadStringAttribute("units");
 }
 
+/// Refuses samples beyond limits::kMaxMagnitude or, zero aside, below kMinMagnitude (NaNs are
+/// bridged already, infinities refused).
+void CheckMagnitudes(const Eigen::VectorXd& x, const std::string& what, const std::string& path) {
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    const double a = std::abs(x[i]);
+    if (a > limits::kMaxMagnitude || (a != 0.0 && a < limits::kMinMagnitude)) {
+      std::ostringstream text;
+      text << what << " sample " << i << " is " << x[i]
+           << ", outside the magnitudes fogpipe analyses (" << limits::kMinMagnitude << " .. "
+           << limits::kMaxMagnitude
+           << " in the file's unit, or 0): variances of such values overflow or underflow. A "
+              "wrong unit or a damaged file? Rescale it";
+      throw RecordingError(error_kind::kExtremeMagnitude, path, text.str());
+    }
+  }
+}
+
 bool IsConstant(const Eigen::VectorXd& x) {
   for (Eigen::Index i = 1; i < x.size(); ++i) {
     if (x[i] != x[0]) return false;
@@ -129,6 +236,17 @@ void CheckReadable(const std::string& path, long long* size_bytes) {
   }
   if (fs::is_directory(status)) {
     throw RecordingError(error_kind::kNotHdf5, path, "is a folder, not an HDF5 file");
+  }
+  if (!fs::is_regular_file(status)) {
+    // Opening a FIFO blocks until a writer appears; a device may never end.
+    const char* what = fs::is_fifo(status)             ? "a FIFO (named pipe)"
+                       : fs::is_character_file(status) ? "a character device"
+                       : fs::is_block_file(status)     ? "a block device"
+                       : fs::is_socket(status)         ? "a socket"
+                                                       : "not a regular file";
+    throw RecordingError(error_kind::kNotRegularFile, path,
+                         std::string("is ") + what +
+                             ", not a regular file; refused without opening it");
   }
   if (::access(path.c_str(), R_OK) != 0) {
     throw RecordingError(error_kind::kUnreadableFile, path, "cannot be read (permission denied)");
@@ -164,8 +282,40 @@ hdf5::File OpenChecked(const std::string& path) {
   }
 }
 
+/// The declared shape within limits (recording_limits.h), checked before anything is derived
+/// from it: counts that do not fit, absurd sizes and transposed matrices.
+void CheckRateShape(const std::string& path, const std::vector<hsize_t>& dims) {
+  const hsize_t axes = dims.size() == 2 ? dims[1] : 1;
+  if (axes == 0) {
+    throw RecordingError(error_kind::kWrongShape, path,
+                         "/rate has shape " + ShapeText(dims) + ": no axis at all");
+  }
+  if (dims.size() == 2 && axes > dims[0]) {
+    throw RecordingError(error_kind::kWrongShape, path,
+                         "/rate has shape " + ShapeText(dims) + ": more axes (" +
+                             std::to_string(axes) + ") than samples (" +
+                             std::to_string(dims[0]) +
+                             "). A transposed matrix? (MATLAB and other column-major writers "
+                             "store an N x A matrix as [A, N].) Contract v1 wants [N, A], one row "
+                             "per sample; transpose it when writing");
+  }
+  if (axes > static_cast<hsize_t>(limits::kMaxAxes)) {
+    throw RecordingError(error_kind::kImplausibleShape, path,
+                         "/rate has shape " + ShapeText(dims) + ": " + std::to_string(axes) +
+                             " axes, more than the " + std::to_string(limits::kMaxAxes) +
+                             " fogpipe accepts");
+  }
+  if (dims[0] > static_cast<hsize_t>(limits::kMaxSamples)) {
+    throw RecordingError(error_kind::kImplausibleShape, path,
+                         "/rate has shape " + ShapeText(dims) + ": " + std::to_string(dims[0]) +
+                             " samples per axis, more than the " +
+                             std::to_string(limits::kMaxSamples) + " fogpipe accepts");
+  }
+}
+
 void InspectRate(const hdf5::Group& root, RecordingInfo* info) {
   const std::string& path = info->path;
+  CheckPathStaysInFile(root, "/rate", "/rate");
   const ObjectKind kind = root.KindOf("rate");
   if (kind == ObjectKind::kMissing) {
     throw RecordingError(error_kind::kMissingDataset, path,
@@ -189,12 +339,11 @@ void InspectRate(const hdf5::Group& root, RecordingInfo* info) {
                              "); contract v1 requires [N] or [N, A]");
   }
   info->two_dimensional = dims.size() == 2;
+  CheckRateShape(path, dims);
   info->samples = static_cast<long long>(dims[0]);
   info->axis_count = info->two_dimensional ? static_cast<int>(dims[1]) : 1;
-  if (info->axis_count == 0) {
-    throw RecordingError(error_kind::kWrongShape, path,
-                         "/rate has shape " + ShapeText(dims) + ": no axis at all");
-  }
+  CheckStorage(rate, dims[0] * (info->two_dimensional ? dims[1] : 1), type.size_bytes,
+               info->file_size_bytes);
   for (hsize_t c : rate.chunk_dims()) info->rate_chunk.push_back(c);
   CheckFiltersAvailable(rate);
 
@@ -257,6 +406,14 @@ void InspectRootAttributes(const hdf5::Group& root, RecordingInfo* info) {
         error_kind::kBadSampleRate, path,
         "root attribute 'sample_rate_hz' is " + value.str() + "; it must be a finite rate > 0 Hz");
   }
+  if (info->sample_rate_hz < limits::kMinSampleRateHz ||
+      info->sample_rate_hz > limits::kMaxSampleRateHz) {
+    std::ostringstream value;
+    value << "root attribute 'sample_rate_hz' is " << info->sample_rate_hz
+          << " Hz, outside the range fogpipe accepts (" << limits::kMinSampleRateHz << " .. "
+          << limits::kMaxSampleRateHz << " Hz): every tau = m / rate would be meaningless";
+    throw RecordingError(error_kind::kBadSampleRate, path, value.str());
+  }
   info->start_time_utc =
       OptionalRootAttribute<std::string>(root, "start_time_utc", TypeClass::kString);
   info->instrument = OptionalRootAttribute<std::string>(root, "instrument", TypeClass::kString);
@@ -266,6 +423,7 @@ void InspectRootAttributes(const hdf5::Group& root, RecordingInfo* info) {
 
 void InspectAux(const hdf5::Group& root, RecordingInfo* info) {
   const std::string& path = info->path;
+  CheckPathStaysInFile(root, "/aux", "/aux");
   const ObjectKind kind = root.KindOf("aux");
   if (kind == ObjectKind::kMissing) return;
   if (kind != ObjectKind::kGroup) {
@@ -273,6 +431,7 @@ void InspectAux(const hdf5::Group& root, RecordingInfo* info) {
   }
   const hdf5::Group aux = root.OpenGroup("aux");
   for (const std::string& name : aux.ChildNames()) {
+    CheckPathStaysInFile(root, "/aux/" + name, "/aux/" + name);
     if (aux.KindOf(name) != ObjectKind::kDataset) continue;  // unknown things are ignored
     const hdf5::Dataset channel = aux.OpenDataset(name);
     const hdf5::TypeInfo type = channel.type();
@@ -293,6 +452,7 @@ void InspectAux(const hdf5::Group& root, RecordingInfo* info) {
                                " samples but /rate has " + std::to_string(info->samples) +
                                " (aux channels share the sampling of /rate)");
     }
+    CheckStorage(channel, dims[0], type.size_bytes, info->file_size_bytes);
     CheckFiltersAvailable(channel);
     info->aux.push_back({name, RequiredUnits(channel), FloatName(type)});
   }
@@ -396,6 +556,7 @@ Eigen::VectorXd RecordingReader::ReadColumn(const hdf5::Dataset& dataset, int co
                              std::to_string(options.max_nan_gap_samples) +
                              (r.longest_run == n ? " (every sample is NaN)" : ""));
   }
+  CheckMagnitudes(x, what, info_.path);
   if (reject_constant && IsConstant(x)) {
     std::ostringstream value;
     value << x[0];
