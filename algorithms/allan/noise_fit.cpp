@@ -421,11 +421,10 @@ NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& opt
     summary.message = error;
     return result;
   }
-  if (table.deviation == Deviation::kOverlappingHadamard ||
-      table.deviation == Deviation::kHadamard) {
+  if (!IeeeModelApplies(table.deviation)) {
     summary.termination = Termination::kInvalidOptions;
-    summary.message =
-        "the IEEE 952 model is that of the Allan variance; fit an OADEV or ADEV table";
+    summary.message = std::string("the IEEE 952 model is that of the Allan variance; fit an OADEV "
+                                  "or ADEV table, not ") + ToString(table.deviation);
     return result;
   }
   const bool enabled[kTerms] = {options.fit_q, options.fit_n, options.fit_b, options.fit_k,

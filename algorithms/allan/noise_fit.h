@@ -154,7 +154,7 @@ std::string FormatTauRanges(const std::vector<TauRange>& ranges);
 /// Number of fitted terms marked unreliable.
 int UnreliableTermCount(const NoiseFitResult& fit);
 
-/// Fits an OADEV or ADEV table (a Hadamard table gives kInvalidOptions: its term coefficients
+/// Fits an OADEV or ADEV table (any other kind gives kInvalidOptions: its term coefficients
 /// differ). tau_s, sigma and edf are used; rows with non-finite or non-positive values are
 /// skipped. If the table has no EDF at all (confidence intervals off), every point gets edf = 1
 /// (relative least squares) and the standard errors are NaN; otherwise rows without EDF are

@@ -163,10 +163,15 @@ TEST(FitNoiseTerms, RejectsInvalidOptionsAndTooFewPoints) {
   two.edf = {10.0, 5.0};
   EXPECT_EQ(FitNoiseTerms(two, NoiseFitOptions()).summary.termination,
             Termination::kInsufficientData);
-  AllanTable hadamard;
-  hadamard.deviation = Deviation::kOverlappingHadamard;
-  EXPECT_EQ(FitNoiseTerms(hadamard, NoiseFitOptions()).summary.termination,
-            Termination::kInvalidOptions);
+  // Only the Allan variances have the IEEE 952 term coefficients.
+  for (Deviation kind : AllDeviations()) {
+    AllanTable other;
+    other.deviation = kind;
+    if (IeeeModelApplies(kind)) continue;
+    EXPECT_EQ(FitNoiseTerms(other, NoiseFitOptions()).summary.termination,
+              Termination::kInvalidOptions)
+        << ToString(kind);
+  }
 }
 
 // Without EDF (confidence intervals off) the fit still recovers an exact model, with unit
