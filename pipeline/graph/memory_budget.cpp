@@ -71,7 +71,7 @@ std::uint64_t BytesPerAxis(std::uint64_t num_samples, int max_imfs) {
   if (max_imfs > 0) imfs = std::min(imfs, max_imfs + 1);
   const std::uint64_t expected_imfs = 2 * static_cast<std::uint64_t>(imfs);
   std::uint64_t bytes = 0;
-  if (__builtin_mul_overflow((expected_imfs + 8) * 8, std::max<std::uint64_t>(num_samples, 1),
+  if (__builtin_mul_overflow((expected_imfs + 8 + kReferenceFilterDoubles) * 8, std::max<std::uint64_t>(num_samples, 1),
                              &bytes)) {
     return UINT64_MAX;  // saturates: never admitted, never 0
   }

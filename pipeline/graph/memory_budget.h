@@ -20,10 +20,14 @@ std::uint64_t AutoMemoryBudgetBytes();
 
 /// Bytes one axis of `num_samples` samples needs while it is analysed: the raw and preprocessed
 /// signals, every IMF and the residue, their filtered versions, the method-1 and method-2 outputs
-/// and work space. Estimated as (expected_imfs + 8) x N x 8 bytes with expected_imfs =
-/// 2 log2(N) (+1 for the residue): EMD of noise yields about log2(N) IMFs (Flandrin, Rilling &
-/// Goncalves 2004, "EMD as a filter bank"), and every IMF is held twice (raw and filtered).
+/// and work space, and the reference filters (filters/reference_filters.h: four output signals,
+/// their tuning searches and Allan tables, kReferenceFilterDoubles per sample, measured as the
+/// peak-memory difference of `run` with and without them). Estimated as (expected_imfs + 8 +
+/// kReferenceFilterDoubles) x N x 8 bytes with expected_imfs = 2 log2(N) (+1 for the residue):
+/// EMD of noise yields about log2(N) IMFs (Flandrin, Rilling & Goncalves 2004, "EMD as a filter
+/// bank"), and every IMF is held twice (raw and filtered).
 /// Saturates at UINT64_MAX instead of overflowing; never 0.
+constexpr std::uint64_t kReferenceFilterDoubles = 52;
 std::uint64_t BytesPerAxis(std::uint64_t num_samples, int max_imfs);
 
 /// Memory the process needs whatever the recordings: the binary with its libraries, HDF5's and

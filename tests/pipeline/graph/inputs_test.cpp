@@ -115,7 +115,7 @@ TEST(MemoryBudget, AutoIsEightyPercentOfASlurmJobsMemoryElseHalfThePhysicalMemor
 
 TEST(MemoryBudget, AllowsAtLeastOneAxisAndFloorOfBudgetOverEstimate) {
   // N = 3600: ceil(log2 3600) = 12, +1 residue = 13, doubled = 26 series, + 8 work series.
-  EXPECT_EQ(BytesPerAxis(3600, 0), (26u + 8u) * 3600u * 8u);
+  EXPECT_EQ(BytesPerAxis(3600, 0), (26u + 8u + 52u) * 3600u * 8u);
   EXPECT_EQ(AxesInFlight(10 * BytesPerAxis(3600, 0) + 1, BytesPerAxis(3600, 0)), 10);
   EXPECT_EQ(AxesInFlight(1, BytesPerAxis(3600, 0)), 1);
 }
