@@ -2,11 +2,12 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
-#include "algorithms/common/chi_square.h"
 #include "algorithms/allan/edf.h"
 #include "algorithms/allan/noise_id.h"
 #include "algorithms/allan/phase.h"
+#include "algorithms/common/chi_square.h"
 
 namespace fogpipe::allan {
 
@@ -25,12 +26,37 @@ void ConfidenceBounds(double sigma, double edf, double confidence, double* low, 
   *high = sigma * std::sqrt(edf / stats::ChiSquareQuantile(tail, edf));
 }
 
+namespace {
+
+// The overlapping Allan variance at the factors with fewer than 30 averages (B1's denominator in
+// noise_id.h; NaN elsewhere): for OADEV the result itself, otherwise one extra blocked sweep over
+// those few long factors.
+std::vector<double> OverlappingAllanBelow30Averages(const Eigen::VectorXd& phase,
+                                                    Deviation deviation,
+                                                    const std::vector<long long>& m,
+                                                    const std::vector<double>& variance) {
+  if (deviation == Deviation::kOverlappingAllan) return variance;
+  const long long n = phase.size() - 1;
+  std::vector<double> out(m.size(), std::numeric_limits<double>::quiet_NaN());
+  std::vector<long long> few;
+  std::vector<size_t> where;
+  for (size_t k = 0; k < m.size(); ++k)
+    if (n / m[k] < 30 && m[k] <= MaxAveragingFactor(Deviation::kOverlappingAllan, n))
+      few.push_back(m[k]), where.push_back(k);
+  const std::vector<double> v = DeviationVariances(phase, Deviation::kOverlappingAllan, few);
+  for (size_t i = 0; i < few.size(); ++i) out[where[i]] = v[i];
+  return out;
+}
+
+}  // namespace
+
 AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double sample_rate_hz,
                          const AllanOptions& options) {
   AllanResult result;
   AllanSummary& summary = result.summary;
   AllanTable& table = result.table;
   table.deviation = options.deviation;
+  table.noise_id_rule = options.noise_id;
   std::string error;
   if (!options.IsValid(&error) || !(sample_rate_hz > 0.0) || !std::isfinite(sample_rate_hz)) {
     summary.termination = Termination::kInvalidOptions;
@@ -63,43 +89,28 @@ AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double s
   table.ci_high.assign(rows, nan);
   table.edf.assign(rows, nan);
   table.alpha.assign(rows, 0);
-  const int d = DifferenceOrder(options.deviation);
-  // B1's denominator (noise_id.h) is the overlapping Allan variance at m; it is only needed where
-  // fewer than 30 averages exist. For OADEV it is the result itself; otherwise it is computed for
-  // those few long factors in one extra blocked sweep.
-  std::vector<double> b1_avar(rows, std::numeric_limits<double>::quiet_NaN());
-  if (options.confidence_intervals) {
-    if (options.deviation == Deviation::kOverlappingAllan) {
-      b1_avar = variance;
-    } else {
-      std::vector<long long> few;
-      std::vector<size_t> where;
-      for (size_t k = 0; k < rows; ++k)
-        if (n / table.m[k] < 30 &&
-            table.m[k] <= MaxAveragingFactor(Deviation::kOverlappingAllan, n))
-          few.push_back(table.m[k]), where.push_back(k);
-      const std::vector<double> v = DeviationVariances(phase, Deviation::kOverlappingAllan, few);
-      for (size_t i = 0; i < few.size(); ++i) b1_avar[where[i]] = v[i];
-    }
-  }
-  int previous_alpha = 0;
+  table.alpha_method.assign(rows, NoiseIdMethod::kNone);
   for (size_t k = 0; k < rows; ++k) {
-    const long long m = table.m[k];
-    table.tau_s[k] = static_cast<double>(m) / sample_rate_hz;
+    table.tau_s[k] = static_cast<double>(table.m[k]) / sample_rate_hz;
     // TDEV comes in rate x tau0 (deviation.h): tau0 = 1 / sample_rate_hz makes it rate x s.
-    table.sigma[k] = std::sqrt(variance[k]) /
-                     (IsTimeDeviation(options.deviation) ? sample_rate_hz : 1.0);
-    table.count[k] = DifferenceCount(options.deviation, n, m);
-    if (!options.confidence_intervals) continue;
-    const NoiseId id = IdentifyNoise(phase, m, d, b1_avar[k]);
-    // With too few averages to identify anything, keep the noise type of the shorter tau.
-    const int alpha = id.method == NoiseIdMethod::kNone ? previous_alpha : id.alpha;
-    previous_alpha = alpha;
-    table.alpha[k] = alpha;
-    table.edf[k] = DeviationEdf(options.deviation, alpha, m, n, options.sampled_phase_edf);
-    if (table.edf[k] > 0.0)
-      ConfidenceBounds(table.sigma[k], table.edf[k], options.confidence, &table.ci_low[k],
-                       &table.ci_high[k]);
+    table.sigma[k] =
+        std::sqrt(variance[k]) / (IsTimeDeviation(options.deviation) ? sample_rate_hz : 1.0);
+    table.count[k] = DifferenceCount(options.deviation, n, table.m[k]);
+  }
+  if (options.confidence_intervals) {
+    const std::vector<double> b1_avar =
+        OverlappingAllanBelow30Averages(phase, options.deviation, table.m, variance);
+    const std::vector<NoiseId> ids = IdentifyNoiseTypes(
+        phase, table.m, table.count, b1_avar, DifferenceOrder(options.deviation), options.noise_id);
+    for (size_t k = 0; k < rows; ++k) {
+      table.alpha[k] = ids[k].alpha;
+      table.alpha_method[k] = ids[k].method;
+      table.edf[k] =
+          DeviationEdf(options.deviation, ids[k].alpha, table.m[k], n, options.sampled_phase_edf);
+      if (table.edf[k] > 0.0)
+        ConfidenceBounds(table.sigma[k], table.edf[k], options.confidence, &table.ci_low[k],
+                         &table.ci_high[k]);
+    }
   }
   summary.taus = static_cast<long long>(rows);
   summary.termination = Termination::kSuccess;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "algorithms/allan/deviation.h"
+#include "algorithms/allan/noise_id.h"
 #include "algorithms/allan/tau_grid.h"
 #include "algorithms/common/status.h"
 
@@ -29,6 +30,9 @@ struct AllanOptions {
   /// that bounds match Stable32's); true = exact for phase sampled as the running sum of the rate,
   /// which for white FM at m <= 33 differs by up to 17 % in EDF (up to ~8 % in bound width).
   bool sampled_phase_edf = false;
+  /// Noise identification along the tau grid (noise_id.h): kCalibrated (default) is chosen by
+  /// the measured coverage of the intervals; kStable32 reproduces Stable32's Alpha column.
+  NoiseIdRule noise_id = NoiseIdRule::kCalibrated;
 
   bool IsValid(std::string* error) const;
 };
@@ -36,15 +40,17 @@ struct AllanOptions {
 /// One row per averaging factor. sigma, ci_low and ci_high are in the unit of the input rate
 /// (rad/s for fogpipe's gyro data).
 struct AllanTable {
-  std::vector<double> tau_s;     ///< Averaging time m / sample_rate_hz [s].
-  std::vector<long long> m;      ///< Averaging factor.
-  std::vector<double> sigma;     ///< Deviation [rate unit]; TDEV: [rate unit x s] (an angle).
-  std::vector<double> ci_low;    ///< Lower bound sigma sqrt(edf / chi2_{(1+c)/2}) [rate unit].
-  std::vector<double> ci_high;   ///< Upper bound sigma sqrt(edf / chi2_{(1-c)/2}) [rate unit].
-  std::vector<double> edf;       ///< Equivalent degrees of freedom (Greenhall & Riley 2003).
-  std::vector<int> alpha;        ///< Identified power-law exponent (noise_id.h), as Stable32.
-  std::vector<long long> count;  ///< Number of difference terms (Stable32's "#").
+  std::vector<double> tau_s;    ///< Averaging time m / sample_rate_hz [s].
+  std::vector<long long> m;     ///< Averaging factor.
+  std::vector<double> sigma;    ///< Deviation [rate unit]; TDEV: [rate unit x s] (an angle).
+  std::vector<double> ci_low;   ///< Lower bound sigma sqrt(edf / chi2_{(1+c)/2}) [rate unit].
+  std::vector<double> ci_high;  ///< Upper bound sigma sqrt(edf / chi2_{(1-c)/2}) [rate unit].
+  std::vector<double> edf;      ///< Equivalent degrees of freedom (Greenhall & Riley 2003).
+  std::vector<int> alpha;       ///< Identified power-law exponent S_y ~ f^alpha (noise_id.h).
+  std::vector<NoiseIdMethod> alpha_method;  ///< How alpha was identified (noise_id.h).
+  std::vector<long long> count;             ///< Number of difference terms (Stable32's "#").
   Deviation deviation = Deviation::kOverlappingAllan;
+  NoiseIdRule noise_id_rule = NoiseIdRule::kCalibrated;  ///< the rule behind alpha
 
   size_t size() const { return tau_s.size(); }
 };
@@ -63,7 +69,7 @@ struct AllanResult {
 
 /// Deviation of `rate` sampled at sample_rate_hz. Non-finite input gives kNumericalFailure; fewer
 /// than 2 (Allan) or 3 (Hadamard) samples give kInsufficientData. When confidence intervals are
-/// off, ci_low / ci_high / edf are NaN and alpha is 0.
+/// off, ci_low / ci_high / edf are NaN, alpha is 0 and alpha_method kNone.
 AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double sample_rate_hz,
                          const AllanOptions& options);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -163,13 +164,12 @@ AllanAndModified OverlappingAllanAndModified(const Eigen::VectorXd& x, long long
   return out;
 }
 
-NoiseId B1Method(const Eigen::VectorXd& phase, long long m, long long averages, int d,
-                 double allan_variance_m) {
+// Ratio of the N-sample variance of the `averages` m-averages to the Allan variance at m
+// (`allan_variance_m`; NaN: the non-overlapping two-sample variance of the same averages).
+double B1Ratio(const Eigen::VectorXd& phase, long long m, long long averages,
+               double allan_variance_m) {
   std::vector<double> z(static_cast<size_t>(averages));
   for (long long k = 0; k < averages; ++k) z[k] = phase[(k + 1) * m] - phase[k * m];
-  NoiseId id;
-  id.method = NoiseIdMethod::kB1Ratio;
-  id.alpha_estimate = kNaN;
   const double n = static_cast<double>(z.size());
   double mu_z = 0.0;
   for (double v : z) mu_z += v;
@@ -183,32 +183,153 @@ NoiseId B1Method(const Eigen::VectorXd& phase, long long m, long long averages, 
     for (size_t k = 0; k + 1 < z.size(); ++k) avar += (z[k + 1] - z[k]) * (z[k + 1] - z[k]);
     avar /= 2.0 * (n - 1.0) * static_cast<double>(m) * static_cast<double>(m);
   }
-  const double b1 = avar > 0.0 ? var / avar : 1.0;
-  // Highest mu whose boundary (geometric mean of neighbouring expectations) b1 exceeds; the
-  // Allan variance does not converge for mu = 2 (alpha = -3), so that class is Hadamard only.
+  return avar > 0.0 ? var / avar : 1.0;
+}
+
+// Phase-noise exponent mu = -alpha - 1 of a B1 ratio whose expectations are evaluated at
+// `n_expected` points: the highest mu whose boundary with mu - 1 (geometric mean of the two
+// expectations) b1 exceeds, -2 (phase noise) if none. The Allan variance does not converge for
+// mu = 2 (alpha = -3), so that class is Hadamard only.
+int B1Class(double b1, double n_expected, int d) {
   const int mu_max = d >= 3 ? 2 : 1;
-  int mu = -2;
-  for (int cand = mu_max; cand > -2; --cand) {
-    if (b1 > std::sqrt(ExpectedB1(n, cand) * ExpectedB1(n, cand - 1))) {
-      mu = cand;
-      break;
-    }
-  }
+  for (int cand = mu_max; cand > -2; --cand)
+    if (b1 > std::sqrt(ExpectedB1(n_expected, cand) * ExpectedB1(n_expected, cand - 1)))
+      return cand;
+  return -2;
+}
+
+// R(n) of flicker PM with the measurement bandwidth at the Nyquist frequency (TN 1337, A-6:
+// omega_h tau = pi m).
+double FlickerPmRn(long long m) {
+  return 3.37 / (1.04 + 3.0 * std::log(units::kPi * static_cast<double>(m)));
+}
+
+// White (2) or flicker (1) PM from R(n): boundary at the geometric mean of 1/m and FlickerPmRn.
+int PhaseNoiseAlpha(double rn, long long m) {
+  const double boundary = std::sqrt(FlickerPmRn(m) / static_cast<double>(m));
+  return (rn > boundary || !(rn == rn)) ? 1 : 2;
+}
+
+// Whether R(n) says frequency noise: above the geometric mean of white FM's 0.5 and flicker PM's
+// R(n). Below m = 8 flicker PM's R(n) (0.39 at m = 4) comes too close to white FM's to separate
+// them, and the caller keeps its other reading.
+constexpr long long kMinRnFactor = 8;
+bool RnSaysFrequencyNoise(double rn, long long m) { return rn > std::sqrt(0.5 * FlickerPmRn(m)); }
+
+// Barnes' textbook B1 with expectations at the number of averages, R(n) for phase noise.
+NoiseId B1Method(const Eigen::VectorXd& phase, long long m, long long averages, int d,
+                 double allan_variance_m, double n_expected) {
+  NoiseId id;
+  id.method = NoiseIdMethod::kB1Ratio;
+  id.alpha_estimate = kNaN;
+  const int mu = B1Class(B1Ratio(phase, m, averages, allan_variance_m), n_expected, d);
   if (mu > -2) {
     id.alpha = -mu - 1;
     return id;
   }
-  // Phase noise: white PM has R(n) = 1/m, flicker PM ~ 3.37 / (1.04 + 3 ln(pi m)) (TN 1337).
   id.method = NoiseIdMethod::kB1AndRn;
-  const double md = static_cast<double>(m);
-  const AllanAndModified allan = OverlappingAllanAndModified(phase, m);
-  const double rn = allan.mvar / allan.avar;
-  const double boundary = std::sqrt((1.0 / md) * 3.37 / (1.04 + 3.0 * std::log(units::kPi * md)));
-  id.alpha = (rn > boundary || !(rn == rn)) ? 1 : 2;
+  id.alpha = PhaseNoiseAlpha(ModifiedToAllanRatio(phase, m), m);
+  return id;
+}
+
+NoiseId Carried(const NoiseId& previous) {
+  NoiseId id;
+  id.alpha = previous.alpha;
+  id.alpha_estimate = kNaN;
+  id.method = NoiseIdMethod::kCarried;
+  return id;
+}
+
+// Stable32's rule (see noise_id.h).
+NoiseId Stable32Rule(const Eigen::VectorXd& phase, long long m, long long averages, long long count,
+                     int d, const NoiseId* previous) {
+  if (averages >= kMinAcfPoints) return Lag1Method(phase, m, averages, d);
+  if (previous != nullptr && (averages < 9 || count < 9)) return Carried(*previous);
+  if (averages < 4) return previous ? Carried(*previous) : NoiseId{0, kNaN, NoiseIdMethod::kNone};
+  return B1Method(phase, m, averages, d, kNaN, static_cast<double>(count));
+}
+
+// The coverage-calibrated rule (see noise_id.h).
+constexpr long long kRnConfirmBelow = 1000;  // lag-1 misreadings vanish above ~300 averages
+constexpr long long kMinB1Averages = 8;
+NoiseId CalibratedRule(const Eigen::VectorXd& phase, long long m, long long averages, int d,
+                       double overlapping_avar, const NoiseId* previous) {
+  NoiseId id;
+  if (averages >= kMinAcfPoints) {
+    id = Lag1Method(phase, m, averages, d);
+    if (id.alpha >= 1 && m >= kMinRnFactor) {
+      const double rn = ModifiedToAllanRatio(phase, m);
+      const bool frequency = RnSaysFrequencyNoise(rn, m);
+      const int alpha = frequency ? 0 : PhaseNoiseAlpha(rn, m);
+      if ((!frequency || averages < kRnConfirmBelow) && alpha != id.alpha) {
+        id.alpha = alpha;
+        id.method = NoiseIdMethod::kLag1AndRn;
+      }
+    }
+  } else if (averages >= kMinB1Averages || (previous == nullptr && averages >= 4)) {
+    if (m < kMinRnFactor)
+      return B1Method(phase, m, averages, d, overlapping_avar, static_cast<double>(averages));
+    const double rn = ModifiedToAllanRatio(phase, m);
+    id.alpha_estimate = kNaN;
+    id.method = NoiseIdMethod::kB1AndRn;
+    if (!RnSaysFrequencyNoise(rn, m)) {
+      id.alpha = PhaseNoiseAlpha(rn, m);
+    } else {
+      const int mu =
+          B1Class(B1Ratio(phase, m, averages, overlapping_avar), static_cast<double>(averages), d);
+      id.alpha = -std::max(mu, -1) - 1;  // B1's phase-noise class is white FM once R(n) ruled
+    }
+  } else {
+    return previous ? Carried(*previous) : NoiseId{0, kNaN, NoiseIdMethod::kNone};
+  }
+  if (previous != nullptr && previous->alpha <= 0 && id.alpha >= 1) return Carried(*previous);
   return id;
 }
 
 }  // namespace
+
+const char* ToString(NoiseIdMethod method) {
+  switch (method) {
+    case NoiseIdMethod::kLag1Autocorrelation:
+      return "lag1";
+    case NoiseIdMethod::kLag1AndRn:
+      return "lag1_rn";
+    case NoiseIdMethod::kB1Ratio:
+      return "b1";
+    case NoiseIdMethod::kB1AndRn:
+      return "b1_rn";
+    case NoiseIdMethod::kCarried:
+      return "carried";
+    case NoiseIdMethod::kNone:
+      return "none";
+  }
+  return "none";
+}
+
+std::vector<std::string> MethodNames(const std::vector<NoiseIdMethod>& methods) {
+  std::vector<std::string> names;
+  names.reserve(methods.size());
+  for (NoiseIdMethod m : methods) names.emplace_back(ToString(m));
+  return names;
+}
+
+const char* ToString(NoiseIdRule rule) {
+  return rule == NoiseIdRule::kStable32 ? "stable32" : "calibrated";
+}
+
+bool ParseNoiseIdRule(const std::string& name, NoiseIdRule* rule) {
+  for (NoiseIdRule r : {NoiseIdRule::kCalibrated, NoiseIdRule::kStable32})
+    if (name == ToString(r)) {
+      *rule = r;
+      return true;
+    }
+  return false;
+}
+
+double ModifiedToAllanRatio(const Eigen::VectorXd& phase, long long m) {
+  const AllanAndModified allan = OverlappingAllanAndModified(phase, m);
+  return allan.avar > 0.0 ? allan.mvar / allan.avar : kNaN;
+}
 
 NoiseId IdentifyNoise(const Eigen::VectorXd& phase, long long m, int d, double allan_variance_m) {
   NoiseId id;
@@ -218,10 +339,37 @@ NoiseId IdentifyNoise(const Eigen::VectorXd& phase, long long m, int d, double a
     id.alpha_estimate = kNaN;
     return id;
   }
-  id = averages >= kMinAcfPoints ? Lag1Method(phase, m, averages, d)
-                                 : B1Method(phase, m, averages, d, allan_variance_m);
+  id = averages >= kMinAcfPoints
+           ? Lag1Method(phase, m, averages, d)
+           : B1Method(phase, m, averages, d, allan_variance_m, static_cast<double>(averages));
   id.alpha = std::clamp(id.alpha, 2 - 2 * d, 2);
   return id;
+}
+
+std::vector<NoiseId> IdentifyNoiseTypes(const Eigen::VectorXd& phase,
+                                        const std::vector<long long>& m,
+                                        const std::vector<long long>& count,
+                                        const std::vector<double>& overlapping_avar, int d,
+                                        NoiseIdRule rule) {
+  std::vector<NoiseId> out(m.size());
+  const long long n = phase.size() - 1;
+  if (d < 1 || d > kMaxDifferences) {
+    for (NoiseId& id : out) id.alpha_estimate = kNaN;
+    return out;
+  }
+  const NoiseId* previous = nullptr;
+  for (size_t k = 0; k < m.size(); ++k) {
+    const long long averages = m[k] >= 1 ? n / m[k] : 0;
+    const double avar = k < overlapping_avar.size() ? overlapping_avar[k] : kNaN;
+    const long long c = k < count.size() ? count[k] : averages;
+    NoiseId id = rule == NoiseIdRule::kStable32
+                     ? Stable32Rule(phase, m[k], averages, c, d, previous)
+                     : CalibratedRule(phase, m[k], averages, d, avar, previous);
+    id.alpha = std::clamp(id.alpha, 2 - 2 * d, 2);
+    out[k] = id;
+    if (id.method != NoiseIdMethod::kNone) previous = &out[k];
+  }
+  return out;
 }
 
 }  // namespace fogpipe::allan

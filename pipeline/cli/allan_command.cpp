@@ -24,6 +24,7 @@ struct AllanArgs {
   std::string axis;  // empty: the first axis
   std::string deviation = allan::ToString(allan::AllanOptions{}.deviation);
   std::string taus = "octave";
+  std::string noise_id = allan::ToString(allan::AllanOptions{}.noise_id);
   bool json = false;
   bool csv = false;
   double confidence = 0.683;
@@ -40,6 +41,11 @@ int RunAllan(const AllanArgs& args) {
   Eigen::VectorXd rate_rad_s;
   allan::AllanOptions options;
   options.confidence = args.confidence;
+  if (!allan::ParseNoiseIdRule(args.noise_id, &options.noise_id)) {
+    std::cerr << "fogpipe allan: --noise-id must be calibrated or stable32, got '" << args.noise_id
+              << "'\n";
+    return 2;
+  }
   if (!allan::ParseDeviation(args.deviation, &options.deviation)) {
     std::cerr << "fogpipe allan: --deviation must be one of " << io::DeviationList() << ", got '"
               << args.deviation << "'\n";
@@ -117,6 +123,10 @@ void AddAllanCommand(CLI::App& app, int* exit_code) {
   auto* json = cmd->add_flag("--json", args->json, "Print one JSON object");
   auto* csv = cmd->add_flag("--csv", args->csv, "Print the table as CSV");
   json->excludes(csv);
+  cmd->add_option("--noise-id", args->noise_id,
+                  "Noise identification behind the intervals: calibrated (chosen by measured "
+                  "coverage) or stable32 (reproduces Stable32's Alpha column)")
+      ->capture_default_str();
   cmd->add_option("--confidence", args->confidence, "Two-sided confidence level of the interval")
       ->capture_default_str();
   cmd->add_option("--max-nan-gap", args->max_nan_gap,

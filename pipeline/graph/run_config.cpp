@@ -144,6 +144,10 @@ void AddRunOptions(CLI::App* cmd, RunConfig* c) {
                   "Method 2's AR order (0: by BIC; the paper used 6)")
       ->check(CLI::Range(0, 200));
   cmd->add_option("--taus", c->taus, "Allan tau grid: octave, decade:K or all");
+  cmd->add_option("--noise-id", c->noise_id,
+                  "Noise identification behind the Allan intervals: calibrated (chosen by measured "
+                  "coverage) or stable32 (Stable32's Alpha column)")
+      ->check(CLI::IsMember({"calibrated", "stable32"}));
   cmd->add_option(
       "--model", c->model,
       "Model file of `compare --save-model`: its deterministic effects are subtracted before the "
@@ -201,6 +205,7 @@ std::string EffectiveConfigToml(const RunConfig& c) {
       << "store-filtered-imfs = " << (c.store_filtered_imfs ? "true" : "false") << "\n"
       << "direct-ar-order = " << c.direct_ar_order << "\n"
       << "taus = " << Quoted(c.taus) << "\n"
+      << "noise-id = " << Quoted(c.noise_id) << "\n"
       << "model = " << Quoted(c.model) << "\n";
   return out.str();
 }
@@ -244,6 +249,10 @@ bool ToCampaignOptions(const RunConfig& c, CampaignOptions* o, std::string* erro
   m.direct_ar_order = c.direct_ar_order;
   if (!ParseTaus(c.taus, &m.allan.grid)) {
     *error = "--taus: expected octave, decade:K (K >= 1) or all, got '" + c.taus + "'";
+    return false;
+  }
+  if (!allan::ParseNoiseIdRule(c.noise_id, &m.allan.noise_id)) {
+    *error = "--noise-id: expected calibrated or stable32, got '" + c.noise_id + "'";
     return false;
   }
   if (!m.IsValid(error)) return false;

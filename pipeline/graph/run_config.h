@@ -46,6 +46,8 @@ struct RunConfig {
   bool store_filtered_imfs = false;
   int direct_ar_order = 0;
   std::string taus = "octave";
+  /// Noise identification behind the Allan intervals (algorithms/allan/noise_id.h).
+  std::string noise_id = "calibrated";
   std::string model;
 };
 

@@ -144,7 +144,8 @@ void WriteReferenceFilters(Group signals, Group allan,
     f.WriteDoubleAttribute("parameter", o.parameter);
     if (!HasResult(o.termination)) continue;
     WriteColumnDataset(f, "signal", {&o.signal}, false, results::kRateUnits, storage);
-    if (HasResult(r.allan.allan.summary.termination)) WriteAllan(allan.CreateGroup(o.name), r.allan);
+    if (HasResult(r.allan.allan.summary.termination))
+      WriteAllan(allan.CreateGroup(o.name), r.allan);
   }
 }
 
@@ -180,6 +181,9 @@ void WriteAllan(Group group, const method::AllanEvaluation& evaluation) {
   group.WriteDataset("ci_low", t.ci_low, results::kRateUnits);
   group.WriteDataset("ci_high", t.ci_high, results::kRateUnits);
   group.WriteDataset("edf", t.edf, "1");
+  group.WriteStringAttribute("noise_id_rule", allan::ToString(t.noise_id_rule));
+  group.WriteDataset("alpha", std::vector<long long>(t.alpha.begin(), t.alpha.end()), "1");
+  group.WriteStringDataset("alpha_method", allan::MethodNames(t.alpha_method));
   group.WriteDataset("count", t.count, "1");
 
   Group noise = group.CreateGroup("noise");
