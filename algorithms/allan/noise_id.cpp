@@ -269,15 +269,20 @@ NoiseId CalibratedRule(const Eigen::VectorXd& phase, long long m, long long aver
   } else if (averages >= kMinB1Averages || (previous == nullptr && averages >= 4)) {
     if (m < kMinRnFactor)
       return B1Method(phase, m, averages, d, overlapping_avar, static_cast<double>(averages));
-    const double rn = ModifiedToAllanRatio(phase, m);
+    // B1 first: random-walk FM (B1 ~ N / 2) is far from every other class and needs no O(n)
+    // pass; otherwise R(n) decides between phase and frequency noise (B1's phase-noise class,
+    // expectation ~0.7, overlaps white and flicker FM's, 1 and ~2, at 8-29 averages) and B1
+    // orders the frequency noises.
+    const int mu =
+        B1Class(B1Ratio(phase, m, averages, overlapping_avar), static_cast<double>(averages), d);
     id.alpha_estimate = kNaN;
-    id.method = NoiseIdMethod::kB1AndRn;
-    if (!RnSaysFrequencyNoise(rn, m)) {
-      id.alpha = PhaseNoiseAlpha(rn, m);
+    id.method = NoiseIdMethod::kB1Ratio;
+    if (mu >= 1) {
+      id.alpha = -mu - 1;
     } else {
-      const int mu =
-          B1Class(B1Ratio(phase, m, averages, overlapping_avar), static_cast<double>(averages), d);
-      id.alpha = -std::max(mu, -1) - 1;  // B1's phase-noise class is white FM once R(n) ruled
+      const double rn = ModifiedToAllanRatio(phase, m);
+      id.method = NoiseIdMethod::kB1AndRn;
+      id.alpha = RnSaysFrequencyNoise(rn, m) ? -std::max(mu, -1) - 1 : PhaseNoiseAlpha(rn, m);
     }
   } else {
     return previous ? Carried(*previous) : NoiseId{0, kNaN, NoiseIdMethod::kNone};

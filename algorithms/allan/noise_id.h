@@ -20,16 +20,17 @@
 //    +-0.25 against a standard error ~1/sqrt(averages)), and flicker PM's EDF is ten times white
 //    FM's there, so each such row prints an interval three times too narrow. R(n) separates phase
 //    from frequency noise far more sharply (0.5 for white FM against 0.1-0.2 for flicker PM and
-//    1/m for white PM, from all n samples rather than n / m averages), so it confirms every
-//    phase-noise reading from m = 8 (frequency noise only below 1000 averages). It also splits
-//    white from flicker PM, where the lag-1 statistic of m-averaged flicker PM drifts towards
-//    white PM's as m grows (a third to a half of flicker-PM rows read as white PM at m = 16-512
-//    of 2^14 samples, intervals then covering 36-64 %); with 8-29 averages it decides phase against
-//    frequency noise and B1 only orders the frequency noises. Below 8 averages no statistic
-//    separates the types (B1's classes overlap at 4-7 averages), and phase noise cannot follow
-//    frequency noise at a longer tau in a sum of power laws (each power law's Allan variance
-//    falls as tau^-(alpha + 1) at most, the dominant alpha is non-increasing in tau): both cases
-//    keep the type of the shorter tau.
+//    1/m for white PM, from all n samples rather than n / m averages), so it confirms every phase-
+//    noise reading from m = 8 (frequency noise only below 1000 averages). It also splits white
+//    from flicker PM, where the lag-1 statistic of m-averaged flicker PM drifts towards white PM's
+//    as m grows (a third to a half of flicker-PM rows read as white PM at m = 16-512 of 2^14
+//    samples, intervals then covering 36-64 %); with 8-29 averages B1 reads random-walk FM alone
+//    and otherwise R(n) separates phase from frequency noise and B1 orders the frequency noises.
+//    Below 8 averages no statistic separates the types (B1's classes overlap at 4-7 averages), and
+//    phase noise cannot follow frequency noise at a longer tau in a sum of power laws (Allan
+//    variances fall as tau^-(alpha + 1) for frequency noise and tau^-2 (times ln tau for flicker)
+//    for phase noise, so the dominant alpha is non-increasing in tau): both cases keep the type of
+//    the shorter tau.
 //  - kStable32 reproduces Stable32's Alpha column on every row of its PHASE.DAT, OCXO and
 //    flicker-FM reports: lag-1 from 30 averages; below, B1 against Howe et al.'s expectations
 //    evaluated at the deviation's count of differences (Stable32's "#") with the non-overlapping

@@ -84,6 +84,8 @@ void ComputeAllanView(const AllanData& d, const StochasticModel& m, const ViewOp
   v->tau_s = d.tau_s;
   v->avar_meas = d.avar;
   v->edf = d.edf;
+  v->alpha = d.alpha;
+  v->alpha_method = d.alpha_method;
   v->ci_low = d.ci_low;
   v->ci_high = d.ci_high;
   for (Term t : m.terms) {
@@ -385,6 +387,8 @@ AllanData ResidualAllan(const Eigen::VectorXd& r, double fs, const ViewOptions& 
     d.tau_s.push_back(t.tau_s[i]);
     d.avar.push_back(t.sigma[i] * t.sigma[i]);
     d.edf.push_back(t.edf[i]);
+    d.alpha.push_back(t.alpha[i]);
+    d.alpha_method.push_back(allan::ToString(t.alpha_method[i]));
     d.ci_low.push_back(t.ci_low[i]);
     d.ci_high.push_back(t.ci_high[i]);
   }

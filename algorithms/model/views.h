@@ -77,6 +77,8 @@ struct ViewOptions {
 /// Allan variance of the residual at the view's taus, from fogpipe::allan.
 struct AllanData {
   std::vector<double> tau_s, avar, edf, ci_low, ci_high;  ///< avar (rad/s)^2; ci on sigma, rad/s
+  std::vector<int> alpha;                 ///< noise type behind each EDF (allan/noise_id.h)
+  std::vector<std::string> alpha_method;  ///< how it was identified
 };
 
 struct Failure {
@@ -89,6 +91,8 @@ struct Failure {
 
 struct AllanView {
   std::vector<double> tau_s, avar_meas, avar_model, ci_low, ci_high, edf, z;
+  std::vector<int> alpha;                 ///< noise type behind each EDF (allan/noise_id.h)
+  std::vector<std::string> alpha_method;  ///< how it was identified
   std::vector<std::string> term_names;
   std::vector<std::vector<double>> term_avar;  ///< per term, at tau_s
   /// Targeted Gauss-Markov bump test (targeted_tests.h): z = signed root of the chi-square drop

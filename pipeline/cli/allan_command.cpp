@@ -46,6 +46,8 @@ int RunAllan(const AllanArgs& args) {
               << "'\n";
     return 2;
   }
+  // Stable32's bounds come from its noise types and the EDF as Greenhall & Riley printed it.
+  options.sampled_phase_edf = options.noise_id != allan::NoiseIdRule::kStable32;
   if (!allan::ParseDeviation(args.deviation, &options.deviation)) {
     std::cerr << "fogpipe allan: --deviation must be one of " << io::DeviationList() << ", got '"
               << args.deviation << "'\n";
@@ -125,7 +127,8 @@ void AddAllanCommand(CLI::App& app, int* exit_code) {
   json->excludes(csv);
   cmd->add_option("--noise-id", args->noise_id,
                   "Noise identification behind the intervals: calibrated (chosen by measured "
-                  "coverage) or stable32 (reproduces Stable32's Alpha column)")
+                  "coverage) or stable32 (Stable32's Alpha column and EDF convention, so that "
+                  "bounds match its Min / Max Sigma)")
       ->capture_default_str();
   cmd->add_option("--confidence", args->confidence, "Two-sided confidence level of the interval")
       ->capture_default_str();

@@ -146,7 +146,7 @@ void AddRunOptions(CLI::App* cmd, RunConfig* c) {
   cmd->add_option("--taus", c->taus, "Allan tau grid: octave, decade:K or all");
   cmd->add_option("--noise-id", c->noise_id,
                   "Noise identification behind the Allan intervals: calibrated (chosen by measured "
-                  "coverage) or stable32 (Stable32's Alpha column)")
+                  "coverage) or stable32 (Stable32's Alpha column and EDF convention)")
       ->check(CLI::IsMember({"calibrated", "stable32"}));
   cmd->add_option(
       "--model", c->model,
@@ -255,6 +255,8 @@ bool ToCampaignOptions(const RunConfig& c, CampaignOptions* o, std::string* erro
     *error = "--noise-id: expected calibrated or stable32, got '" + c.noise_id + "'";
     return false;
   }
+  // Stable32's bounds come from its noise types and the EDF as Greenhall & Riley printed it.
+  m.allan.sampled_phase_edf = m.allan.noise_id != allan::NoiseIdRule::kStable32;
   if (!m.IsValid(error)) return false;
   if (!c.model.empty() && !ReadModelCompensation(c.model, o, error)) return false;
   if (!io::ParseImfStorage(c.imf_storage, &o->results.imf_storage)) {

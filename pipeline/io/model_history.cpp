@@ -66,6 +66,8 @@ void WriteViews(hdf5::Group& g, const model::Evaluation& e) {
   a.WriteDataset("ci_low", v.allan.ci_low, "rad/s");
   a.WriteDataset("ci_high", v.allan.ci_high, "rad/s");
   a.WriteDataset("edf", v.allan.edf, "1");
+  a.WriteDataset("alpha", std::vector<long long>(v.allan.alpha.begin(), v.allan.alpha.end()), "1");
+  a.WriteStringDataset("alpha_method", v.allan.alpha_method);
   a.WriteDataset("z", v.allan.z, "1");
   a.WriteDoubleAttribute("statistic", v.allan.statistic);
   a.WriteDoubleAttribute("critical", v.allan.critical);

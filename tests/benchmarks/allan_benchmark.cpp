@@ -48,9 +48,11 @@ std::vector<long long> LogSpacedFactors(long long max_m, int count) {
   }
 }
 
-void RunAllan(benchmark::State& state, Deviation deviation, bool ci) {
+void RunAllan(benchmark::State& state, Deviation deviation, bool ci,
+              NoiseIdRule rule = NoiseIdRule::kCalibrated) {
   const Eigen::VectorXd& rate = Rate();
   AllanOptions options;
+  options.noise_id = rule;
   options.deviation = deviation;
   options.confidence_intervals = ci;
   options.grid.kind = TauGridKind::kExplicit;
@@ -64,6 +66,10 @@ void RunAllan(benchmark::State& state, Deviation deviation, bool ci) {
 }
 
 void BM_Oadev64TausWithCi(benchmark::State& s) { RunAllan(s, Deviation::kOverlappingAllan, true); }
+// The Stable32 rule, for the cost of the calibrated rule's R(n) passes (noise_id.h).
+void BM_Oadev64TausWithCiStable32Rule(benchmark::State& s) {
+  RunAllan(s, Deviation::kOverlappingAllan, true, NoiseIdRule::kStable32);
+}
 void BM_Oadev64TausNoCi(benchmark::State& s) { RunAllan(s, Deviation::kOverlappingAllan, false); }
 void BM_Adev64TausWithCi(benchmark::State& s) { RunAllan(s, Deviation::kAllan, true); }
 void BM_Ohdev64TausWithCi(benchmark::State& s) {
@@ -121,6 +127,7 @@ void BM_FitNoiseTerms100Taus(benchmark::State& s) { RunFit100(s, 0.0); }
 void BM_FitNoiseTerms100TausRejected(benchmark::State& s) { RunFit100(s, 0.3); }
 
 BENCHMARK(BM_Oadev64TausWithCi)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Oadev64TausWithCiStable32Rule)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Oadev64TausNoCi)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Adev64TausWithCi)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Ohdev64TausWithCi)->Unit(benchmark::kMillisecond)->UseRealTime();

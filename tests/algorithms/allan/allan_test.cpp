@@ -51,6 +51,7 @@ AllanTable Compute(const OctaveCase& c, NoiseIdRule rule = NoiseIdRule::kStable3
   AllanOptions options;
   options.deviation = c.deviation;
   options.noise_id = rule;
+  options.sampled_phase_edf = rule != NoiseIdRule::kStable32;  // Stable32's convention (allan.h)
   const Eigen::VectorXd& y = c.data == Data::kOcxo ? ocxo : c.data == Data::kPink ? pink : phasedat;
   EXPECT_EQ(y.size(), Samples(c.data));
   const AllanResult result = ComputeAllan(y, 1.0, options);
@@ -131,8 +132,8 @@ TEST(ComputeAllan, CalibratedRuleAgreesWithStable32WhereTheLag1MethodDecides) {
   std::cout << "  " << lag1 << " rows by lag-1, " << other << " by other methods, " << differ
             << " of them with another type than Stable32's\n";
   EXPECT_EQ(lag1 + other, 94);
-  EXPECT_GE(lag1,
-            65);  // of the 73 rows with >= 30 averages; R(n) or the carry rule decide the rest
+  // Of the 73 rows with >= 30 averages; R(n) or the carry rule decide the rest.
+  EXPECT_GE(lag1, 65);
 }
 
 TEST(ComputeAllan, ReportsInvalidOptionsAndShortInput) {
@@ -234,6 +235,7 @@ bool ComputeNewKind(const NewKindCase& c, std::vector<testing::Stable32Row>* row
   AllanOptions options;
   options.deviation = c.deviation;
   options.noise_id = NoiseIdRule::kStable32;
+  options.sampled_phase_edf = false;  // Stable32's EDF convention (allan.h)
   const AllanResult result = ComputeAllan(y, 1.0, options);
   EXPECT_EQ(result.summary.termination, Termination::kSuccess) << result.summary.message;
   *table = result.table;
