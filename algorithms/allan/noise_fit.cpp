@@ -114,6 +114,15 @@ NoiseTerms SlopeReadoffs(const AllanTable& table, double slope_tolerance) {
       const double lt0 = std::log(table.tau_s[rows[k]]), lt1 = std::log(table.tau_s[rows[k + 1]]);
       const double ls0 = std::log(table.sigma[rows[k]]), ls1 = std::log(table.sigma[rows[k + 1]]);
       const double slope = (ls1 - ls0) / (lt1 - lt0);
+      // A slope known no better than the tolerance says nothing about which term made it: with
+      // edf e, sd(ln sigma) ~ 1 / sqrt(2 e) (chi-square), so the pair's slope has standard error
+      // sqrt(1 / (2 e0) + 1 / (2 e1)) / ln(tau1 / tau0) at most (neighbouring overlapping
+      // estimates are positively correlated, which only lowers it). At 8-19 averages that is
+      // ~0.4: a -1 slope there is as often white FM as quantization.
+      const double e0 = rows[k] < table.edf.size() ? table.edf[rows[k]] : kNaN;
+      const double e1 = rows[k + 1] < table.edf.size() ? table.edf[rows[k + 1]] : kNaN;
+      if (e0 > 0.0 && e1 > 0.0 && std::sqrt(0.5 / e0 + 0.5 / e1) / (lt1 - lt0) > slope_tolerance)
+        continue;
       if (std::abs(slope - target) <= best) {
         best = std::abs(slope - target);
         const double lt = 0.5 * (lt0 + lt1), ls = 0.5 * (ls0 + ls1);
@@ -423,8 +432,10 @@ NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& opt
   }
   if (!IeeeModelApplies(table.deviation)) {
     summary.termination = Termination::kInvalidOptions;
-    summary.message = std::string("the IEEE 952 model is that of the Allan variance; fit an OADEV "
-                                  "or ADEV table, not ") + ToString(table.deviation);
+    summary.message = std::string(
+                          "the IEEE 952 model is that of the Allan variance; fit an OADEV "
+                          "or ADEV table, not ") +
+                      ToString(table.deviation);
     return result;
   }
   const bool enabled[kTerms] = {options.fit_q, options.fit_n, options.fit_b, options.fit_k,

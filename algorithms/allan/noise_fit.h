@@ -167,7 +167,8 @@ double NoiseModelVariance(const NoiseTerms& terms, double tau_s);
 /// The read-offs alone: for each slope s in {-1, -1/2, +1/2, +1}, the adjacent pair of rows whose
 /// local log-log slope is closest to s (within `slope_tolerance`) anchors a line of slope s, read
 /// at tau = sqrt(3) (Q), 1 (N), 3 (K), sqrt(2) (R) s; B = min sigma / sqrt(2 ln2 / pi)
-/// (= / 0.6643).
+/// (= / 0.6643). Where the table has EDFs, a pair whose slope standard error (from the EDFs)
+/// exceeds `slope_tolerance` is not used: its slope cannot tell the terms apart.
 NoiseTerms SlopeReadoffs(const AllanTable& table, double slope_tolerance);
 
 }  // namespace fogpipe::allan
