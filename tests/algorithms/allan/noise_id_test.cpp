@@ -3,10 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
 #include "algorithms/allan/phase.h"
+#include "tests/algorithms/allan/power_law_noise.h"
 #include "tests/algorithms/allan/simulated_gyro.h"
 
 namespace fogpipe::allan {
@@ -116,6 +118,76 @@ TEST(IdentifyNoise, NeedsAtLeastFourAverages) {
   EXPECT_EQ(IdentifyNoise(phase, 30, 2).method, NoiseIdMethod::kNone);
   const NoiseIdMethod four = IdentifyNoise(phase, 25, 2).method;  // exactly 4 averages
   EXPECT_TRUE(four == NoiseIdMethod::kB1Ratio || four == NoiseIdMethod::kB1AndRn);
+}
+
+// R(n) = Mod AVAR / AVAR against its expectations (NIST TN 1337, A-6): 1/m for white PM, 1/2 for
+// white FM at large m, over 20 records of 2^14 samples at m = 64 (256 averages): the mean ratio
+// within 10 % of the expectation (its relative sd per record is ~sqrt(2 / 256 x 3) = 0.15 at
+// most, so the mean of 20 is within ~3 % at one sd).
+TEST(ModifiedToAllanRatio, EqualsItsExpectationForWhitePmAndWhiteFm) {
+  const long long n = 1 << 14, m = 64;
+  for (int alpha : {2, 0}) {
+    const testing::PowerLawNoise noise({{alpha, 1.0}}, n);
+    double sum = 0.0;
+    for (int r = 0; r < 20; ++r) sum += ModifiedToAllanRatio(MeanRemovedPhase(noise.Draw(r)), m);
+    const double expected = alpha == 2 ? 1.0 / m : 0.5;
+    EXPECT_NEAR(sum / 20.0, expected, 0.1 * expected) << "alpha " << alpha;
+  }
+}
+
+std::vector<long long> OctaveFactors(long long n) {
+  std::vector<long long> m;
+  for (long long k = 1; k <= n / 2; k *= 2) m.push_back(k);
+  return m;
+}
+
+std::vector<NoiseId> Types(const Eigen::VectorXd& rate, NoiseIdRule rule) {
+  const Eigen::VectorXd phase = MeanRemovedPhase(rate);
+  const std::vector<long long> m = OctaveFactors(rate.size());
+  std::vector<long long> count;
+  for (long long k : m) count.push_back(rate.size() + 1 - 2 * k);
+  return IdentifyNoiseTypes(phase, m, count, std::vector<double>(m.size(), NAN), 2, rule);
+}
+
+// Flicker PM at m = 64 .. 512 of 2^14 samples: the lag-1 statistic alone (the Stable32 rule)
+// reads white PM in a third of the records or more there; the calibrated rule's R(n) split reads
+// flicker PM in at least 90 % (40 records; 154 of 160 rows when written).
+TEST(IdentifyNoiseTypes, CalibratedRuleTellsFlickerFromWhitePmWhereLag1Cannot) {
+  const long long n = 1 << 14;
+  const testing::PowerLawNoise noise({{1, 1.0}}, n);
+  int calibrated_right = 0, stable32_right = 0, rows = 0;
+  for (int r = 0; r < 40; ++r) {
+    const Eigen::VectorXd rate = noise.Draw(100 + r);
+    const std::vector<NoiseId> c = Types(rate, NoiseIdRule::kCalibrated);
+    const std::vector<NoiseId> s = Types(rate, NoiseIdRule::kStable32);
+    for (int k = 6; k <= 9; ++k) {  // m = 64 .. 512
+      ++rows;
+      calibrated_right += c[k].alpha == 1;
+      stable32_right += s[k].alpha == 1;
+    }
+  }
+  std::printf("flicker PM read right: calibrated %d, Stable32 rule %d of %d rows\n",
+              calibrated_right, stable32_right, rows);
+  EXPECT_GE(calibrated_right, 0.9 * rows);
+  EXPECT_LE(stable32_right, 0.8 * rows);
+}
+
+// Below 8 averages the calibrated rule keeps the shorter tau's type, and so it does for phase
+// noise read after frequency noise; both are marked "carried".
+TEST(IdentifyNoiseTypes, CalibratedRuleCarriesTheShorterTausTypeBelowEightAverages) {
+  const long long n = 1 << 12;
+  const testing::PowerLawNoise noise({{0, 1.0}}, n);
+  for (int r = 0; r < 10; ++r) {
+    const std::vector<NoiseId> ids = Types(noise.Draw(300 + r), NoiseIdRule::kCalibrated);
+    const std::vector<long long> m = OctaveFactors(n);
+    for (size_t k = 1; k < ids.size(); ++k) {
+      if (n / m[k] < 8) {
+        EXPECT_EQ(ids[k].method, NoiseIdMethod::kCarried) << "m " << m[k];
+        EXPECT_EQ(ids[k].alpha, ids[k - 1].alpha) << "m " << m[k];
+      }
+      if (ids[k - 1].alpha <= 0) EXPECT_LE(ids[k].alpha, 0) << "phase noise after FM, m " << m[k];
+    }
+  }
 }
 
 }  // namespace
