@@ -151,7 +151,7 @@ std::vector<NoiseId> Types(const Eigen::VectorXd& rate, NoiseIdRule rule) {
 
 // Flicker PM at m = 64 .. 512 of 2^14 samples: the lag-1 statistic alone (the Stable32 rule)
 // reads white PM in a third of the records or more there; the calibrated rule's R(n) split reads
-// flicker PM in at least 90 % (40 records; 154 of 160 rows when written).
+// flicker PM in at least 90 % (40 records).
 TEST(IdentifyNoiseTypes, CalibratedRuleTellsFlickerFromWhitePmWhereLag1Cannot) {
   const long long n = 1 << 14;
   const testing::PowerLawNoise noise({{1, 1.0}}, n);
