@@ -141,24 +141,39 @@ struct AllanAndModified {
   double mvar = kNaN;
 };
 
-AllanAndModified OverlappingAllanAndModified(const Eigen::VectorXd& x, long long m) {
+// `avar_m` > 0 is taken as the overlapping Allan variance (the caller has it); otherwise it is
+// summed here. Mod AVAR's window sums of m second differences D_i are third differences of block
+// sums, sum_{i=j}^{j+m-1} D_i = S_{j+2m} - 2 S_{j+m} + S_j with S_k = x_k + ... + x_{k+m-1}, and
+// the three block sums slide by one sample per window: four loads per window.
+AllanAndModified OverlappingAllanAndModified(const Eigen::VectorXd& phase, long long m,
+                                             double avar_m) {
   AllanAndModified out;
-  const long long n_phase = x.size();
+  const long long n_phase = phase.size();
   const long long count = n_phase - 2 * m;  // second differences D_i, i < count
   const long long windows = n_phase - 3 * m + 1;
-  if (count < 1) return out;
-  auto diff2 = [&](long long i) { return x[i + 2 * m] - 2.0 * x[i + m] + x[i]; };
-  double avar_sum = 0.0;
-  for (long long i = 0; i < count; ++i) avar_sum += diff2(i) * diff2(i);
+  if (count < 1 || m < 1) return out;
+  const double* x = phase.data();
   const double md = static_cast<double>(m);
-  out.avar = avar_sum / (2.0 * md * md * static_cast<double>(count));
+  if (avar_m > 0.0) {
+    out.avar = avar_m;
+  } else {
+    double avar_sum = 0.0;
+    for (long long i = 0; i < count; ++i) {
+      const double d = x[i + 2 * m] - 2.0 * x[i + m] + x[i];
+      avar_sum += d * d;
+    }
+    out.avar = avar_sum / (2.0 * md * md * static_cast<double>(count));
+  }
   if (windows < 1) return out;
-  double window = 0.0;  // sum of m consecutive D_i, slid along
-  for (long long i = 0; i < m; ++i) window += diff2(i);
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+  for (long long i = 0; i < m; ++i) s0 += x[i], s1 += x[i + m], s2 += x[i + 2 * m];
   double mvar_sum = 0.0;
-  for (long long j = 0; j < windows; ++j) {
-    mvar_sum += window * window;
-    if (j + 1 < windows) window += diff2(j + m) - diff2(j);
+  for (long long j = 0;; ++j) {
+    const double w = s2 - 2.0 * s1 + s0;
+    mvar_sum += w * w;
+    if (j + 1 >= windows) break;
+    const double a = x[j], b = x[j + m], c = x[j + 2 * m], e = x[j + 3 * m];
+    s0 += b - a, s1 += c - b, s2 += e - c;
   }
   out.mvar = mvar_sum / (2.0 * md * md * md * md * static_cast<double>(windows));
   return out;
@@ -258,7 +273,7 @@ NoiseId CalibratedRule(const Eigen::VectorXd& phase, long long m, long long aver
   if (averages >= kMinAcfPoints) {
     id = Lag1Method(phase, m, averages, d);
     if (id.alpha >= 1 && m >= kMinRnFactor) {
-      const double rn = ModifiedToAllanRatio(phase, m);
+      const double rn = ModifiedToAllanRatio(phase, m, overlapping_avar);
       const bool frequency = RnSaysFrequencyNoise(rn, m);
       const int alpha = frequency ? 0 : PhaseNoiseAlpha(rn, m);
       if ((!frequency || averages < kRnConfirmBelow) && alpha != id.alpha) {
@@ -280,7 +295,7 @@ NoiseId CalibratedRule(const Eigen::VectorXd& phase, long long m, long long aver
     if (mu >= 1) {
       id.alpha = -mu - 1;
     } else {
-      const double rn = ModifiedToAllanRatio(phase, m);
+      const double rn = ModifiedToAllanRatio(phase, m, overlapping_avar);
       id.method = NoiseIdMethod::kB1AndRn;
       id.alpha = RnSaysFrequencyNoise(rn, m) ? -std::max(mu, -1) - 1 : PhaseNoiseAlpha(rn, m);
     }
@@ -331,8 +346,8 @@ bool ParseNoiseIdRule(const std::string& name, NoiseIdRule* rule) {
   return false;
 }
 
-double ModifiedToAllanRatio(const Eigen::VectorXd& phase, long long m) {
-  const AllanAndModified allan = OverlappingAllanAndModified(phase, m);
+double ModifiedToAllanRatio(const Eigen::VectorXd& phase, long long m, double allan_variance_m) {
+  const AllanAndModified allan = OverlappingAllanAndModified(phase, m, allan_variance_m);
   return allan.avar > 0.0 ? allan.mvar / allan.avar : kNaN;
 }
 

@@ -96,8 +96,10 @@ NoiseId IdentifyNoise(const Eigen::VectorXd& phase, long long m, int d,
 
 /// R(n) = Mod AVAR(m) / AVAR(m), both overlapping, from the phase (NIST TN 1337, A-6): about 1/m
 /// for white PM, 3.37 / (1.04 + 3 ln(pi m)) for flicker PM, 0.5 / 0.67 / 0.82 for white /
-/// flicker / random-walk FM. O(n). NaN when n < 3 m.
-double ModifiedToAllanRatio(const Eigen::VectorXd& phase, long long m);
+/// flicker / random-walk FM. O(n). NaN when n < 3 m. `allan_variance_m` > 0: the overlapping
+/// Allan variance at m as DeviationVariances returns it, when the caller has it (saves a pass).
+double ModifiedToAllanRatio(const Eigen::VectorXd& phase, long long m,
+                            double allan_variance_m = std::numeric_limits<double>::quiet_NaN());
 
 /// Noise types along a grid of averaging factors `m` (increasing) by `rule`. `count[k]` is the
 /// deviation's number of difference terms at m[k] (Stable32's "#"); `overlapping_avar[k]` the

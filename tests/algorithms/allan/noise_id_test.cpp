@@ -190,5 +190,34 @@ TEST(IdentifyNoiseTypes, CalibratedRuleCarriesTheShorterTausTypeBelowEightAverag
   }
 }
 
+// R(n)'s sliding block sums against the definitions summed plainly in long double: Mod AVAR =
+// sum_j (sum_{i=j}^{j+m-1} D_i)^2 / (2 m^4 (n - 3m + 1)), AVAR = sum_i D_i^2 / (2 m^2 (n - 2m)),
+// D_i = x_{i+2m} - 2 x_{i+m} + x_i; and the same ratio when the caller passes the Allan variance.
+TEST(ModifiedToAllanRatio, EqualsThePlainSumsOfItsDefinition) {
+  testing::GyroTruth truth;
+  truth.n_rad_sqrt_s = 1.0;
+  truth.k_rad_s_sqrt_s = 0.01;
+  const Eigen::VectorXd x = MeanRemovedPhase(testing::SimulateGyro(truth, 3000, 1.0, 5));
+  const long long n_phase = x.size();
+  for (long long m : {1LL, 7LL, 64LL, 333LL, 1000LL}) {
+    long double avar = 0.0L, mvar = 0.0L;
+    auto d2 = [&](long long i) {
+      return static_cast<long double>(x[i + 2 * m]) - 2.0L * x[i + m] + x[i];
+    };
+    for (long long i = 0; i + 2 * m < n_phase; ++i) avar += d2(i) * d2(i);
+    avar /= 2.0L * m * m * (n_phase - 2 * m);
+    for (long long j = 0; j + 3 * m <= n_phase; ++j) {
+      long double w = 0.0L;
+      for (long long i = j; i < j + m; ++i) w += d2(i);
+      mvar += w * w;
+    }
+    mvar /= 2.0L * m * m * m * m * (n_phase - 3 * m + 1);
+    const double expected = static_cast<double>(mvar / avar);
+    EXPECT_NEAR(ModifiedToAllanRatio(x, m), expected, 1e-9 * expected) << "m " << m;
+    EXPECT_NEAR(ModifiedToAllanRatio(x, m, static_cast<double>(avar)), expected, 1e-9 * expected)
+        << "m " << m;
+  }
+}
+
 }  // namespace
 }  // namespace fogpipe::allan
