@@ -89,6 +89,24 @@ double NoiseModelVariance(const NoiseTerms& terms, double tau_s) {
   return v;
 }
 
+std::vector<int> ModelDominantAlpha(const NoiseTerms& terms, const std::vector<double>& tau_s) {
+  constexpr int kAlpha[kTerms] = {2, 0, -1, -2, -2};  // Q, N, B, K, R
+  NoiseTerms t = terms;
+  std::vector<int> out;
+  out.reserve(tau_s.size());
+  for (double tau : tau_s) {
+    int best = -1;
+    double best_v = 0.0;
+    for (int j = 0; j < kTerms; ++j) {
+      const double a = *Amplitude(&t, j);
+      const double v = std::isfinite(a) ? a * a * Basis(j, tau) : 0.0;
+      if (v > best_v) best_v = v, best = j;
+    }
+    out.push_back(best < 0 ? kNoModelAlpha : kAlpha[best]);
+  }
+  return out;
+}
+
 NoiseTerms SlopeReadoffs(const AllanTable& table, double slope_tolerance) {
   NoiseTerms out;
   out.q_rad = out.n_rad_sqrt_s = out.b_rad_s = out.k_rad_s_sqrt_s = out.r_rad_s2 = kNaN;

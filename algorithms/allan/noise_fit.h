@@ -164,6 +164,15 @@ NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& opt
 /// The model sigma^2(tau) [(rad/s)^2] of the five terms.
 double NoiseModelVariance(const NoiseTerms& terms, double tau_s);
 
+/// ModelDominantAlpha's value where no term is positive.
+inline constexpr int kNoModelAlpha = 99;
+
+/// The power-law exponent of the term that contributes most to the model variance at each tau,
+/// the cross-check of the identified noise types (noise_id.h): Q 2 (white PM), N 0 (white FM),
+/// B -1 (flicker FM), K -2 (random-walk FM); the ramp R, not a noise, counts as -2 (its Allan
+/// deviation rises faster still). kNoModelAlpha where every term is zero.
+std::vector<int> ModelDominantAlpha(const NoiseTerms& terms, const std::vector<double>& tau_s);
+
 /// The read-offs alone: for each slope s in {-1, -1/2, +1/2, +1}, the adjacent pair of rows whose
 /// local log-log slope is closest to s (within `slope_tolerance`) anchors a line of slope s, read
 /// at tau = sqrt(3) (Q), 1 (N), 3 (K), sqrt(2) (R) s; B = min sigma / sqrt(2 ln2 / pi)

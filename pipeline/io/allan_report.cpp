@@ -162,6 +162,7 @@ void PrintAllanText(std::ostream& out, const AllanReport& r) {
     return;
   }
   PrintNoiseFitText(out, r.fit);
+  out << "  " << NoiseTypeCrossCheckLine(t, r.fit) << "\n";
 }
 
 void PrintAllanCsv(std::ostream& out, const AllanReport& r) {
@@ -240,6 +241,7 @@ nlohmann::json AllanReportJson(const AllanReport& r) {
     return report;
   }
   report["noise_terms"] = terms_json(r.fit.terms);
+  report["model_alpha"] = allan::ModelDominantAlpha(r.fit.terms, t.tau_s);
   report["noise_fit"] = {{"termination", ToString(r.fit.summary.termination)},
                          {"message", r.fit.summary.message},
                          {"points", r.fit.summary.points},

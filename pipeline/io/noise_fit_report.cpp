@@ -49,6 +49,36 @@ const char* EngineeringUnit(int term) {
   return kUnits[term];
 }
 
+std::string NoiseTypeCrossCheckLine(const allan::AllanTable& table,
+                                    const allan::NoiseFitResult& fit) {
+  const std::vector<int> model = allan::ModelDominantAlpha(fit.terms, table.tau_s);
+  int agree = 0, compared = 0;
+  std::vector<allan::TauRange> differ;
+  bool extending = false;
+  for (size_t i = 0; i < table.size() && i < table.alpha.size(); ++i) {
+    const bool identified =
+        i < table.alpha_method.size() && table.alpha_method[i] != allan::NoiseIdMethod::kNone;
+    if (model[i] == allan::kNoModelAlpha || !identified) {
+      extending = false;
+      continue;
+    }
+    ++compared;
+    if (table.alpha[i] == model[i]) {
+      ++agree;
+      extending = false;
+    } else if (extending) {
+      differ.back().high_s = table.tau_s[i];
+    } else {
+      differ.push_back({table.tau_s[i], table.tau_s[i]});
+      extending = true;
+    }
+  }
+  std::string line = "noise types: alpha equals the fitted model's dominant term at " +
+                     std::to_string(agree) + " of " + std::to_string(compared) + " taus";
+  if (!differ.empty()) line += "; differs at " + allan::FormatTauRanges(differ);
+  return line;
+}
+
 void PrintNoiseFitText(std::ostream& out, const allan::NoiseFitResult& fit) {
   static const char* kNames[allan::kNoiseTermCount] = {
       "quantization", "angle random walk", "bias instability", "rate random walk", "rate ramp"};

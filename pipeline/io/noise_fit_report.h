@@ -26,6 +26,11 @@ std::string NoiseFitFlagLine(const allan::NoiseFitResult& fit);
 /// "B,K" — the symbols of the unreliable terms, "" when none.
 std::string UnreliableTermSymbols(const allan::NoiseFitResult& fit);
 
+/// The cross-check of the identified noise types: "noise types: alpha equals the fitted model's
+/// dominant term (allan::ModelDominantAlpha) at 14 of 17 taus; differs at 0.1-0.3 s", one line.
+std::string NoiseTypeCrossCheckLine(const allan::AllanTable& table,
+                                    const allan::NoiseFitResult& fit);
+
 /// Amplitude of term j (0..4: Q, N, B, K, R) in its engineer's unit (units.h), and that unit.
 double EngineeringValue(const allan::NoiseTerms& terms, int term);
 const char* EngineeringUnit(int term);

@@ -189,6 +189,10 @@ void WriteAllan(Group group, const method::AllanEvaluation& evaluation) {
   Group noise = group.CreateGroup("noise");
   noise.WriteStringAttribute("termination", ToString(evaluation.noise.summary.termination));
   noise.WriteStringAttribute("message", evaluation.noise.summary.message);
+  const std::vector<int> model_alpha = allan::ModelDominantAlpha(evaluation.noise.terms, t.tau_s);
+  noise.WriteDataset("model_alpha", std::vector<long long>(model_alpha.begin(), model_alpha.end()),
+                     "1");
+  noise.WriteStringAttribute("noise_type_check", io::NoiseTypeCrossCheckLine(t, evaluation.noise));
   noise.WriteStringAttribute(
       "model",
       std::string("sigma^2 = 3Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2 + K^2 tau/3 + R^2 tau^2/2, ") +

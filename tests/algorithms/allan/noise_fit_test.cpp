@@ -202,5 +202,20 @@ TEST(NoiseTerms, ConvertToEngineeringUnits) {
   EXPECT_NEAR(e.b_deg_h, 0.05, 1e-15);
 }
 
+// The dominant term at each tau from the IEEE 952 forms: Q (3 Q^2 / tau^2) dominates N (N^2 / tau)
+// below tau = 3 Q^2 / N^2, K (K^2 tau / 3) dominates the flicker floor ((2 ln 2 / pi) B^2) above
+// tau = 3 (2 ln 2 / pi) B^2 / K^2; no term: kNoModelAlpha.
+TEST(ModelDominantAlpha, NamesTheTermThatDominatesEachTau) {
+  NoiseTerms t;
+  t.q_rad = 1e-6;
+  t.n_rad_sqrt_s = 1e-6;    // Q / N crossover at 3 s
+  t.b_rad_s = 1e-7;         // N / B crossover at 1e-12 / (0.4413 x 1e-14) = 227 s
+  t.k_rad_s_sqrt_s = 1e-9;  // B / K crossover at 3 x 0.4413 x 1e-14 / 1e-18 = 13239 s
+  const std::vector<int> alpha =
+      ModelDominantAlpha(t, {0.1, 2.9, 3.1, 100.0, 300.0, 13000.0, 14000.0});
+  EXPECT_EQ(alpha, (std::vector<int>{2, 2, 0, 0, -1, -1, -2}));
+  EXPECT_EQ(ModelDominantAlpha(NoiseTerms(), {1.0}), (std::vector<int>{kNoModelAlpha}));
+}
+
 }  // namespace
 }  // namespace fogpipe::allan

@@ -213,6 +213,11 @@ TEST(AllanCommand, EveryDeviationKindCarriesItsNameAndUnitsInTextCsvAndJson) {
     ASSERT_EQ(text.exit_code, 0) << text.output;
     EXPECT_NE(text.output.find("  " + kind + " on the octave grid"), std::string::npos)
         << text.output;
+    EXPECT_EQ(text.output.find("noise types: alpha equals the fitted model's dominant term") !=
+                  std::string::npos,
+              allan)
+        << text.output;
+    EXPECT_EQ(j.contains("model_alpha"), allan) << kind;
     const std::string unit_header = angle ? "sigma [arcsec]" : "sigma [deg/h]";
     EXPECT_NE(text.output.find(unit_header), std::string::npos) << text.output;
     EXPECT_NE(text.output.find(angle ? "sigma [rad]" : "sigma [deg/s]"), std::string::npos);
