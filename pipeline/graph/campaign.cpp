@@ -52,6 +52,8 @@ struct FileJob {
   /// and compensation_error says why.
   Eigen::VectorXd compensation_rad_s;
   std::string compensation_error;
+  /// Why an existing results file is replaced (CheckCompletedResults), "" if none or new config.
+  std::string rerun_reason;
   Clock::time_point start;
   // Writer only.
   std::vector<std::shared_ptr<struct AxisWork>> arrived;
@@ -116,8 +118,8 @@ std::string OverBudgetMessage(const std::string& path, const FileJob& job, std::
          " samples x " + std::to_string(job.info.axis_count) +
          (job.info.axis_count == 1 ? " axis" : " axes") + "), more than --memory-budget " +
          MiB(options.memory_budget_bytes) + " leaves for recordings after " + MiB(fixed) +
-         " for the process; not analysed. Rerun it with --memory-budget " + MiB(need > UINT64_MAX - fixed ? UINT64_MAX : need + fixed) +
-         " or more";
+         " for the process; not analysed. Rerun it with --memory-budget " +
+         MiB(need > UINT64_MAX - fixed ? UINT64_MAX : need + fixed) + " or more";
 }
 
 std::string AxisError(const FileJob& job, int axis, const std::string& what) {
@@ -198,6 +200,7 @@ void CampaignRunner::Finish(FileJob* job) {
       io::WriteResultsFile(final_path, p, axes, options_.results);
       outcome.status = FileStatus::kOk;
       outcome.output = final_path.string();
+      if (!job->rerun_reason.empty()) outcome.message = "rerun: " + job->rerun_reason;
       if (options_.tables_stream != nullptr) {
         for (const AxisPtr& w : job->arrived) {
           tables_text_ += "\n" + job->input.path + "  axis " + job->info.axis_names[w->axis] +
@@ -271,19 +274,29 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
     const auto start = Clock::now();
     const std::string output = (fs::path(options.output_dir) / input.output_name).string();
     if (!options.dry_run) RemoveStaleTempFiles(options.output_dir, input.output_name);
+    std::string rerun_reason;
     if (!options.force) {
-      const auto hash = io::ReadConfigHash(output);
-      if (hash && *hash == options.config_sha256) {
+      const io::CompletedResults done =
+          io::CheckCompletedResults(output, input.path, options.config_sha256);
+      using Verdict = io::CompletedResults::Verdict;
+      if (done.verdict == Verdict::kDone || done.verdict == Verdict::kCollision) {
+        const bool skip = done.verdict == Verdict::kDone;
         FileOutcome outcome{
-            input.path,           output,         0,
-            FileStatus::kSkipped, Seconds(start), "output exists with the same configuration hash"};
+            input.path,
+            skip ? output : "",
+            0,
+            skip ? FileStatus::kSkipped : FileStatus::kFailed,
+            Seconds(start),
+            skip ? "output is valid, with the same configuration and input content" : done.reason};
         runner.Record(outcome, i);
         continue;
       }
+      rerun_reason = done.reason;
     }
     auto job = std::make_unique<FileJob>();
     job->outcome_index = i;
     job->input = input;
+    job->rerun_reason = rerun_reason;
     try {
       job->info = io::InspectRecordingIsolated(input.path, InspectionLimits());
     } catch (const std::exception& e) {

@@ -8,7 +8,9 @@
 #include "algorithms/allan/noise_fit.h"
 #include "pipeline/hdf5/file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/file_validation.h"
 #include "pipeline/io/results_layout.h"
+#include "pipeline/io/sha256.h"
 
 namespace fogpipe::io {
 namespace {
@@ -139,6 +141,74 @@ std::optional<std::string> ReadConfigHash(const std::string& path) {
   } catch (const std::exception&) {
     return std::nullopt;
   }
+}
+
+namespace {
+
+bool SamePath(const std::string& a, const std::string& b) {
+  if (a == b) return true;
+  std::error_code ec1, ec2;
+  const auto ca = std::filesystem::weakly_canonical(a, ec1);
+  const auto cb = std::filesystem::weakly_canonical(b, ec2);
+  return !ec1 && !ec2 && ca == cb;
+}
+
+}  // namespace
+
+CompletedResults CheckCompletedResults(const std::string& output_path,
+                                       const std::string& input_path,
+                                       const std::string& config_sha256) {
+  using Verdict = CompletedResults::Verdict;
+  CompletedResults out;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(output_path, ec)) return out;
+  FileValidationOptions options;
+  options.check_data = false;
+  const FileValidation v = ValidateFileIsolated(output_path, options, IsolationLimits());
+  // Without the schemas (a usage problem, not the file's) the provenance checks below still run.
+  if (v.usage_error.empty() && !v.problems.empty()) {
+    out.verdict = Verdict::kRerun;
+    out.reason = "existing results invalid (" + v.problems.front().object + ": " +
+                 v.problems.front().message + ")";
+    return out;
+  }
+  std::string config, recorded_path, recorded_sha;
+  long long recorded_size = -1;
+  try {
+    auto lock = hdf5::LockHdf5();
+    hdf5::File file = hdf5::File::OpenReadOnly(output_path);
+    const Group root = file.Root();
+    CheckFormat(root, output_path);
+    const Group p = root.OpenGroup("provenance");
+    config = p.ReadStringAttribute(results::kConfigHashAttribute);
+    recorded_path = p.ReadStringAttribute("input_path");
+    recorded_size = p.ReadInt64Attribute("input_size_bytes");
+    recorded_sha = p.ReadStringAttribute("input_sha256");
+  } catch (const std::exception& e) {
+    out.verdict = Verdict::kRerun;
+    out.reason = std::string("existing results unreadable (") + e.what() + ")";
+    return out;
+  }
+  if (config != config_sha256) {
+    out.verdict = Verdict::kRerun;
+    return out;
+  }
+  std::string error;
+  const auto size = std::filesystem::file_size(input_path, ec);
+  const auto sha = ec ? std::nullopt : Sha256FileHex(input_path, &error);
+  if (sha && static_cast<long long>(size) == recorded_size && *sha == recorded_sha) {
+    out.verdict = Verdict::kDone;
+    return out;
+  }
+  if (SamePath(recorded_path, input_path)) {
+    out.verdict = Verdict::kRerun;
+    out.reason = "input changed since its results were written";
+    return out;
+  }
+  out.verdict = Verdict::kCollision;
+  out.reason = output_path + " already holds the results of another input, " + recorded_path +
+               " (same output name; give the inputs distinct names or another output folder)";
+  return out;
 }
 
 std::string FormatSummary(const ResultsSummary& summary) {

@@ -37,6 +37,28 @@ ResultsSummary ReadResultsSummary(const std::string& path);
 /// cannot be read or is not a fogpipe-results-v1 file (takes the HDF5 lock; never throws).
 std::optional<std::string> ReadConfigHash(const std::string& path);
 
+/// What a rerun finds at an output path (CheckCompletedResults).
+struct CompletedResults {
+  enum class Verdict {
+    kAbsent,     ///< no results file: analyse
+    kDone,       ///< valid, same configuration, same input content: skip
+    kRerun,      ///< analyse again; `reason` says why ("" for a changed configuration)
+    kCollision,  ///< the file holds the results of another input with the same output name
+  };
+  Verdict verdict = Verdict::kAbsent;
+  std::string reason;
+};
+
+/// "Done" means: the results file at `output_path` passes its layout schema (checked in a child
+/// process, so a damaged file cannot take the campaign down), its configuration hash equals
+/// `config_sha256`, and its recorded input size and SHA-256 equal those of `input_path` now.
+/// Hashing the input reads it once. When the content differs, the same recorded path means the
+/// input changed (rerun); another path means two inputs share the output name (collision).
+/// Never throws.
+CompletedResults CheckCompletedResults(const std::string& output_path,
+                                       const std::string& input_path,
+                                       const std::string& config_sha256);
+
 /// Human-readable summary: provenance, then per axis Table 3 and Table 5 with units.
 std::string FormatSummary(const ResultsSummary& summary);
 

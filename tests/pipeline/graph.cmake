@@ -6,7 +6,8 @@ fogpipe_add_test(NAME graph_inputs_test
 # End-to-end through the binary (tests/pipeline/cli/run_campaign_test.py; Debian python3-h5py).
 add_test(NAME graph_run_campaign_test
   COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/tests/pipeline/cli/run_campaign_test.py
-          $<TARGET_FILE:fogpipe> ${PROJECT_SOURCE_DIR} campaign threads config dryrun resume)
+          $<TARGET_FILE:fogpipe> ${PROJECT_SOURCE_DIR} campaign threads config dryrun resume
+          identity)
 add_test(NAME graph_run_sigterm_test
   COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/tests/pipeline/cli/run_campaign_test.py
           $<TARGET_FILE:fogpipe> ${PROJECT_SOURCE_DIR} sigterm)

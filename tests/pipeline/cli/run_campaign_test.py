@@ -2,7 +2,7 @@
 """End-to-end tests of `fogpipe run` and `fogpipe info` (driven through the binary).
 
 Usage: run_campaign_test.py FOGPIPE_BINARY SOURCE_DIR [CASE...]
-Cases: campaign threads config dryrun resume sigterm sigkill (default: all). Recordings are written
+Cases: campaign threads config dryrun resume identity sigterm sigkill (default: all). Recordings are written
 with h5py + numpy (seeded), so the test needs nothing but the binary.
 """
 import json
@@ -224,6 +224,39 @@ def case_resume(tmp, rec, out1):
     check(status_lines(out1)[-1]["status"] == "ok", "a changed configuration is not skipped")
 
 
+def case_identity(tmp):
+    """"Done" means a valid results file of the same configuration and the same input content:
+    another input with the same output name is a named failure, not a skip; a changed input and
+    a damaged results file are analysed again, and the status line says why."""
+    a, b, out = (os.path.join(tmp, "idA"), os.path.join(tmp, "idB"), os.path.join(tmp, "idout"))
+    os.makedirs(a)
+    os.makedirs(b)
+    write_recording(os.path.join(a, "rec.h5"), 201)
+    write_recording(os.path.join(b, "rec.h5"), 202)
+    r = run(["run", a, "-o", out])
+    check(r.returncode == 0 and status_lines(out)[-1]["status"] == "ok", "identity: A analysed")
+    r = run(["run", a, "-o", out])
+    check(status_lines(out)[-1]["status"] == "skipped", "identity: A again is skipped")
+    r = run(["run", b, "-o", out])
+    last = status_lines(out)[-1]
+    check(last["status"] == "failed" and "already holds the results of another input" in
+          last["message"] and "idA" in last["message"],
+          f"identity: B with A's output name fails, naming A ({last['message']})")
+    check(r.returncode != 0, "identity: that run does not exit 0")
+    write_recording(os.path.join(a, "rec.h5"), 203)
+    run(["run", a, "-o", out])
+    last = status_lines(out)[-1]
+    check(last["status"] == "ok" and "input changed" in last["message"],
+          f"identity: a changed input is analysed again ({last['message']})")
+    with h5py.File(os.path.join(out, "rec.fogpipe.h5"), "r+") as f:
+        axis = list(f["axes"].keys())[0]
+        del f["axes"][axis]["allan"]
+    run(["run", a, "-o", out])
+    last = status_lines(out)[-1]
+    check(last["status"] == "ok" and "invalid" in last["message"],
+          f"identity: results missing /allan are analysed again ({last['message']})")
+
+
 def long_campaign(tmp, name, files=8):
     rec = os.path.join(tmp, name)
     os.makedirs(rec)
@@ -281,8 +314,8 @@ def case_signal(tmp, sig, name):
 
 
 def main():
-    cases = sys.argv[3:] or ["campaign", "threads", "config", "dryrun", "resume", "sigterm",
-                             "sigkill"]
+    cases = sys.argv[3:] or ["campaign", "threads", "config", "dryrun", "resume", "identity",
+                             "sigterm", "sigkill"]
     tmp = tempfile.mkdtemp(prefix="fogpipe_run_test_")
     try:
         if set(cases) & {"campaign", "threads", "config", "dryrun", "resume"}:
@@ -295,6 +328,8 @@ def main():
             case_dryrun(tmp, rec, out1)
         if "resume" in cases:
             case_resume(tmp, rec, out1)
+        if "identity" in cases:
+            case_identity(tmp)
         if "sigterm" in cases:
             case_signal(tmp, signal.SIGTERM, "sigterm")
         if "sigkill" in cases:
