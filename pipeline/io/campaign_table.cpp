@@ -17,6 +17,7 @@
 #include "pipeline/hdf5/atomic_output_file.h"
 #include "pipeline/hdf5/file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/file_validation.h"
 #include "pipeline/io/recording_reader.h"
 #include "pipeline/io/results_layout.h"
 
@@ -88,8 +89,8 @@ ResultsRows ReadResultsRows(const fs::path& path) {
         row.term_std_error[s][t] = Scalar(n, std::string(kCampaignTerms[t]) + "_std_error");
         const std::string reason = std::string(kCampaignTerms[t]) + "_reason";
         if (n.HasAttribute(reason) && !n.ReadStringAttribute(reason).empty())
-          row.unreliable_terms[s] += (row.unreliable_terms[s].empty() ? "" : ",") +
-                                     std::string(kCampaignTerms[t]);
+          row.unreliable_terms[s] +=
+              (row.unreliable_terms[s].empty() ? "" : ",") + std::string(kCampaignTerms[t]);
       }
       row.noise_fit_p_value[s] = Scalar(n, "p_value");
     }
@@ -189,6 +190,17 @@ CampaignTable CollectCampaign(const std::string& outdir, const std::string& mani
   }
   std::sort(files.begin(), files.end());
   for (const fs::path& file : files) {
+    // A results file that misses part of its layout (say an axis without /allan) would otherwise
+    // give rows without terms marked ok. Checked in a child process: a damaged file cannot take
+    // the merge down.
+    FileValidationOptions validation;
+    validation.check_data = false;
+    const FileValidation v = ValidateFileIsolated(file.string(), validation, IsolationLimits());
+    if (v.usage_error.empty() && !v.problems.empty()) {
+      table.problems.push_back(file.string() + ": invalid results (" + v.problems.front().object +
+                               ": " + v.problems.front().message + ")");
+      continue;
+    }
     ResultsRows rows;
     try {
       rows = ReadResultsRows(file);

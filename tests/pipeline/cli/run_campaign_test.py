@@ -255,6 +255,12 @@ def case_identity(tmp):
     last = status_lines(out)[-1]
     check(last["status"] == "ok" and "invalid" in last["message"],
           f"identity: results missing /allan are analysed again ({last['message']})")
+    with h5py.File(os.path.join(out, "rec.fogpipe.h5"), "r+") as f:
+        axis = list(f["axes"].keys())[0]
+        del f["axes"][axis]["allan"]
+    r = run(["merge", out])
+    check(r.returncode == 1 and "invalid results" in r.stderr and "rec.fogpipe.h5" in r.stderr,
+          "identity: merge does not count results missing /allan as ok")
 
 
 def long_campaign(tmp, name, files=8):
