@@ -1,6 +1,8 @@
 # Tests of pipeline/graph, the results layout (pipeline/io/results_*) and the run/info commands.
 fogpipe_add_test(NAME graph_sha256_test
   SOURCES ${CMAKE_CURRENT_LIST_DIR}/graph/sha256_test.cpp LIBS fogpipe::pipeline)
+fogpipe_add_test(NAME graph_run_config_test
+  SOURCES ${CMAKE_CURRENT_LIST_DIR}/graph/run_config_test.cpp LIBS fogpipe::pipeline)
 fogpipe_add_test(NAME graph_inputs_test
   SOURCES ${CMAKE_CURRENT_LIST_DIR}/graph/inputs_test.cpp LIBS fogpipe::pipeline)
 # End-to-end through the binary (tests/pipeline/cli/run_campaign_test.py; Debian python3-h5py).
