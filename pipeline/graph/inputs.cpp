@@ -7,6 +7,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
 #include "pipeline/io/sha256.h"
 
@@ -53,6 +54,34 @@ void AddGlob(const std::string& pattern, std::vector<InputFile>* out,
   ::globfree(&matches);
 }
 
+// Reads one field at `*pos` (after blanks): a quoted path with '\' escapes, or a run of
+// non-blank characters. False at the end of the line or at a comment; *error on a bad quote.
+bool NextField(const std::string& line, std::size_t* pos, std::string* field, std::string* error) {
+  std::size_t i = line.find_first_not_of(" \t\r", *pos);
+  if (i == std::string::npos || line[i] == '#') return false;
+  field->clear();
+  if (line[i] == '"') {
+    for (++i; i < line.size() && line[i] != '"'; ++i) {
+      if (line[i] == '\\' && i + 1 < line.size()) ++i;
+      *field += line[i];
+    }
+    if (i >= line.size()) {
+      *error = "unterminated quote";
+      return false;
+    }
+    *pos = i + 1;
+    if (*pos < line.size() && line.find_first_of(" \t\r", *pos) != *pos) {
+      *error = "text right after a closing quote";
+      return false;
+    }
+    return true;
+  }
+  const std::size_t end = line.find_first_of(" \t\r", i);
+  *field = line.substr(i, end == std::string::npos ? std::string::npos : end - i);
+  *pos = end == std::string::npos ? line.size() : end;
+  return true;
+}
+
 void AddManifest(const std::string& manifest, std::vector<InputFile>* out,
                  std::vector<std::string>* errors) {
   std::ifstream in(manifest);
@@ -65,25 +94,18 @@ void AddManifest(const std::string& manifest, std::vector<InputFile>* out,
   int line_number = 0;
   while (std::getline(in, line)) {
     ++line_number;
-    line = line.substr(0, line.find('#'));
-    std::istringstream fields(line);
-    std::string path_text, size_text, extra;
-    if (!(fields >> path_text)) continue;
-    std::uintmax_t size = 0;
-    if (fields >> size_text) {
-      try {
-        std::size_t used = 0;
-        size = std::stoull(size_text, &used);
-        if (used != size_text.size()) throw std::invalid_argument(size_text);
-      } catch (const std::exception&) {
-        errors->push_back(manifest + ":" + std::to_string(line_number) +
-                          ": second column must be a size in bytes, got '" + size_text + "'");
-        continue;
-      }
+    const ManifestLine parsed = ParseManifestLine(line);
+    if (parsed.empty) continue;
+    if (!parsed.error.empty()) {
+      errors->push_back(manifest + ":" + std::to_string(line_number) + ": " + parsed.error);
+      continue;
     }
-    if (fields >> extra) {
-      errors->push_back(manifest + ":" + std::to_string(line_number) +
-                        ": expected 'PATH [SIZE]', got extra text '" + extra + "'");
+    const std::string& path_text = parsed.path;
+    std::uintmax_t size = 0;
+    try {
+      if (!parsed.size.empty()) size = std::stoull(parsed.size);
+    } catch (const std::out_of_range&) {
+      errors->push_back(manifest + ":" + std::to_string(line_number) + ": size out of range");
       continue;
     }
     fs::path path(path_text);
@@ -93,6 +115,44 @@ void AddManifest(const std::string& manifest, std::vector<InputFile>* out,
 }
 
 }  // namespace
+
+std::string QuoteManifestPath(const std::string& path) {
+  if (path.find_first_of(" \t\r\n#\"\\") == std::string::npos && !path.empty()) return path;
+  std::string quoted = "\"";
+  for (char c : path) {
+    if (c == '"' || c == '\\') quoted += '\\';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
+ManifestLine ParseManifestLine(const std::string& line) {
+  ManifestLine out;
+  std::size_t pos = 0;
+  std::string field, error;
+  if (!NextField(line, &pos, &field, &error)) {
+    out.empty = error.empty();
+    out.error = error;
+    return out;
+  }
+  out.empty = false;
+  out.path = field;
+  if (NextField(line, &pos, &field, &error)) {
+    const bool digits =
+        !field.empty() && field.find_first_not_of("0123456789") == std::string::npos;
+    std::string extra;
+    if (!digits) {
+      error = "second column must be a size in bytes, got '" + field +
+              "' (a path with spaces or '#' goes in double quotes)";
+    } else if (NextField(line, &pos, &extra, &error)) {
+      error = "expected 'PATH [SIZE]', got extra text '" + extra + "'";
+    } else {
+      out.size = field;
+    }
+  }
+  out.error = error;
+  return out;
+}
 
 std::vector<InputFile> ListInputs(const std::vector<std::string>& arguments,
                                   const std::string& manifest, std::vector<std::string>* errors) {

@@ -25,8 +25,8 @@ struct InputFile {
 ///  - a file is taken as is (any extension);
 ///  - a folder contributes every regular file named *.h5 below it (recursively);
 ///  - anything else is a glob(3) pattern (quote it so the shell leaves it alone);
-///  - `manifest` (may be empty): one path per line; `#` starts a comment; blank lines are skipped;
-///    an optional second whitespace-separated column holds the size in bytes (ignored except as a
+///  - `manifest` (may be empty): one path per line (ParseManifestLine); blank lines and comments
+///    are skipped; an optional second column holds the size in bytes (ignored except as a
 ///    fallback). Relative paths are relative to the manifest's folder.
 /// Problems (a pattern or folder matching nothing, an unreadable manifest, a missing file) are
 /// appended to *errors, one message each naming the input; the rest is still listed. Missing files
@@ -34,6 +34,21 @@ struct InputFile {
 /// The result is sorted by path without duplicates, and has output names assigned.
 std::vector<InputFile> ListInputs(const std::vector<std::string>& arguments,
                                   const std::string& manifest, std::vector<std::string>* errors);
+
+/// A path as a manifest spells it: as is when it holds no whitespace, '#', '"' or '\'; otherwise
+/// in double quotes, with '"' and '\' preceded by '\'.
+std::string QuoteManifestPath(const std::string& path);
+
+/// One manifest line: `PATH [SIZE] [# comment]`. PATH is quoted as QuoteManifestPath writes it
+/// or a run of non-blank characters; '#' starts a comment only where a field would start (so
+/// "run#3.h5" is a path).
+struct ManifestLine {
+  bool empty = true;  ///< blank or comment only
+  std::string path;
+  std::string size;   ///< "" when absent
+  std::string error;  ///< not empty when the line cannot be read
+};
+ManifestLine ParseManifestLine(const std::string& line);
 
 /// Names the results file of each input "<stem>.fogpipe.h5". When several inputs share a stem
 /// (a/x.h5 and b/x.h5), every one of them becomes "<stem>-<first 8 hex of SHA-256 of its path>

@@ -37,7 +37,8 @@ std::string FormatManifest(const std::vector<graph::InputFile>& inputs) {
     std::error_code ec;
     fs::path path = fs::absolute(input.path, ec);
     if (ec) path = input.path;
-    out << path.lexically_normal().string() << " " << input.size_bytes << "\n";
+    out << graph::QuoteManifestPath(path.lexically_normal().string()) << " " << input.size_bytes
+        << "\n";
   }
   return out.str();
 }

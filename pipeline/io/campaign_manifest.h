@@ -1,9 +1,12 @@
 // The campaign manifest written by `fogpipe plan` and read by `fogpipe run --manifest` (through
 // graph::ListInputs), and the split of a manifest into Slurm job-array shards.
 //
-// Format (text, one recording per line, sorted by path, '#' starts a comment):
+// Format (text, one recording per line, sorted by path, '#' starts a comment where a field
+// would start; graph::ParseManifestLine):
 //   # fogpipe-manifest-v1: <count> recordings, <total> bytes; columns: path size_bytes
 //   /data/campaign/run001.h5 123456789
+//   "/data/campaign/run 2 #b.h5" 123456789
+// A path with whitespace, '#', '"' or '\' is written in double quotes with '"' and '\' escaped.
 // Paths are absolute, so the manifest may be moved; sizes are those seen when planning.
 //
 // Every shard of an array job reads the same manifest and computes its own part of it from

@@ -18,6 +18,7 @@ import argparse
 import collections
 import json
 import math
+import re
 import sys
 
 import h5py
@@ -40,9 +41,14 @@ def main():
     manifest = []
     with open(a.manifest) as f:
         for line in f:
-            line = line.split("#", 1)[0].split()
-            if line:
-                manifest.append(line[0])
+            # The manifest's path field (fogpipe's graph::ParseManifestLine): double-quoted with
+            # backslash escapes, or a run of non-blanks; '#' starts a comment where a field would.
+            fields = re.findall(r'"(?:[^"\\]|\\.)*"|\S+', line)
+            if fields and not fields[0].startswith("#"):
+                first = fields[0]
+                if first.startswith('"'):
+                    first = re.sub(r"\\(.)", r"\1", first[1:-1])
+                manifest.append(first)
     with h5py.File(a.campaign, "r") as h5:
         if h5.attrs["fogpipe_format"] != "fogpipe-campaign-v1":
             errors.append("wrong fogpipe_format")

@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "pipeline/graph/memory_budget.h"
+#include "pipeline/io/campaign_manifest.h"
 
 namespace fogpipe::graph {
 namespace {
@@ -67,6 +68,41 @@ TEST_F(InputsTest, ReadsAManifestWithCommentsSizesAndRelativePaths) {
   EXPECT_EQ(inputs[2].size_bytes, 123u);  // the manifest's size when the file cannot be stat'ed
   ASSERT_EQ(errors.size(), 1u);
   EXPECT_NE(errors[0].find("list.txt:6"), std::string::npos) << errors[0];
+}
+
+// Paths with spaces, '#', quotes and backslashes survive `fogpipe plan`'s manifest and
+// `run --manifest`: FormatManifest quotes them and ListInputs reads them back unchanged.
+TEST_F(InputsTest, ManifestPathsWithSpacesHashesAndQuotesRoundTrip) {
+  for (const char* f : {"b/run 2.h5", "b/run#3.h5", "b/q\"uo\\te.h5", "b/plain.h5"})
+    std::ofstream(root_ / f) << "0123456789";
+  std::vector<std::string> errors;
+  const auto listed = ListInputs({P("b")}, "", &errors);
+  ASSERT_TRUE(errors.empty());
+  ASSERT_EQ(listed.size(), 6u);
+  std::ofstream(root_ / "plan.txt") << io::FormatManifest(listed);
+  const auto read = ListInputs({}, P("plan.txt"), &errors);
+  EXPECT_TRUE(errors.empty()) << errors.front();
+  ASSERT_EQ(read.size(), listed.size());
+  for (size_t i = 0; i < read.size(); ++i) {
+    EXPECT_EQ(read[i].path, listed[i].path);
+    EXPECT_EQ(read[i].size_bytes, 10u);
+  }
+}
+
+TEST(ManifestLine, ReadsQuotedPathsSizesAndCommentsOnlyWhereAFieldStarts) {
+  EXPECT_TRUE(ParseManifestLine("   # only a comment").empty);
+  EXPECT_TRUE(ParseManifestLine("").empty);
+  ManifestLine l = ParseManifestLine("run#3.h5 42 # note");
+  EXPECT_EQ(l.path, "run#3.h5");
+  EXPECT_EQ(l.size, "42");
+  l = ParseManifestLine(R"("a b/c \"d\".h5" 7)");
+  EXPECT_EQ(l.path, "a b/c \"d\".h5");
+  EXPECT_EQ(l.size, "7");
+  EXPECT_EQ(QuoteManifestPath("a b/c \"d\".h5"), R"("a b/c \"d\".h5")");
+  EXPECT_EQ(QuoteManifestPath("/plain/x.h5"), "/plain/x.h5");
+  EXPECT_NE(ParseManifestLine("\"open quote.h5 1").error.find("unterminated"), std::string::npos);
+  EXPECT_NE(ParseManifestLine("my file.h5 1").error.find("double quotes"), std::string::npos);
+  EXPECT_NE(ParseManifestLine("x.h5 1 extra").error.find("extra text"), std::string::npos);
 }
 
 TEST_F(InputsTest, ReportsPatternsAndFoldersThatMatchNothing) {
