@@ -76,7 +76,7 @@ AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double s
     summary.message = "rate contains non-finite values";
     return result;
   }
-  table.m = AveragingFactors(options.grid, max_m);
+  table.m = AveragingFactors(options.grid, max_m, n);
   const Eigen::VectorXd phase = MeanRemovedPhase(rate);
   const std::vector<double> variance = DeviationVariances(phase, options.deviation, table.m);
 

@@ -78,8 +78,7 @@ int RunAllan(const AllanArgs& args) {
     return 1;
   }
   std::string error;
-  if (!io::ParseTauGrid(args.taus, report.samples, options.deviation, &options.grid, &error) ||
-      !options.IsValid(&error)) {
+  if (!allan::ParseTauGrid(args.taus, &options.grid, &error) || !options.IsValid(&error)) {
     std::cerr << "fogpipe allan: " << error << "\n";
     return 2;
   }

@@ -36,26 +36,6 @@ std::string Quoted(const std::string& text) {
   return out + "\"";
 }
 
-bool ParseTaus(const std::string& text, allan::TauGridOptions* grid) {
-  if (text == "octave") {
-    grid->kind = allan::TauGridKind::kOctave;
-  } else if (text == "all") {
-    grid->kind = allan::TauGridKind::kAll;
-  } else if (text.rfind("decade:", 0) == 0) {
-    grid->kind = allan::TauGridKind::kDecade;
-    try {
-      std::size_t used = 0;
-      grid->per_decade = std::stoi(text.substr(7), &used);
-      if (used != text.size() - 7 || grid->per_decade < 1) return false;
-    } catch (const std::exception&) {
-      return false;
-    }
-  } else {
-    return false;
-  }
-  return true;
-}
-
 // --model FILE: read once per run; the file is named in every error.
 bool ReadModelCompensation(const std::string& path, CampaignOptions* o, std::string* error) {
   ModelCompensationOptions m;
@@ -143,7 +123,9 @@ void AddRunOptions(CLI::App* cmd, RunConfig* c) {
   cmd->add_option("--direct-ar-order", c->direct_ar_order,
                   "Method 2's AR order (0: by BIC; the paper used 6)")
       ->check(CLI::Range(0, 200));
-  cmd->add_option("--taus", c->taus, "Allan tau grid: octave, decade:K or all");
+  cmd->add_option("--taus", c->taus,
+                  "Allan tau grid: octave, decade (10 per decade), decade:K, all, or log10 "
+                  "(allantools' taus='log10')");
   cmd->add_option("--noise-id", c->noise_id,
                   "Noise identification behind the Allan intervals: calibrated (chosen by measured "
                   "coverage) or stable32 (Stable32's Alpha column and EDF convention)")
@@ -247,10 +229,7 @@ bool ToCampaignOptions(const RunConfig& c, CampaignOptions* o, std::string* erro
   m.component.kalman.r_scale = c.r_scale;
   m.component.kalman.smooth = c.smooth;
   m.direct_ar_order = c.direct_ar_order;
-  if (!ParseTaus(c.taus, &m.allan.grid)) {
-    *error = "--taus: expected octave, decade:K (K >= 1) or all, got '" + c.taus + "'";
-    return false;
-  }
+  if (!allan::ParseTauGrid(c.taus, &m.allan.grid, error)) return false;
   if (!allan::ParseNoiseIdRule(c.noise_id, &m.allan.noise_id)) {
     *error = "--noise-id: expected calibrated or stable32, got '" + c.noise_id + "'";
     return false;

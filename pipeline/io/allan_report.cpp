@@ -80,56 +80,6 @@ std::string UnitToken(const std::string& units) {
   return token;
 }
 
-std::vector<long long> AllantoolsLog10Factors(long long n_samples, long long max_m) {
-  std::vector<long long> m;
-  const double length = static_cast<double>(n_samples + 1);
-  const double max_exponent = std::log10(length);
-  const long long points = static_cast<long long>(10.0 * max_exponent);
-  for (long long i = 0; i < points; ++i) {
-    // numpy.logspace(0, stop, num): 10^(i * stop / (num - 1)).
-    const double exponent = points > 1 ? max_exponent * static_cast<double>(i) / (points - 1) : 0.0;
-    const double tau_samples = std::pow(10.0, exponent);
-    if (!(tau_samples < length)) continue;  // allantools keeps tau < L tau0
-    // numpy.round rounds half to even; std::nearbyint does the same in the default mode.
-    const long long factor = static_cast<long long>(std::nearbyint(tau_samples));
-    if (factor >= 1 && factor <= max_m) m.push_back(factor);
-  }
-  std::sort(m.begin(), m.end());
-  m.erase(std::unique(m.begin(), m.end()), m.end());
-  return m;
-}
-
-bool ParseTauGrid(const std::string& text, long long n_samples, allan::Deviation deviation,
-                  allan::TauGridOptions* grid, std::string* error) {
-  *grid = allan::TauGridOptions{};
-  if (text == "octave") {
-    grid->kind = allan::TauGridKind::kOctave;
-  } else if (text == "all") {
-    grid->kind = allan::TauGridKind::kAll;
-  } else if (text == "log10") {
-    grid->kind = allan::TauGridKind::kExplicit;
-    grid->explicit_m =
-        AllantoolsLog10Factors(n_samples, allan::MaxAveragingFactor(deviation, n_samples));
-  } else if (text == "decade" || text.rfind("decade:", 0) == 0) {
-    grid->kind = allan::TauGridKind::kDecade;
-    if (text != "decade") {
-      const std::string k = text.substr(7);
-      if (k.empty() || k.size() > 4 ||
-          !std::all_of(k.begin(), k.end(), [](unsigned char c) { return std::isdigit(c); }) ||
-          std::stoi(k) < 1) {
-        *error =
-            "--taus decade:K needs a whole number K >= 1 of points per decade, got '" + k + "'";
-        return false;
-      }
-      grid->per_decade = std::stoi(k);
-    }
-  } else {
-    *error = "--taus must be octave, decade, decade:K, all or log10, got '" + text + "'";
-    return false;
-  }
-  return true;
-}
-
 void PrintAllanText(std::ostream& out, const AllanReport& r) {
   const allan::AllanTable& t = r.table;
   const DeviationUnits du = UnitsOf(t.deviation, r.rate_units, r.rate_unit);

@@ -15,18 +15,6 @@
 
 namespace fogpipe::io {
 
-/// Averaging factors of allantools' taus="log10" grid for n rate samples, as allantools
-/// 2024.06 builds it for frequency data (found by reproducing the reference table of
-/// adis16405_imu1 exactly): the phase has L = n + 1 points, taus = logspace(0, log10(L),
-/// int(10 log10(L))) samples, m = round(tau), unique, 1 <= m <= max_m. About 10 per decade.
-std::vector<long long> AllantoolsLog10Factors(long long n_samples, long long max_m);
-
-/// Parses a --taus value: "octave", "decade" (10 per decade), "decade:K", "all", or "log10"
-/// (allantools-compatible, see above). Fills `grid` (log10 becomes an explicit list for
-/// n_samples). Returns false with a message on anything else.
-bool ParseTauGrid(const std::string& text, long long n_samples, allan::Deviation deviation,
-                  allan::TauGridOptions* grid, std::string* error);
-
 /// "oadev, adev, mdev, tdev, ohdev, hdev, totdev".
 std::string DeviationList();
 /// --deviation's help: every kind with what it is, its unit and which one is the default.

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 namespace fogpipe::allan {
 namespace {
 
@@ -47,6 +50,28 @@ TEST(AveragingFactors, ExplicitIsSortedDeduplicatedAndClipped) {
   std::string error;
   o.explicit_m.clear();
   EXPECT_FALSE(o.IsValid(&error));
+}
+
+// One spelling for every command: what `allan --taus` accepts, `run --taus` accepts too.
+TEST(ParseTauGrid, AcceptsOctaveDecadeAllAndLog10AndNamesTheFormsOtherwise) {
+  TauGridOptions g;
+  std::string error;
+  ASSERT_TRUE(ParseTauGrid("octave", &g, &error));
+  EXPECT_EQ(g.kind, TauGridKind::kOctave);
+  ASSERT_TRUE(ParseTauGrid("decade", &g, &error));
+  EXPECT_EQ(g.kind, TauGridKind::kDecade);
+  EXPECT_EQ(g.per_decade, 10);
+  ASSERT_TRUE(ParseTauGrid("decade:5", &g, &error));
+  EXPECT_EQ(g.per_decade, 5);
+  ASSERT_TRUE(ParseTauGrid("all", &g, &error));
+  EXPECT_EQ(g.kind, TauGridKind::kAll);
+  ASSERT_TRUE(ParseTauGrid("log10", &g, &error));
+  EXPECT_EQ(g.kind, TauGridKind::kAllantoolsLog10);
+  EXPECT_EQ(AveragingFactors(g, 500000, 1000000), AllantoolsLog10Factors(1000000, 500000));
+  for (const char* bad : {"decade:0", "decade:x", "decade:", "octaves", ""}) {
+    EXPECT_FALSE(ParseTauGrid(bad, &g, &error)) << bad;
+    EXPECT_NE(error.find("--taus"), std::string::npos) << bad;
+  }
 }
 
 }  // namespace

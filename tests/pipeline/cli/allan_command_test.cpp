@@ -240,7 +240,7 @@ TEST(AllanCommand, EveryDeviationKindCarriesItsNameAndUnitsInTextCsvAndJson) {
 TEST(AllanCommand, Log10GridIsAllantoolsGrid) {
   const std::vector<long long> allantools_first = {1,  2,  3,  4,  5,  7,  8,  10,  13,  17,
                                                    21, 27, 34, 42, 54, 68, 86, 108, 137, 173};
-  const std::vector<long long> m = io::AllantoolsLog10Factors(1000000, 500000);
+  const std::vector<long long> m = allan::AllantoolsLog10Factors(1000000, 500000);
   ASSERT_EQ(m.size(), 54u);
   EXPECT_EQ(std::vector<long long>(m.begin(), m.begin() + 20), allantools_first);
   EXPECT_EQ(m.back(), 495354);  // tau 4953.54 s, the table's last row
