@@ -162,6 +162,14 @@ struct Points {
   int size() const { return static_cast<int>(tau.size()); }
 };
 
+// Dense grids (every m) are thinned to at most this many rows per octave of tau: neighbouring
+// taus of such a grid carry almost the same information (their estimates are correlated near 1,
+// so their covariance matrix is numerically singular and the generalised fit cannot use it),
+// while that matrix grows with the square of the rows (50 000 rows: 20 GB). Four per octave is
+// about the density of the 100-tau log grid of a 1e7-sample record, where the generalised fit
+// runs (allan_benchmark).
+constexpr double kMaxRowsPerOctave = 4.0;
+
 // Rows with an EDF are weighted by it; if no row has one, all get edf = 1 (relative least squares)
 // and no standard errors are given. Rows without EDF in a table that has some are skipped (they
 // are the ones whose noise type admits no EDF).
@@ -169,10 +177,14 @@ Points SelectRows(const AllanTable& table, const NoiseFitOptions& options) {
   Points p;
   for (size_t i = 0; i < table.size() && i < table.edf.size(); ++i)
     if (table.edf[i] > 0.0 && std::isfinite(table.edf[i])) p.have_edf = true;
+  double last_log2_tau = -std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < table.size(); ++i) {
     const double t = table.tau_s[i], s = table.sigma[i];
     if (!(t >= options.min_tau_s && t <= options.max_tau_s) || !(s > 0.0) || !std::isfinite(s))
       continue;
+    const bool last_row = i + 1 == table.size();
+    if (!last_row && std::log2(t) - last_log2_tau < 1.0 / kMaxRowsPerOctave) continue;
+    last_log2_tau = std::log2(t);
     const double e = i < table.edf.size() ? table.edf[i] : kNaN;
     if (p.have_edf && !(e > 0.0 && std::isfinite(e))) continue;
     p.tau.push_back(t);

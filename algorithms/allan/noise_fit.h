@@ -156,7 +156,8 @@ int UnreliableTermCount(const NoiseFitResult& fit);
 
 /// Fits an OADEV or ADEV table (any other kind gives kInvalidOptions: its term coefficients
 /// differ). tau_s, sigma and edf are used; rows with non-finite or non-positive values are
-/// skipped. If the table has no EDF at all (confidence intervals off), every point gets edf = 1
+/// skipped. Grids denser than 4 taus per octave (`--taus all`) are thinned to 4 per octave for the
+/// fit. If the table has no EDF at all (confidence intervals off), every point gets edf = 1
 /// (relative least squares) and the standard errors are NaN; otherwise rows without EDF are
 /// skipped.
 NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& options);

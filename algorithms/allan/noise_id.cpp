@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -231,9 +232,31 @@ int PhaseNoiseAlpha(double rn, long long m) {
 constexpr long long kMinRnFactor = 8;
 bool RnSaysFrequencyNoise(double rn, long long m) { return rn > std::sqrt(0.5 * FlickerPmRn(m)); }
 
+// R(n) along a grid, at most once per half octave of m from m = 16 on: a dense grid (every m)
+// would otherwise make one O(n) pass per row, O(n^2) in all. R(n) changes slowly with m (its
+// expectations move by ~ln(m) for flicker PM, 1/m for white PM, not at all for FM), far less
+// than the distances between the classes it separates.
+class RnMemo {
+ public:
+  explicit RnMemo(const Eigen::VectorXd& phase) : phase_(phase) {}
+  double Get(long long m, double allan_variance_m) {
+    if (m < 16) return ModifiedToAllanRatio(phase_, m, allan_variance_m);
+    const long long bucket = std::llround(std::floor(2.0 * std::log2(static_cast<double>(m))));
+    const auto found = memo_.find(bucket);
+    if (found != memo_.end()) return found->second;
+    const double rn = ModifiedToAllanRatio(phase_, m, allan_variance_m);
+    memo_.emplace(bucket, rn);
+    return rn;
+  }
+
+ private:
+  const Eigen::VectorXd& phase_;
+  std::map<long long, double> memo_;
+};
+
 // Barnes' textbook B1 with expectations at the number of averages, R(n) for phase noise.
 NoiseId B1Method(const Eigen::VectorXd& phase, long long m, long long averages, int d,
-                 double allan_variance_m, double n_expected) {
+                 double allan_variance_m, double n_expected, RnMemo* rn_memo = nullptr) {
   NoiseId id;
   id.method = NoiseIdMethod::kB1Ratio;
   id.alpha_estimate = kNaN;
@@ -243,7 +266,8 @@ NoiseId B1Method(const Eigen::VectorXd& phase, long long m, long long averages, 
     return id;
   }
   id.method = NoiseIdMethod::kB1AndRn;
-  id.alpha = PhaseNoiseAlpha(ModifiedToAllanRatio(phase, m), m);
+  id.alpha = PhaseNoiseAlpha(
+      rn_memo != nullptr ? rn_memo->Get(m, kNaN) : ModifiedToAllanRatio(phase, m), m);
   return id;
 }
 
@@ -257,23 +281,23 @@ NoiseId Carried(const NoiseId& previous) {
 
 // Stable32's rule (see noise_id.h).
 NoiseId Stable32Rule(const Eigen::VectorXd& phase, long long m, long long averages, long long count,
-                     int d, const NoiseId* previous) {
+                     int d, const NoiseId* previous, RnMemo* rn_memo) {
   if (averages >= kMinAcfPoints) return Lag1Method(phase, m, averages, d);
   if (previous != nullptr && (averages < 9 || count < 9)) return Carried(*previous);
   if (averages < 4) return previous ? Carried(*previous) : NoiseId{0, kNaN, NoiseIdMethod::kNone};
-  return B1Method(phase, m, averages, d, kNaN, static_cast<double>(count));
+  return B1Method(phase, m, averages, d, kNaN, static_cast<double>(count), rn_memo);
 }
 
 // The coverage-calibrated rule (see noise_id.h).
 constexpr long long kRnConfirmBelow = 1000;  // lag-1 misreadings vanish above ~300 averages
 constexpr long long kMinB1Averages = 8;
 NoiseId CalibratedRule(const Eigen::VectorXd& phase, long long m, long long averages, int d,
-                       double overlapping_avar, const NoiseId* previous) {
+                       double overlapping_avar, const NoiseId* previous, RnMemo* rn_memo) {
   NoiseId id;
   if (averages >= kMinAcfPoints) {
     id = Lag1Method(phase, m, averages, d);
     if (id.alpha >= 1 && m >= kMinRnFactor) {
-      const double rn = ModifiedToAllanRatio(phase, m, overlapping_avar);
+      const double rn = rn_memo->Get(m, overlapping_avar);
       const bool frequency = RnSaysFrequencyNoise(rn, m);
       const int alpha = frequency ? 0 : PhaseNoiseAlpha(rn, m);
       if ((!frequency || averages < kRnConfirmBelow) && alpha != id.alpha) {
@@ -283,7 +307,8 @@ NoiseId CalibratedRule(const Eigen::VectorXd& phase, long long m, long long aver
     }
   } else if (averages >= kMinB1Averages || (previous == nullptr && averages >= 4)) {
     if (m < kMinRnFactor)
-      return B1Method(phase, m, averages, d, overlapping_avar, static_cast<double>(averages));
+      return B1Method(phase, m, averages, d, overlapping_avar, static_cast<double>(averages),
+                      rn_memo);
     // B1 first: random-walk FM (B1 ~ N / 2) is far from every other class and needs no O(n)
     // pass; otherwise R(n) decides between phase and frequency noise (B1's phase-noise class,
     // expectation ~0.7, overlaps white and flicker FM's, 1 and ~2, at 8-29 averages) and B1
@@ -295,7 +320,7 @@ NoiseId CalibratedRule(const Eigen::VectorXd& phase, long long m, long long aver
     if (mu >= 1) {
       id.alpha = -mu - 1;
     } else {
-      const double rn = ModifiedToAllanRatio(phase, m, overlapping_avar);
+      const double rn = rn_memo->Get(m, overlapping_avar);
       id.method = NoiseIdMethod::kB1AndRn;
       id.alpha = RnSaysFrequencyNoise(rn, m) ? -std::max(mu, -1) - 1 : PhaseNoiseAlpha(rn, m);
     }
@@ -378,13 +403,14 @@ std::vector<NoiseId> IdentifyNoiseTypes(const Eigen::VectorXd& phase,
     return out;
   }
   const NoiseId* previous = nullptr;
+  RnMemo rn_memo(phase);
   for (size_t k = 0; k < m.size(); ++k) {
     const long long averages = m[k] >= 1 ? n / m[k] : 0;
     const double avar = k < overlapping_avar.size() ? overlapping_avar[k] : kNaN;
     const long long c = k < count.size() ? count[k] : averages;
     NoiseId id = rule == NoiseIdRule::kStable32
-                     ? Stable32Rule(phase, m[k], averages, c, d, previous)
-                     : CalibratedRule(phase, m[k], averages, d, avar, previous);
+                     ? Stable32Rule(phase, m[k], averages, c, d, previous, &rn_memo)
+                     : CalibratedRule(phase, m[k], averages, d, avar, previous, &rn_memo);
     id.alpha = std::clamp(id.alpha, 2 - 2 * d, 2);
     out[k] = id;
     if (id.method != NoiseIdMethod::kNone) previous = &out[k];

@@ -1,5 +1,6 @@
 #include "pipeline/io/noise_fit_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
@@ -75,7 +76,13 @@ std::string NoiseTypeCrossCheckLine(const allan::AllanTable& table,
   }
   std::string line = "noise types: alpha equals the fitted model's dominant term at " +
                      std::to_string(agree) + " of " + std::to_string(compared) + " taus";
-  if (!differ.empty()) line += "; differs at " + allan::FormatTauRanges(differ);
+  constexpr std::size_t kMaxRanges = 6;  // a dense grid alternates between neighbouring types
+  if (!differ.empty()) {
+    const std::size_t more = differ.size() > kMaxRanges ? differ.size() - kMaxRanges : 0;
+    differ.resize(std::min(differ.size(), kMaxRanges));
+    line += "; differs at " + allan::FormatTauRanges(differ);
+    if (more > 0) line += " and " + std::to_string(more) + " more ranges";
+  }
   return line;
 }
 

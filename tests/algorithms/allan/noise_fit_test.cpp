@@ -217,5 +217,24 @@ TEST(ModelDominantAlpha, NamesTheTermThatDominatesEachTau) {
   EXPECT_EQ(ModelDominantAlpha(NoiseTerms(), {1.0}), (std::vector<int>{kNoModelAlpha}));
 }
 
+// Every m of 20 000 samples is 10 000 rows; their covariance would be 800 MB and numerically
+// singular. The fit thins such a grid to 4 rows per octave (at most 4 log2(10000) + 2 = 55 here),
+// uses the generalised fit, and recovers N within 3 of its standard errors.
+TEST(FitNoiseTerms, ThinsADenseGridToFourRowsPerOctave) {
+  testing::GyroTruth truth;
+  truth.n_rad_sqrt_s = 1e-5;
+  AllanOptions options;
+  options.grid.kind = TauGridKind::kAll;
+  const AllanTable table =
+      ComputeAllan(testing::SimulateGyro(truth, 20000, 10.0, 3), 10.0, options).table;
+  ASSERT_EQ(table.size(), 10000u);
+  const NoiseFitResult fit = FitNoiseTerms(table, NoiseFitOptions());
+  EXPECT_EQ(fit.summary.termination, Termination::kSuccess) << fit.summary.message;
+  EXPECT_LE(fit.summary.points, 4 * std::log2(10000.0) + 2);
+  EXPECT_GE(fit.summary.points, 4 * std::log2(10000.0) - 8);
+  EXPECT_TRUE(fit.generalized);
+  EXPECT_NEAR(fit.terms.n_rad_sqrt_s, 1e-5, 3.0 * fit.terms.n_se);
+}
+
 }  // namespace
 }  // namespace fogpipe::allan
