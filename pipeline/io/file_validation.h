@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "pipeline/io/isolated_call.h"
+#include "pipeline/io/recording_reader.h"
 #include "pipeline/io/schema_validator.h"
 
 namespace fogpipe::io {
@@ -22,10 +23,11 @@ struct FileValidationOptions {
   std::string schema;
   /// Read every axis and aux channel of a recording and run the reader's checks.
   bool check_data = true;
-  /// Reader options for those checks. min_samples is 2 here: the contract sets no minimum
-  /// length, but a single sample has no noise to analyse.
-  long long max_nan_gap_samples = 10;
-  long long min_samples = 2;
+  /// Reader options for those checks, those of `run` (ReadOptions), so that a recording
+  /// `validate` calls valid is one `run` can analyse: the contract sets no minimum length, the
+  /// analysis does.
+  long long max_nan_gap_samples = ReadOptions{}.max_nan_gap_samples;
+  long long min_samples = ReadOptions{}.min_samples;
 };
 
 struct FileValidation {

@@ -1,5 +1,6 @@
 #include "pipeline/io/schema_validator.h"
 
+#include <H5Lpublic.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -555,6 +556,12 @@ class Validator {
         return;
       }
       if (!group_rule && rule && rule->forbid_additional) Problem(path, "unexpected group");
+      // A group reached through a soft link is the same object as its target, checked where it
+      // is; following it would loop forever on a link cycle (/g/loop -> /g).
+      H5L_info_t link;
+      if (H5Lget_info(group.id(), child.c_str(), &link, H5P_DEFAULT) >= 0 &&
+          link.type == H5L_TYPE_SOFT)
+        return;
       CheckGroup(group.OpenGroup(child), group_rule);
     } else if (kind == ObjectKind::kDataset) {
       if (group_rule) {

@@ -2,6 +2,7 @@
 // schemas/recording-v1.json through pipeline/io/file_validation.
 #include "pipeline/io/schema_validator.h"
 
+#include <H5Lpublic.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -78,6 +79,36 @@ void RateOk(RawFile& f) {
 
 class RecordingSchemaRejects : public ::testing::TestWithParam<LayoutCase> {};
 
+// An integer sample rate is read as the same rate by `run` (recording_reader.h); `validate`
+// agrees, so the two commands give one verdict on the same file.
+TEST(RecordingSchema, AcceptsAnIntegerSampleRateAsRunReadsIt) {
+  TempDir dir;
+  const std::string path = dir.File("integer_rate.h5");
+  {
+    RawFile file(path);
+    RateOk(file);
+    file.IntAttribute("/", "sample_rate_hz", 100);
+  }
+  const FileValidation v = ValidateRecording(path);
+  EXPECT_TRUE(v.valid()) << Lines(v.problems) << v.usage_error;
+}
+
+// A soft-link cycle (/g/loop -> /g) is harmless to `run`, which never looks there; the validator
+// does not follow soft links into groups, so it neither loops nor exhausts its memory.
+TEST(RecordingSchema, ASoftLinkCycleIsNotFollowed) {
+  TempDir dir;
+  const std::string path = dir.File("cycle.h5");
+  {
+    RawFile file(path);
+    RateOk(file);
+    file.DoubleAttribute("/", "sample_rate_hz", 10.0);
+    file.Group("/g");
+    ASSERT_GE(H5Lcreate_soft("/g", file.id(), "/g/loop", H5P_DEFAULT, H5P_DEFAULT), 0);
+  }
+  const FileValidation v = ValidateRecording(path);
+  EXPECT_TRUE(v.valid()) << Lines(v.problems) << v.usage_error;
+}
+
 TEST_P(RecordingSchemaRejects, WithAMessageNamingTheObjectAndTheProblem) {
   TempDir dir;
   const std::string path = dir.File(GetParam().name + ".h5");
@@ -112,12 +143,12 @@ INSTANTIATE_TEST_SUITE_P(
                      f.DoubleAttribute("/", "sample_rate_hz", HUGE_VAL);
                    },
                    "/: attribute 'sample_rate_hz' is inf, expected a finite number"},
-        LayoutCase{"integer_sample_rate",
+        LayoutCase{"string_sample_rate",
                    [](RawFile& f) {
                      RateOk(f);
-                     f.IntAttribute("/", "sample_rate_hz", 100);
+                     f.StringAttribute("/", "sample_rate_hz", "100");
                    },
-                   "/: attribute 'sample_rate_hz' has type integer, expected float"},
+                   "/: attribute 'sample_rate_hz' has type string, expected number"},
         LayoutCase{"bad_units",
                    [](RawFile& f) {
                      f.Dataset("/rate", {100}, Signal(100));

@@ -58,7 +58,7 @@ done
 "$fogpipe" --version
 "$fogpipe" validate --help >"$work/help.txt" || fail "validate --help failed"
 grep -q -- "--schemas" "$work/help.txt" || fail "validate --help does not describe --schemas"
-"$fogpipe" simulate --profile paper --duration-s 60 --seed 3 -o "$work/rec.h5" >/dev/null
+"$fogpipe" simulate --profile paper --duration-s 600 --seed 3 -o "$work/rec.h5" >/dev/null
 (cd "$work" && env -u FOGPIPE_SCHEMAS_DIR "$fogpipe" validate "$work/rec.h5") ||
   fail "the unpacked fogpipe did not validate a recording with its installed schemas"
 
