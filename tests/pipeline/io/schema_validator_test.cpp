@@ -79,33 +79,34 @@ void RateOk(RawFile& f) {
 
 class RecordingSchemaRejects : public ::testing::TestWithParam<LayoutCase> {};
 
-// An integer sample rate is read as the same rate by `run` (recording_reader.h); `validate`
-// agrees, so the two commands give one verdict on the same file.
-TEST(RecordingSchema, AcceptsAnIntegerSampleRateAsRunReadsIt) {
+// Validates a recording built by `make` (a rate dataset with units is already there).
+FileValidation ValidateMade(const std::string& name, const std::function<void(RawFile&)>& make) {
   TempDir dir;
-  const std::string path = dir.File("integer_rate.h5");
+  const std::string path = dir.File(name);
   {
     RawFile file(path);
     RateOk(file);
-    file.IntAttribute("/", "sample_rate_hz", 100);
+    make(file);
   }
-  const FileValidation v = ValidateRecording(path);
+  return ValidateRecording(path);
+}
+
+// An integer sample rate is read as the same rate by `run` (recording_reader.h); `validate`
+// agrees, so the two commands give one verdict on the same file.
+TEST(RecordingSchema, AcceptsAnIntegerSampleRateAsRunReadsIt) {
+  const FileValidation v = ValidateMade(
+      "integer_rate.h5", [](RawFile& f) { f.IntAttribute("/", "sample_rate_hz", 100); });
   EXPECT_TRUE(v.valid()) << Lines(v.problems) << v.usage_error;
 }
 
 // A soft-link cycle (/g/loop -> /g) is harmless to `run`, which never looks there; the validator
 // does not follow soft links into groups, so it neither loops nor exhausts its memory.
 TEST(RecordingSchema, ASoftLinkCycleIsNotFollowed) {
-  TempDir dir;
-  const std::string path = dir.File("cycle.h5");
-  {
-    RawFile file(path);
-    RateOk(file);
-    file.DoubleAttribute("/", "sample_rate_hz", 10.0);
-    file.Group("/g");
-    ASSERT_GE(H5Lcreate_soft("/g", file.id(), "/g/loop", H5P_DEFAULT, H5P_DEFAULT), 0);
-  }
-  const FileValidation v = ValidateRecording(path);
+  const FileValidation v = ValidateMade("cycle.h5", [](RawFile& f) {
+    f.DoubleAttribute("/", "sample_rate_hz", 10.0);
+    f.Group("/g");
+    EXPECT_GE(H5Lcreate_soft("/g", f.id(), "/g/loop", H5P_DEFAULT, H5P_DEFAULT), 0);
+  });
   EXPECT_TRUE(v.valid()) << Lines(v.problems) << v.usage_error;
 }
 
