@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "algorithms/ar/stationarity.h"
+
 namespace fogpipe::ar {
 
 Eigen::VectorXcd CharacteristicRoots(const Eigen::VectorXd& phi) {
@@ -40,9 +42,8 @@ ArModel MakeArModel(const Eigen::VectorXd& phi, double innovation_variance, doub
   model.innovation_variance = innovation_variance;
   model.mean = mean;
   model.num_samples = num_samples;
-  const Eigen::VectorXcd roots = CharacteristicRoots(phi);
-  model.max_root_modulus = roots.size() > 0 ? roots.cwiseAbs().maxCoeff() : 0.0;
-  model.stationary = model.max_root_modulus < 1.0;
+  model.stationary = IsStationaryAsStored(phi);
+  model.max_root_modulus = MaxRootModulusAsStored(phi);
   model.phi_std_error.setConstant(phi.size(), std::numeric_limits<double>::quiet_NaN());
   if (model.stationary && num_samples > 0) {
     const Eigen::VectorXd var =

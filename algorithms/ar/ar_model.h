@@ -30,9 +30,9 @@ struct ArModel {
   /// Number of samples the model was fitted to (N of the standard errors).
   Eigen::Index num_samples = 0;
   /// True when every root of z^p - phi_1 z^{p-1} - ... - phi_p lies strictly inside the unit
-  /// circle.
+  /// circle, for phi exactly as stored, decided in extended precision (stationarity.h).
   bool stationary = false;
-  /// Largest modulus of those roots (eigenvalues of the companion matrix). >= 1: not stationary.
+  /// Largest modulus of those roots (stationarity.h). >= 1: not stationary.
   double max_root_modulus = 0.0;
 
   /// MATLAB's A(q) coefficients a_1..a_p = -phi (the paper's Table 2 convention).

@@ -248,6 +248,11 @@ LjungBoxTest LjungBoxFromLaggedProducts(const Eigen::VectorXd& c, Eigen::Index n
 
 }  // namespace
 
+bool FreeRunDiverged(double fit_simulation_percent) {
+  return !std::isfinite(fit_simulation_percent) ||
+         fit_simulation_percent <= kFreeRunDivergedPercent;
+}
+
 double LjungBoxPValue(double statistic, double dof) {
   return stats::ChiSquareSurvival(statistic, dof);
 }

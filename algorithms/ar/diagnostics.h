@@ -63,6 +63,16 @@ struct SimulationFitJob {
 /// four at a time: a sweep scores one AR order of all components this way.
 std::vector<double> SimulationFitPercents(const std::vector<SimulationFitJob>& jobs);
 
+/// Free-run fits at or below this have diverged: fit <= -1000 % means ||y - yhat|| >= 11 ||y -
+/// mean||, so by the triangle inequality the free response is at least 10 times as far from the
+/// mean as the data (RMS), the ratio at which a Kalman estimate counts as diverged too
+/// (method::kDivergedRmsRatio). A stationary model's free response starts from the data and decays;
+/// one that ends ten times larger has grown. Tables print "diverged" instead of the number.
+constexpr double kFreeRunDivergedPercent = -1000.0;
+
+/// Whether a free-run fit percentage is a diverged one (non-finite or <= kFreeRunDivergedPercent).
+bool FreeRunDiverged(double fit_simulation_percent);
+
 /// P(chi2_dof > statistic): the Ljung-Box p-value for a statistic and its degrees of freedom.
 double LjungBoxPValue(double statistic, double dof);
 

@@ -1,5 +1,6 @@
 #include "algorithms/ar/fit_ar.h"
 
+#include <algorithm>
 #include <limits>
 #include <sstream>
 
@@ -7,6 +8,7 @@
 #include "algorithms/ar/least_squares.h"
 #include "algorithms/ar/maximum_likelihood.h"
 #include "algorithms/ar/order_selection.h"
+#include "algorithms/ar/stationarity.h"
 #include "algorithms/ar/yule_walker.h"
 
 namespace fogpipe::ar {
@@ -88,14 +90,27 @@ ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options
   }
 
   std::ostringstream msg;
-  int order = 0;
+  // BIC's order, or the fixed order as far as the recursion reached; then the order actually run:
+  // the best one whose coefficients are stationary as stored (SelectStationaryOrder).
+  int preferred = 0;
   if (options.fixed_order > 0) {
-    order = std::min(options.fixed_order, seq.orders_completed);
-    if (order < options.fixed_order)
-      msg << "prediction error vanished at order " << order << "; fixed order "
+    preferred = std::min(options.fixed_order, seq.orders_completed);
+    if (preferred < options.fixed_order)
+      msg << "prediction error vanished at order " << preferred << "; fixed order "
           << options.fixed_order << " not reachable. ";
   } else {
-    order = SelectOrderByBic(fit.bic.head(seq.orders_completed));
+    preferred = SelectOrderByBic(fit.bic.head(seq.orders_completed));
+  }
+  const int order = SelectStationaryOrder(
+      fit.bic.head(seq.orders_completed), options.fixed_order > 0 ? preferred : 0,
+      [&seq](int q) { return IsStationaryAsStored(seq.phi[q - 1]); });
+  if (order != preferred) {
+    std::ostringstream note;
+    note << "AR(" << preferred << ")" << (options.fixed_order > 0 ? "" : " (BIC's order)")
+         << " is not stationary in double precision (max root modulus "
+         << MaxRootModulusAsStored(seq.phi[preferred - 1]) << "); AR(" << order << ") used";
+    fit.summary.order_note = note.str();
+    msg << fit.summary.order_note << ". ";
   }
   Eigen::VectorXd phi = seq.phi[order - 1];
   double sigma2 = seq.innovation_variance(order - 1);
@@ -113,8 +128,13 @@ ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options
       fit.summary.message = "maximum likelihood could not start from the Burg model";
       return fit;
     }
-    phi = ml.phi;
-    sigma2 = ml.innovation_variance;
+    if (IsStationaryAsStored(ml.phi)) {
+      phi = ml.phi;
+      sigma2 = ml.innovation_variance;
+    } else {
+      msg << "the maximum-likelihood refinement is not stationary in double precision; the Burg "
+             "start is kept. ";
+    }
     if (!ml.converged) {
       fit.summary.termination = Termination::kNoConvergence;
       msg << "maximum likelihood stopped after " << ml.iterations << " iterations. ";

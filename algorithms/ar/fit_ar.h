@@ -3,6 +3,9 @@
 // Pipeline per call: mean removal -> models of every order 1..P from one order-recursive pass of
 // the selection estimator -> BIC (order_selection.h) -> the chosen order -> refinement (ML only)
 // -> stationarity and standard errors (ar_model.h) -> diagnostics (diagnostics.h).
+// The order run is the best one (BIC's, or the fixed order and below) whose coefficients are
+// stationary as stored in double precision (stationarity.h): Burg's reflection coefficients are
+// below 1, but for slow components the rounded phi can still have a root outside the unit circle.
 //
 // Order selection per estimator (every estimator is order-recursive, so BIC costs one pass):
 //   kBurg               Burg's sigma_p^2 (burg.h), N = number of samples.
@@ -42,9 +45,11 @@ const char* ToString(Estimator estimator);
 struct ArOptions {
   /// Largest order tried by BIC (1..kMaxOrderLimit).
   int max_order = 20;
-  /// 0: choose the order by BIC. > 0: use this order (must be <= max_order).
+  /// 0: choose the order by BIC. > 0: use this order (must be <= max_order), or the highest order
+  /// below it that is stationary as stored (ArSummary::order_note says so).
   int fixed_order = 0;
-  /// Coefficient estimator; Burg is the default (accurate near the unit circle, always stationary).
+  /// Coefficient estimator; Burg is the default (accurate near the unit circle, stationary in exact
+  /// arithmetic).
   Estimator estimator = Estimator::kBurg;
   /// Compute ArDiagnostics (three extra passes over the data; see the benchmark for the cost).
   bool compute_diagnostics = true;
@@ -63,6 +68,10 @@ struct ArSummary {
   int orders_tried = 0;
   /// ML only: Gauss-Newton iterations; 0 otherwise.
   int ml_iterations = 0;
+  /// Empty, or why the model's order is not BIC's (or the fixed) order: that order's coefficients
+  /// are not stationary as stored (order_selection.h, SelectStationaryOrder), e.g. "AR(13) (BIC's
+  /// order) is not stationary in double precision (max root modulus 1.00014); AR(9) used".
+  std::string order_note;
 };
 
 struct ArFit {

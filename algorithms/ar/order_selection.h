@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <vector>
 
 namespace fogpipe::ar {
@@ -37,5 +38,16 @@ Eigen::VectorXd Bic(const Eigen::VectorXd& innovation_variance, Eigen::Index num
 
 /// The order (1-based) with the smallest BIC; the lower order on ties. 0 for an empty vector.
 int SelectOrderByBic(const Eigen::VectorXd& bic);
+
+/// The order to run: an AR model is only filtered or simulated if it is stationary as stored
+/// (stationarity.h), because an explosive model's Kalman filter and free run diverge.
+///   requested == 0 (order by BIC): the smallest BIC among the orders q with stationary(q); ties
+///     the lower order.
+///   requested > 0 (a fixed order): the highest q <= requested with stationary(q).
+/// Orders 1..bic.size() are considered; stationary(q) is asked lazily (best candidates first).
+/// When no order qualifies, BIC's own order or `requested` is returned, and the caller reports the
+/// model as not stationary.
+int SelectStationaryOrder(const Eigen::VectorXd& bic, int requested,
+                          const std::function<bool(int)>& stationary);
 
 }  // namespace fogpipe::ar

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -463,6 +464,24 @@ PhaseEnd RunTimeVaryingPhase(const Eigen::Ref<const Eigen::VectorXd>& z, const E
   return end;
 }
 
+// The constant-gain loop about to run from `end` is stable as it runs (ConstantGainLoopStable);
+// else fills *why (FilterAr and ArFilterBank alike report it as a numerical failure, without
+// output). A zero gain from a zero state (the zero-covariance start of a pure-noise component)
+// needs no check: the loop's input enters through beta = 0 and its state stays exactly 0, so the
+// output is the mean whatever the model's roots.
+bool ConstantGainLoopIsStable(const Eigen::VectorXd& phi, const PhaseEnd& end, std::string* why) {
+  if ((end.constant_gain.array() == 0.0).all() && (end.x.array() == 0.0).all()) return true;
+  double modulus = 0.0;
+  if (ConstantGainLoopStable(phi, end.constant_gain, &modulus)) return true;
+  char text[160];
+  std::snprintf(text, sizeof(text),
+                "constant-gain loop not stable in double precision (closed-loop root modulus "
+                "%.9g): the model's roots are too close to z = 1 for this gain",
+                modulus);
+  *why = text;
+  return false;
+}
+
 // Termination and message of a filter that ran (FilterAr and ArFilterBank alike).
 void FinishSummary(const ArKalmanOptions& options, const DareSolution& dare, bool zero_covariance,
                    ArKalmanSummary* summary) {
@@ -523,6 +542,12 @@ void RunFilter(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd
       });
   const long long k = end.k;
   history.time_varying_steps = k;
+  std::string unstable;
+  if (k < n && !ConstantGainLoopIsStable(phi, end, &unstable)) {
+    result = Fail(std::move(result), Termination::kNumericalFailure, unstable);
+    result.summary.loop_unstable = true;
+    return;
+  }
   if (k < n) {
     SteadyStateFilter(z.data() + k, n - k, options.mean, phi, end.constant_gain, end.x,
                       result.filtered.data() + k,
@@ -678,6 +703,15 @@ ArFilterBank::ArFilterBank(const Eigen::Ref<const Eigen::VectorXd>& z, const Eig
   const int p = static_cast<int>(phi.size());
   for (std::size_t i = 0; i < options.size(); ++i) {
     Filter& f = filters_[i];
+    std::string unstable;
+    if (lane[i] && HasResult(f.summary.termination) &&
+        !ConstantGainLoopIsStable(phi_, ends[i], &unstable)) {
+      f.summary.termination = Termination::kNumericalFailure;
+      f.summary.message = unstable;
+      f.summary.loop_unstable = true;
+      f.head.clear();
+      lane[i] = false;
+    }
     if (lane[i]) {
       f.gain = std::move(ends[i].constant_gain);
       f.partial.resize(static_cast<std::size_t>(p));

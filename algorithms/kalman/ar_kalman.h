@@ -156,6 +156,9 @@ struct ArKalmanSummary {
   int riccati_iterations = 0;
   double riccati_relative_residual = 0.0;
   long long samples = 0;
+  /// The constant-gain loop would not be stable as it runs (steady_state_filter.h,
+  /// ConstantGainLoopStable): the filter failed without output; a lower AR order may work.
+  bool loop_unstable = false;
 };
 
 struct ArKalmanResult {

@@ -4,6 +4,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "algorithms/ar/stationarity.h"
 #include "algorithms/common/fixed_order.h"
 #include "algorithms/common/lanes.h"
 
@@ -222,6 +223,15 @@ void SteadyStateFilter(const double* z, long long n, double mean, const Eigen::V
   std::vector<double> partial(static_cast<std::size_t>(phi.size()));
   PartialPredictions(phi, state, partial.data());
   SteadyStateFilterFromPartial(z, n, mean, phi, gain, partial.data(), filtered, innovations);
+}
+
+bool ConstantGainLoopStable(const Eigen::VectorXd& phi, const Eigen::VectorXd& gain,
+                            double* modulus) {
+  const int p = static_cast<int>(phi.size());
+  Eigen::VectorXd beta(p);
+  Betas(phi.data(), gain.data(), p, beta.data(), 1);
+  if (modulus != nullptr) *modulus = ar::MaxRootModulusAsStored(phi, beta);
+  return ar::IsStationaryAsStored(phi, beta);
 }
 
 }  // namespace fogpipe::kalman

@@ -32,6 +32,16 @@ void SteadyStateFilter(const double* z, long long n, double mean, const Eigen::V
                        const Eigen::VectorXd& gain, const Eigen::VectorXd& state, double* filtered,
                        double* innovations);
 
+/// Whether the loop is stable as it runs. Substituting e(k) = z(k) - mean - pred(k) above,
+/// pred(k+1) = sum_m (phi_m - beta_m) pred(k-m) + input, so the loop's characteristic polynomial is
+/// z^p - sum_m (phi_m - beta_m) z^{p-1-m} with the betas exactly as the loop computes them: every
+/// root must be inside the unit circle, decided in extended precision (ar/stationarity.h). A
+/// stabilizing DARE gain makes it so in exact arithmetic, but when the model's roots cluster near
+/// z = 1 (slow components) the rounded phi and beta can put the loop's roots outside, and the
+/// estimate then grows like modulus^k. `modulus`, if not null, receives the largest root modulus.
+bool ConstantGainLoopStable(const Eigen::VectorXd& phi, const Eigen::VectorXd& gain,
+                            double* modulus = nullptr);
+
 /// The loop's own state for X(k|k) = `state`: partial[m] = s_m(k) (p doubles, see above).
 void PartialPredictions(const Eigen::VectorXd& phi, const Eigen::VectorXd& state, double* partial);
 

@@ -51,7 +51,13 @@ ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_varia
   };
   filter();
   std::string diverged;
+  // Diverged output, or a constant-gain loop that would diverge as it runs and was not run
+  // (kalman::ConstantGainLoopStable): either way a lower order is tried.
   const auto diverges = [&](std::string* message) {
+    if (out.kalman.summary.loop_unstable) {
+      *message = out.kalman.summary.message;
+      return true;
+    }
     return HasResult(out.kalman.summary.termination) &&
            FilterDiverged((out.Output().array() - out.fit.model.mean).square().mean(), variance,
                           message, options.diverged_rms_ratio);
@@ -73,7 +79,8 @@ ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_varia
     filter();
     bad = diverges(&diverged);
   }
-  out.order_note = rejected;
+  out.order_note = out.fit.summary.order_note;
+  if (!rejected.empty()) out.order_note += (out.order_note.empty() ? "" : "; ") + rejected;
   if (bad) {
     // As every failed filter (ar_kalman.h): no output.
     out.kalman.summary.termination = Termination::kNumericalFailure;

@@ -36,7 +36,8 @@ struct ComponentModel {
   /// The component's share of the white-noise variance (white_noise.h), units of x^2; the R
   /// actually used is kalman.r.
   double white_noise_variance = 0.0;
-  /// Empty, or why fit.model is not BIC's own order: the higher orders whose filters diverged
+  /// Empty, or why fit.model is not BIC's own order: the fit's ar::ArSummary::order_note (that
+  /// order is not stationary in double precision), then the higher orders whose filters diverged
   /// ("AR(13) diverged (estimate RMS 11.1 x the component's)"), highest first.
   std::string order_note;
   /// The filter output used downstream: RTS-smoothed when kalman.smooth, filtered otherwise.

@@ -7,10 +7,12 @@
 #include <memory>
 #include <numeric>
 #include <stdexcept>
+#include <utility>
 
 #include "algorithms/ar/ar_model.h"
 #include "algorithms/ar/burg.h"
 #include "algorithms/ar/diagnostics.h"
+#include "algorithms/ar/order_selection.h"
 #include "algorithms/common/units.h"
 #include "algorithms/kalman/ar_kalman.h"
 #include "algorithms/method/component.h"
@@ -48,10 +50,48 @@ struct ComponentModels {
   std::vector<bool> used;               ///< per order: some setting uses it (fits computed)
 };
 
-/// The model used for order p: p itself, or the highest order the recursion reached when the
-/// prediction error vanished earlier (the component is then exactly predictable at that order).
-const ar::ArModel& ModelOfOrder(const ComponentModels& c, int p) {
-  return c.models[static_cast<std::size_t>(std::min<int>(p, c.models.size())) - 1];
+/// The order used for a setting's order p: the highest order up to p, and up to the order the
+/// recursion reached (the prediction error vanished there: the component is exactly predictable),
+/// whose model is stationary as stored (ar::SelectStationaryOrder, as ar::FitAr applies it for
+/// `run`). 0 for a component without models.
+int UsedOrder(const ComponentModels& c, int p) {
+  const int reached = static_cast<int>(c.models.size());
+  if (reached == 0) return 0;
+  return ar::SelectStationaryOrder(Eigen::VectorXd::Zero(reached), std::min(p, reached),
+                                   [&c](int q) { return c.models[q - 1].stationary; });
+}
+
+/// The Kalman options of one setting's filter on component c with `model` (one of c's models).
+kalman::ArKalmanOptions SettingFilterOptions(const ComponentModels& c, const ar::ArModel& model,
+                                             const SweepSetting& setting,
+                                             const SweepOptions& options) {
+  kalman::ArKalmanOptions o = options.method.component.kalman;
+  o.q_scale = setting.default_rule ? 1.0 : setting.q_scale;
+  o.r_scale = setting.default_rule ? 1.0 : setting.r_scale;
+  o.mean = model.mean;
+  o.max_time_varying_steps = kSweepTimeVaryingSteps;
+  // Grid settings: q referred to sigma_e^2, R to the white share (sweep_grid.h); the default
+  // rule: exactly ModelComponent()'s (white_noise.h, ApplyFilterNoise).
+  if (setting.default_rule) {
+    const FilterNoise noise = ComponentFilterNoise(
+        options.method.component.noise_rule, c.white_noise, c.variance, model.innovation_variance);
+    ApplyFilterNoise(noise, &o);
+    if (o.r < 0.0) o.r = noise.r;
+  } else {
+    o.q = model.innovation_variance;
+    if (o.r < 0.0) o.r = c.white_noise;
+  }
+  return o;
+}
+
+/// Table 3's fits (one-step, simulation; %) of component c's order-p model: the cached values for
+/// the grid's orders, else computed here (a lower order reached by a fallback).
+std::pair<double, double> FitsOfOrder(const ComponentModels& c, int p) {
+  if (c.used[p - 1]) return {c.fit_one_step[p - 1], c.fit_simulation[p - 1]};
+  const Eigen::VectorXd& x = *c.signal;
+  const double energy = ar::CenteredTailEnergy(x, p);
+  return {ar::OneStepFitPercent(x, c.models[p - 1], energy),
+          ar::SimulationFitPercents({{x.data(), x.size(), &c.models[p - 1], energy}}).front()};
 }
 
 /// The reference filters on the sweep's preprocessed signal, each scored like a grid setting.
@@ -164,7 +204,7 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
     m.used.assign(reached, false);
     m.centered_energy.assign(reached, -1.0);
     for (int order : options.grid.ar_orders) {
-      const int used = std::min(order, reached);
+      const int used = UsedOrder(m, order);
       if (used < 1 || m.used[used - 1]) continue;
       m.used[used - 1] = true;
       m.centered_energy[used - 1] = ar::CenteredTailEnergy(c, used);
@@ -251,37 +291,35 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
         for (int j = 0; j < count; ++j) {
           out.points[begin + j].fit_one_step_percent.push_back(kNaN);
           out.points[begin + j].fit_simulation_percent.push_back(kNaN);
+          out.points[begin + j].ar_order_used.push_back(0);
         }
         continue;
       }
-      const int used = std::min<int>(order, m.models.size());
-      const ar::ArModel& model = ModelOfOrder(m, order);
-      std::vector<kalman::ArKalmanOptions> kalman_options(count, options.method.component.kalman);
-      for (int j = 0; j < count; ++j) {
-        const SweepSetting& setting = settings[begin + j];
-        kalman::ArKalmanOptions& o = kalman_options[j];
-        o.q_scale = setting.default_rule ? 1.0 : setting.q_scale;
-        o.r_scale = setting.default_rule ? 1.0 : setting.r_scale;
-        o.mean = model.mean;
-        o.max_time_varying_steps = kSweepTimeVaryingSteps;
-        // Grid settings: q referred to sigma_e^2, R to the white share (sweep_grid.h); the
-        // default rule: exactly ModelComponent()'s (white_noise.h, ApplyFilterNoise).
-        if (setting.default_rule) {
-          const FilterNoise noise =
-              ComponentFilterNoise(options.method.component.noise_rule, m.white_noise, m.variance,
-                                   model.innovation_variance);
-          ApplyFilterNoise(noise, &o);
-          if (o.r < 0.0) o.r = noise.r;
-        } else {
-          o.q = model.innovation_variance;
-          if (o.r < 0.0) o.r = m.white_noise;
-        }
-        out.points[begin + j].fit_one_step_percent.push_back(m.fit_one_step[used - 1]);
-        out.points[begin + j].fit_simulation_percent.push_back(m.fit_simulation[used - 1]);
+      // The highest stationary order up to the setting's; lower still while some setting's
+      // constant-gain loop would not be stable on it (kalman::ConstantGainLoopStable), as
+      // ModelComponent does for `run`.
+      int used = UsedOrder(m, order);
+      std::vector<kalman::ArKalmanOptions> kalman_options(count);
+      for (;;) {
+        const ar::ArModel& model = m.models[used - 1];
+        for (int j = 0; j < count; ++j)
+          kalman_options[j] = SettingFilterOptions(m, model, settings[begin + j], options);
+        banks[k] = std::make_unique<kalman::ArFilterBank>(
+            *m.signal, model.phi, model.innovation_variance, m.white_noise, kalman_options,
+            m.filter_variance_ok ? &m.filter_variance : nullptr);
+        const std::vector<kalman::ArKalmanSummary> tried = banks[k]->summaries();
+        const bool unstable =
+            std::any_of(tried.begin(), tried.end(), [](const auto& t) { return t.loop_unstable; });
+        const int lower = used > 1 ? UsedOrder(m, used - 1) : 0;
+        if (!unstable || lower < 1 || lower >= used) break;
+        used = lower;
       }
-      banks[k] = std::make_unique<kalman::ArFilterBank>(
-          *m.signal, model.phi, model.innovation_variance, m.white_noise, kalman_options,
-          m.filter_variance_ok ? &m.filter_variance : nullptr);
+      const auto [fit_one_step, fit_simulation] = FitsOfOrder(m, used);
+      for (int j = 0; j < count; ++j) {
+        out.points[begin + j].fit_one_step_percent.push_back(fit_one_step);
+        out.points[begin + j].fit_simulation_percent.push_back(fit_simulation);
+        out.points[begin + j].ar_order_used.push_back(used);
+      }
       const std::vector<kalman::ArKalmanSummary> filtered = banks[k]->summaries();
       for (int j = 0; j < count; ++j) {
         SweepPoint& point = out.points[begin + j];
@@ -310,21 +348,78 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
     }
     // A setting whose filter diverged on some component (component.h, FilterDiverged, as `run`
     // checks it, from a mean square summed in another order: the two can disagree only within
-    // rounding of the threshold) is reported as a numerical failure naming the component instead
-    // of being ranked.
-    for (int k = 0; k < num_components; ++k) {
-      if (!banks[k]) continue;
-      const std::vector<double> mean_squares = banks[k]->EstimateMeanSquares();
-      for (int j = 0; j < count; ++j) {
-        SweepPoint& point = out.points[begin + j];
+    // rounding of the threshold) is filtered again alone, component by component, and a diverged
+    // component gets the next lower stationary order until its filter works, as ModelComponent
+    // does for `run`. kalman::FilterAr equals the bank's filter to the last bit, and the sum runs
+    // in component order as the ranges above do, so the other components contribute exactly what
+    // they did. Only if no order down to AR(1) works is the setting a numerical failure naming
+    // the component.
+    std::vector<int> redo;
+    for (int j = 0; j < count; ++j) {
+      if (!HasResult(out.points[begin + j].termination)) continue;
+      for (int k = 0; k < num_components; ++k) {
         std::string diverged;
-        if (!HasResult(point.termination) ||
-            !FilterDiverged(mean_squares[j], components[k].variance, &diverged))
-          continue;
-        point.termination = Termination::kNumericalFailure;
-        point.message = ComponentName(k, num_imfs) + ": Kalman filter " + diverged;
+        if (banks[k] &&
+            FilterDiverged(banks[k]->EstimateMeanSquares()[j], components[k].variance, &diverged)) {
+          redo.push_back(j);
+          break;
+        }
       }
     }
+    for_each(static_cast<int>(redo.size()), [&](int r) {
+      const int j = redo[r];
+      SweepPoint& point = out.points[begin + j];
+      Eigen::VectorXd sum = Eigen::VectorXd::Zero(n);
+      for (int k = 0; k < num_components; ++k) {
+        const ComponentModels& m = components[k];
+        if (!banks[k]) {
+          sum += *m.signal;
+          continue;
+        }
+        int used = point.ar_order_used[k];
+        kalman::ArKalmanResult filtered;
+        std::string diverged;
+        for (;;) {
+          const ar::ArModel& model = m.models[used - 1];
+          filtered =
+              kalman::FilterAr(*m.signal, model.phi, model.innovation_variance, m.white_noise,
+                               SettingFilterOptions(m, model, point.setting, options));
+          const Eigen::VectorXd& estimate =
+              filtered.smoothed.size() > 0 ? filtered.smoothed : filtered.filtered;
+          bool bad = filtered.summary.loop_unstable;
+          if (bad) diverged = filtered.summary.message;
+          if (!bad && HasResult(filtered.summary.termination)) {
+            bad = FilterDiverged((estimate.array() - model.mean).square().mean(), m.variance,
+                                 &diverged);
+          }
+          const int lower = used > 1 ? UsedOrder(m, used - 1) : 0;
+          if (!bad || lower < 1 || lower >= used) {
+            if (bad) {
+              point.termination = Termination::kNumericalFailure;
+              point.message = ComponentName(k, num_imfs) + ": Kalman filter " + diverged +
+                              " at every stationary order down to AR(" + std::to_string(used) + ")";
+            }
+            break;
+          }
+          used = lower;
+        }
+        if (!HasResult(point.termination)) return;
+        if (!HasResult(filtered.summary.termination)) {
+          point.termination = filtered.summary.termination;
+          point.message =
+              ComponentName(k, num_imfs) + ": Kalman filter: " + filtered.summary.message;
+          return;
+        }
+        sum += filtered.smoothed.size() > 0 ? filtered.smoothed : filtered.filtered;
+        if (used != point.ar_order_used[k]) {
+          const auto [fit_one_step, fit_simulation] = FitsOfOrder(m, used);
+          point.fit_one_step_percent[k] = fit_one_step;
+          point.fit_simulation_percent[k] = fit_simulation;
+          point.ar_order_used[k] = used;
+        }
+      }
+      series[j] = std::move(sum);
+    });
     // The shared filtering time, split evenly among the order's settings.
     const double filter_seconds = SecondsSince(filter_start) / count;
     for_each(count, [&](int j) {

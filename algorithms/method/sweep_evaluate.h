@@ -49,6 +49,9 @@ struct SweepPoint {
   /// Per component (IMFs then residue): fit % of its AR(p) model, one step ahead and simulated.
   std::vector<double> fit_one_step_percent;
   std::vector<double> fit_simulation_percent;
+  /// Per component: the AR order its filter ran, the setting's order or the highest stationary
+  /// order below it (ar::SelectStationaryOrder; 0 for a constant component passed through).
+  std::vector<int> ar_order_used;
   /// Allan table and Q, N, B, K, R of the method-1 output (the filtered, reconstructed signal).
   AllanEvaluation allan;
   /// RMS of (method 1 + removed mean) - true rate over the analysed samples, units of the input;

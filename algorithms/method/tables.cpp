@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "algorithms/ar/diagnostics.h"
 #include "algorithms/common/units.h"
 #include "algorithms/method/method.h"
 
@@ -67,8 +68,14 @@ std::string FormatTable3(const std::vector<FitRow>& rows) {
                 "fit sim %");
   out += line;
   for (const FitRow& r : rows) {
-    std::snprintf(line, sizeof(line), "%-16s %5d %14.2f %14.2f\n", r.component.c_str(), r.order,
-                  r.fit_one_step_percent, r.fit_simulation_percent);
+    char simulation[32];
+    if (ar::FreeRunDiverged(r.fit_simulation_percent)) {
+      std::snprintf(simulation, sizeof(simulation), "%14s", "diverged");
+    } else {
+      std::snprintf(simulation, sizeof(simulation), "%14.2f", r.fit_simulation_percent);
+    }
+    std::snprintf(line, sizeof(line), "%-16s %5d %14.2f %s\n", r.component.c_str(), r.order,
+                  r.fit_one_step_percent, simulation);
     out += line;
   }
   return out;

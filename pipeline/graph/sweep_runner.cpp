@@ -4,6 +4,7 @@
 //                                       `units` attribute (see Columns()); attributes num_imfs,
 //                                       emd_sifts, has_truth, decompose_seconds, models_seconds
 //     fit_one_step_percent [settings, components], fit_simulation_percent [settings, components]
+//     ar_order_used [settings, components] (the order each filter ran; ar::SelectStationaryOrder)
 //     ranking                           row indices, best first by rank_by
 //   /reference/<axis>/emd_sifts_<S>/    the reference filters scored like settings, one row each:
 //                                       name, parameter (+ parameter_units), the Columns() terms
@@ -97,8 +98,8 @@ void WriteReferenceRows(hdf5::Group root, const SweepTable& table, const std::st
                         const std::vector<Column>& columns) {
   const std::vector<method::SweepReference>& refs = table.result.reference;
   if (refs.empty()) return;
-  hdf5::Group g = root.CreateGroup("reference/" + table.axis + "/emd_sifts_" +
-                                   std::to_string(table.emd_sifts));
+  hdf5::Group g =
+      root.CreateGroup("reference/" + table.axis + "/emd_sifts_" + std::to_string(table.emd_sifts));
   std::vector<std::string> names, parameter_units, status;
   std::vector<double> parameter;
   std::vector<long long> grid_rank;
@@ -233,6 +234,12 @@ void WriteSweepHdf5(const std::string& path, const std::vector<SweepTable>& tabl
     }
     g.WriteDataset("fit_one_step_percent", one_step.data(), {rows, cols}, "%");
     g.WriteDataset("fit_simulation_percent", simulation.data(), {rows, cols}, "%");
+    std::vector<double> orders_used;  // small integers, exact as doubles (the 2-D writer's type)
+    for (const auto& point : r.points) {
+      for (hsize_t k = 0; k < cols; ++k)
+        orders_used.push_back(k < point.ar_order_used.size() ? point.ar_order_used[k] : 0.0);
+    }
+    g.WriteDataset("ar_order_used", orders_used.data(), {rows, cols}, "1");
     std::vector<std::string> status;
     for (const auto& point : r.points) {
       status.push_back(HasResult(point.termination) ? "ok" : point.message);

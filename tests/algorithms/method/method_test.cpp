@@ -77,6 +77,25 @@ TEST(Method, PrintsTables3And5OnPaperDriftDataWithMethodTwoAr6) {
 // 1 - sqrt(sigma_e^2 / var), are imf1 11.3 %, imf2 54.9 %, imf3 90.83 %, imf4 98.62 % (imf3 and
 // imf4 equal the printed Table 3; imf1 and imf2 are printed as 85.47 and 87.65). So a raw record
 // as coloured as the printed 74.66 % with a white floor cannot have imf1 fit above it.
+// A free-run fit at or below -1000 % (a free response ten times the data's RMS) is printed as
+// "diverged", never as a number; -999 % and the usual values are printed.
+TEST(Method, Table3PrintsADivergedFreeRunAsDivergedNotAsANumber) {
+  const std::vector<FitRow> rows = {{"imf1", 4, 80.0, 12.5},
+                                    {"imf2", 8, 99.0, -999.0},
+                                    {"imf3", 12, 99.9, -1.4e80},
+                                    {"residue", 2, 99.9, std::nan("")}};
+  const std::string table = FormatTable3(rows);
+  EXPECT_NE(table.find("12.50"), std::string::npos) << table;
+  EXPECT_NE(table.find("-999.00"), std::string::npos) << table;
+  EXPECT_EQ(table.find("e+80"), std::string::npos) << table;
+  EXPECT_EQ(table.find("nan"), std::string::npos) << table;
+  std::size_t count = 0;
+  for (std::size_t at = table.find("diverged"); at != std::string::npos;
+       at = table.find("diverged", at + 1))
+    ++count;
+  EXPECT_EQ(count, 2u) << table;
+}
+
 TEST(Method, EveryComponentFitsAtLeastAsWellAsTheRawModel) {
   for (std::uint64_t seed : kSeeds) {
     const MethodResult& r = PaperResult(seed);
