@@ -232,4 +232,13 @@ EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions
   return result;
 }
 
+void DescribeImf(const Eigen::Ref<const Eigen::VectorXd>& imf, ImfInfo* info) {
+  const int n = static_cast<int>(imf.size());
+  const ExtremaCounts counts = FindExtrema(imf.data(), n, nullptr, nullptr);
+  info->mean_period_samples = MeanPeriodSamples(n, counts);
+  info->energy = n > 0 ? imf.squaredNorm() / n : 0.0;
+  info->num_extrema = counts.num_extrema();
+  info->num_zero_crossings = counts.num_zero_crossings;
+}
+
 }  // namespace fogpipe::emd

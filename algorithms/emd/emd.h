@@ -100,4 +100,9 @@ struct EmdResult {
 /// Decomposes x (N samples, uniformly sampled, any units) into IMFs and a residue.
 EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions& options);
 
+/// Recomputes the shape fields of *info (mean period, energy, extrema and zero crossings, as
+/// Decompose measures them) for `imf` as it now is; sifts and stop_reason are left alone. For
+/// components changed after the decomposition (method/band_limit.h).
+void DescribeImf(const Eigen::Ref<const Eigen::VectorXd>& imf, ImfInfo* info);
+
 }  // namespace fogpipe::emd

@@ -22,6 +22,7 @@ bool MethodOptions::IsValid(std::string* error) const {
   };
   if (!preprocess.IsValid(&detail)) return fail("preprocess");
   if (!emd.IsValid(&detail)) return fail("emd");
+  if (!band_limit.IsValid(&detail)) return fail("band_limit");
   if (!component.ar.IsValid(&detail)) return fail("ar");
   if (!component.kalman.IsValid(&detail)) return fail("kalman");
   if (direct_ar_order < 0) return fail("direct_ar_order must be >= 0 (0 = by BIC)");
@@ -53,6 +54,8 @@ void PreprocessAndDecompose(const Eigen::VectorXd& x, double sample_rate_hz,
   if (!HasResult(emd_summary.termination)) {
     return Fail(result, emd_summary.termination, "EMD: " + emd_summary.message);
   }
+  BandLimitImfs(options.band_limit, &result->decomposition);
+  result->band_limit_ratio = options.band_limit.cutoff_ratio;
   result->summary.num_imfs = static_cast<int>(result->decomposition.imfs.size());
   result->summary.termination = Termination::kSuccess;
 }
@@ -64,8 +67,9 @@ void ModelComponents(const MethodOptions& options, const ForEach& for_each, Meth
   const Eigen::VectorXd& signal = result->preprocessed.signal;
 
   // R per component (white_noise.h): the raw white-noise variance shared by mean period.
-  const double white = WhiteNoiseVariance(signal);
-  const std::vector<double> r = ShareWhiteNoise(white, emd_result, signal.size());
+  const WhiteNoiseLevels levels = EstimateWhiteNoiseLevels(signal);
+  const double white = levels.Total();
+  const std::vector<double> r = ShareWhiteNoise(levels, emd_result, signal.size());
 
   // Slots 0..num_imfs-1: IMFs, num_imfs: residue, num_imfs + 1: method 2 on the whole signal.
   result->components.assign(num_imfs + 1, ComponentModel());
@@ -104,7 +108,8 @@ void RunReferenceFilters(double sample_rate_hz, const MethodOptions& options,
   std::vector<filters::ReferenceOutput> outputs = filters::RunReferenceFilters(
       result->preprocessed.signal, sample_rate_hz, options.reference, for_each);
   result->reference.assign(outputs.size(), ReferenceEvaluation());
-  for (std::size_t i = 0; i < outputs.size(); ++i) result->reference[i].output = std::move(outputs[i]);
+  for (std::size_t i = 0; i < outputs.size(); ++i)
+    result->reference[i].output = std::move(outputs[i]);
 }
 
 void EvaluateAllan(double sample_rate_hz, const MethodOptions& options, const ForEach& for_each,

@@ -20,6 +20,7 @@
 #include "algorithms/common/status.h"
 #include "algorithms/emd/emd.h"
 #include "algorithms/filters/reference_filters.h"
+#include "algorithms/method/band_limit.h"
 #include "algorithms/method/component.h"
 #include "algorithms/method/preprocess.h"
 
@@ -28,6 +29,9 @@ namespace fogpipe::method {
 struct MethodOptions {
   PreprocessOptions preprocess;
   emd::EmdOptions emd;
+  /// Each IMF's leakage below its band moved to the next component before modelling
+  /// (band_limit.h); cutoff_ratio 0 keeps EMD's IMFs as they are.
+  BandLimitOptions band_limit;
   /// AR and Kalman options of every IMF and of the residue (method 1).
   ComponentOptions component;
   /// Method 2's AR order: 0 = by BIC up to component.ar.max_order; the paper used 6.
@@ -62,6 +66,8 @@ struct MethodSummary {
 struct MethodResult {
   Preprocessed preprocessed;
   emd::EmdResult decomposition;
+  /// The BandLimitOptions::cutoff_ratio applied to decomposition.imfs (0: EMD's own IMFs).
+  double band_limit_ratio = 0.0;
   /// One per IMF, then the residue (index num_imfs).
   std::vector<ComponentModel> components;
   /// Method 1: sum of the filtered components (eq. 12), units of the input, mean removed.

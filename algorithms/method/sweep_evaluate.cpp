@@ -177,7 +177,7 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
   }
   const std::vector<double> variances = ComponentVariances(emd_result);
   const std::vector<double> r = ShareWhiteNoise(
-      WhiteNoiseVariance(signal), ComponentPeriods(emd_result, signal.size()), variances);
+      EstimateWhiteNoiseLevels(signal), ComponentPeriods(emd_result, signal.size()), variances);
 
   // One Burg recursion per component up to the largest order; fit % per order.
   start = std::chrono::steady_clock::now();

@@ -5,11 +5,14 @@
 
 namespace fogpipe::method {
 
-double WhiteNoiseVariance(const Eigen::VectorXd& x) {
+namespace {
+
+// Variance of d_t = x_t - x_{t-lag} by a robust scale: (1.4826 MAD)^2, or the plain mean square
+// when more than half of the differences are equal (coarse quantization: MAD 0).
+double DifferenceVariance(const Eigen::VectorXd& x, Eigen::Index lag) {
   const Eigen::Index n = x.size();
-  if (n < 3) return 0.0;
-  std::vector<double> diff(static_cast<std::size_t>(n - 1));
-  for (Eigen::Index i = 0; i + 1 < n; ++i) diff[i] = x[i + 1] - x[i];
+  std::vector<double> diff(static_cast<std::size_t>(n - lag));
+  for (Eigen::Index i = 0; i + lag < n; ++i) diff[i] = x[i + lag] - x[i];
   auto median_of = [](std::vector<double>* v) {
     auto mid = v->begin() + static_cast<std::ptrdiff_t>(v->size() / 2);
     std::nth_element(v->begin(), mid, v->end());
@@ -17,31 +20,65 @@ double WhiteNoiseVariance(const Eigen::VectorXd& x) {
   };
   const double center = median_of(&diff);
   for (double& d : diff) d = std::abs(d - center);
-  const double sigma_diff = 1.482602218505602 * median_of(&diff);
-  if (sigma_diff > 0.0) return 0.5 * sigma_diff * sigma_diff;
-  // Coarsely quantized data can repeat values so often that the MAD of the differences is 0;
-  // fall back to the plain variance of the differences.
+  const double sigma = 1.482602218505602 * median_of(&diff);
+  if (sigma > 0.0) return sigma * sigma;
   double sum = 0.0;
-  for (Eigen::Index i = 0; i + 1 < n; ++i) sum += (x[i + 1] - x[i]) * (x[i + 1] - x[i]);
-  return 0.5 * sum / static_cast<double>(n - 1);
+  for (Eigen::Index i = 0; i + lag < n; ++i) sum += (x[i + lag] - x[i]) * (x[i + lag] - x[i]);
+  return sum / static_cast<double>(n - lag);
+}
+
+}  // namespace
+
+WhiteNoiseLevels EstimateWhiteNoiseLevels(const Eigen::VectorXd& x) {
+  WhiteNoiseLevels out;
+  if (x.size() < 4) return out;
+  const double v1 = DifferenceVariance(x, 1);  // 2 u + 6 v
+  const double v2 = DifferenceVariance(x, 2);  // 2 u + 4 v
+  double angle = 0.5 * (v1 - v2);
+  double rate = 0.5 * (3.0 * v2 - 2.0 * v1);
+  // Sampling noise can make one of them negative; the total u + 2 v = v2 / 2 is kept.
+  if (angle < 0.0) angle = 0.0, rate = 0.5 * v2;
+  if (rate < 0.0) rate = 0.0, angle = 0.25 * v2;
+  out.rate_variance = rate;
+  out.angle_variance = angle;
+  return out;
+}
+
+double WhiteNoiseVariance(const Eigen::VectorXd& x) { return EstimateWhiteNoiseLevels(x).Total(); }
+
+std::vector<double> ShareWhiteNoise(const WhiteNoiseLevels& levels,
+                                    const std::vector<double>& mean_period_samples,
+                                    const std::vector<double>& imf_variance) {
+  // Weights 1/T (white) and 1/T^3 (white angle noise: a rate spectrum rising like f^2), each
+  // normalised over the components.
+  std::vector<double> white(mean_period_samples.size(), 0.0), blue(white.size(), 0.0);
+  double white_total = 0.0, blue_total = 0.0;
+  for (std::size_t k = 0; k < white.size(); ++k) {
+    const double t = mean_period_samples[k];
+    if (!(std::isfinite(t) && t > 0.0)) continue;
+    white[k] = 1.0 / t;
+    blue[k] = 1.0 / (t * t * t);
+    white_total += white[k];
+    blue_total += blue[k];
+  }
+  std::vector<double> r(white.size(), 0.0);
+  for (std::size_t k = 0; k < r.size(); ++k) {
+    double share = 0.0;
+    if (white_total > 0.0 && levels.rate_variance > 0.0)
+      share += levels.rate_variance * white[k] / white_total;
+    if (blue_total > 0.0 && levels.angle_variance > 0.0)
+      share += 2.0 * levels.angle_variance * blue[k] / blue_total;
+    r[k] = std::min(share, imf_variance[k]);
+  }
+  return r;
 }
 
 std::vector<double> ShareWhiteNoise(double white_noise_variance,
                                     const std::vector<double>& mean_period_samples,
                                     const std::vector<double>& imf_variance) {
-  std::vector<double> weight(mean_period_samples.size(), 0.0);
-  double total = 0.0;
-  for (std::size_t k = 0; k < weight.size(); ++k) {
-    const double t = mean_period_samples[k];
-    if (std::isfinite(t) && t > 0.0) weight[k] = 1.0 / t;
-    total += weight[k];
-  }
-  std::vector<double> r(weight.size(), 0.0);
-  if (!(total > 0.0) || !(white_noise_variance > 0.0)) return r;
-  for (std::size_t k = 0; k < r.size(); ++k) {
-    r[k] = std::min(white_noise_variance * weight[k] / total, imf_variance[k]);
-  }
-  return r;
+  WhiteNoiseLevels levels;
+  levels.rate_variance = white_noise_variance;
+  return ShareWhiteNoise(levels, mean_period_samples, imf_variance);
 }
 
 std::vector<double> ComponentVariances(const emd::EmdResult& decomposition) {
@@ -65,9 +102,9 @@ std::vector<double> ComponentPeriods(const emd::EmdResult& decomposition,
   return periods;
 }
 
-std::vector<double> ShareWhiteNoise(double white_noise_variance,
+std::vector<double> ShareWhiteNoise(const WhiteNoiseLevels& levels,
                                     const emd::EmdResult& decomposition, Eigen::Index num_samples) {
-  return ShareWhiteNoise(white_noise_variance, ComponentPeriods(decomposition, num_samples),
+  return ShareWhiteNoise(levels, ComponentPeriods(decomposition, num_samples),
                          ComponentVariances(decomposition));
 }
 

@@ -1,14 +1,23 @@
 // The Kalman measurement-noise variance R (and the rule for q) of each component's filter.
 //
 // Rule (documented in schemas/results-v1.md as well):
-//  1. The raw signal's white-noise variance is estimated from its first differences with a robust
-//     scale: sigma_w^2 = (1.4826 MAD(diff x))^2 / 2. For white noise of variance s^2 the difference
-//     has variance 2 s^2; slower terms (bias instability, rate random walk, ramp) barely change
-//     consecutive samples, and the MAD ignores leftover gross errors.
-//  2. That variance is shared among the IMFs as EMD shares white noise: EMD acts on white noise as
-//     a dyadic filter bank whose IMF energies obey E_k T_k ~ constant, T_k the mean period
-//     (Wu & Huang 2004, Proc. R. Soc. A 460:1597; Flandrin, Rilling & Goncalves 2004). So IMF k
-//     receives the share (1/T_k) / sum_j (1/T_j) of sigma_w^2, capped at the IMF's own variance.
+//  1. The raw signal's white measurement noise has two parts, estimated jointly from its first
+//     and second differences: white rate noise (angle random walk N) of variance u per sample,
+//     and white angle noise (quantization Q), which enters the rate as e_t - e_{t-1} with
+//     var(e_t) = v (rate units). With V_1 = var(x_t - x_{t-1}) = 2u + 6v and
+//     V_2 = var(x_t - x_{t-2}) = 2u + 4v:  v = (V_1 - V_2) / 2,  u = (3 V_2 - 2 V_1) / 2, and the
+//     per-sample variance of both, u + 2v, is V_2 / 2 (IEEE Std 952 annex C gives the two terms'
+//     Allan variances; these are their per-sample forms). Each variance is a robust scale,
+//     (1.4826 MAD)^2: slower terms (bias instability, rate random walk, ramps) barely change
+//     differences over one or two samples, and the MAD ignores steps and gross errors. The MAD of
+//     first differences alone, V_1 / 2 = u + 3v, counts the angle noise three times instead of
+//     twice. (u = N^2 fs and v = Q^2 fs^2 for N in rad/sqrt(s), Q in rad, fs in Hz.)
+//  2. Those variances are shared among the IMFs as EMD shares such noise: EMD acts on fractional
+//     Gaussian noise as a dyadic filter bank whose IMF energies scale with the mean period T_k as
+//     T_k^(2H - 2) (Flandrin, Rilling & Goncalves 2004, IEEE SPL 11:112; Wu & Huang 2004, Proc.
+//     R. Soc. A 460:1597): T^-1 for white noise (H = 1/2), T^-3 for the f^2 rate spectrum of white
+//     angle noise (a differenced white noise, H = -1/2). So IMF k receives
+//     u (1/T_k) / sum_j (1/T_j) + 2v (1/T_k^3) / sum_j (1/T_j^3), capped at the IMF's own variance.
 //     The residue (a trend) counts as one cycle over the record (T = N): a tiny share, so that
 //     its filter follows it.
 //
@@ -33,10 +42,10 @@
 //     records (raw: 9.5, ~300, ~1.9), nearly independent of the AR order; R = share with q by the
 //     moment match gave 4.9-238, 11-4460 and 2.1-1259. See schemas/results-v1.md.
 //
-// Why not R = sigma_w^2 on every IMF or Q = innovation variance with R = sigma_w^2: the AR
-// innovation variance of a noisy component already contains its share of the measurement noise
-// (method.md, "What to keep in mind"); the full sigma_w^2 as R on every IMF would count the white
-// noise once per IMF, and R = sigma_w^2 with Q = innovation variance would count it twice.
+// Why not R = u + 2v (the whole white level) on every IMF or Q = innovation variance with R = u +
+// 2v: the AR innovation variance of a noisy component already contains its share of the measurement
+// noise (method.md, "What to keep in mind"); the whole level as R on every IMF would count the
+// white noise once per IMF, and R = sigma_w^2 with Q = innovation variance would count it twice.
 #pragma once
 
 #include <Eigen/Core>
@@ -78,12 +87,27 @@ FilterNoise ComponentFilterNoise(ComponentNoiseRule rule, double white_share, do
 /// Variance of every IMF, then of the residue, units of x^2 (about each component's mean).
 std::vector<double> ComponentVariances(const emd::EmdResult& decomposition);
 
-/// sigma_w^2 of step 1, units of x^2. 0 for fewer than 3 samples. When more than half of the
-/// differences are equal (coarse quantization: MAD 0), var(diff x) / 2 instead.
+/// The white measurement noise of step 1, per sample, units of x^2.
+struct WhiteNoiseLevels {
+  double rate_variance = 0.0;   ///< u: white rate noise (angle random walk), N^2 fs
+  double angle_variance = 0.0;  ///< v: white angle noise (quantization) in rate units, Q^2 fs^2
+  /// Per-sample variance of both in the rate, u + 2v.
+  double Total() const { return rate_variance + 2.0 * angle_variance; }
+};
+
+/// Step 1. Zeros for fewer than 4 samples. When more than half of some differences are equal
+/// (coarse quantization: MAD 0), their plain mean square replaces the robust scale.
+WhiteNoiseLevels EstimateWhiteNoiseLevels(const Eigen::VectorXd& x);
+
+/// EstimateWhiteNoiseLevels(x).Total(): the R of method 2's filter on the raw signal.
 double WhiteNoiseVariance(const Eigen::VectorXd& x);
 
-/// Step 2: R_k for each IMF from sigma_w^2, the IMFs' mean periods (samples) and the IMFs'
+/// Step 2: R_k for each IMF from the levels, the IMFs' mean periods (samples) and the IMFs'
 /// variances (units of x^2). Non-positive or non-finite periods get no share.
+std::vector<double> ShareWhiteNoise(const WhiteNoiseLevels& levels,
+                                    const std::vector<double>& mean_period_samples,
+                                    const std::vector<double>& imf_variance);
+/// The same for white rate noise alone (levels.rate_variance = white_noise_variance).
 std::vector<double> ShareWhiteNoise(double white_noise_variance,
                                     const std::vector<double>& mean_period_samples,
                                     const std::vector<double>& imf_variance);
@@ -94,7 +118,7 @@ std::vector<double> ComponentPeriods(const emd::EmdResult& decomposition, Eigen:
 
 /// Steps 1-2 applied to a decomposition of a signal of `num_samples` samples: R_k for every IMF,
 /// then the residue last (ComponentPeriods, ComponentVariances).
-std::vector<double> ShareWhiteNoise(double white_noise_variance,
+std::vector<double> ShareWhiteNoise(const WhiteNoiseLevels& levels,
                                     const emd::EmdResult& decomposition, Eigen::Index num_samples);
 
 }  // namespace fogpipe::method

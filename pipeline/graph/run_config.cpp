@@ -106,6 +106,10 @@ void AddRunOptions(CLI::App* cmd, RunConfig* c) {
       ->check(CLI::IsMember({"fixed_sifts", "cauchy", "s_number", "rilling"}));
   cmd->add_option("--max-imfs", c->max_imfs, "Maximum number of IMFs (0: until monotonic)")
       ->check(CLI::Range(0, 1000));
+  cmd->add_option("--band-limit-ratio", c->band_limit_ratio,
+                  "Each IMF's content below this / its mean period (cycles per sample) moves to "
+                  "the next component before modelling; 0: EMD's IMFs as they are (the paper's)")
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--q", c->q, "Kalman process-noise variance, (rad/s)^2 (<0: default rule)");
   cmd->add_option("--r", c->r,
                   "Kalman measurement-noise variance, (rad/s)^2 (<0: white-noise rule)");
@@ -177,6 +181,7 @@ std::string EffectiveConfigToml(const RunConfig& c) {
       << "emd-sifts = " << c.emd_sifts << "\n"
       << "emd-stop-rule = " << Quoted(c.emd_stop_rule) << "\n"
       << "max-imfs = " << c.max_imfs << "\n"
+      << "band-limit-ratio = " << Number(c.band_limit_ratio) << "\n"
       << "q = " << Number(c.q) << "\n"
       << "r = " << Number(c.r) << "\n"
       << "noise-rule = " << Quoted(c.noise_rule) << "\n"
@@ -209,6 +214,7 @@ bool ToCampaignOptions(const RunConfig& c, CampaignOptions* o, std::string* erro
   m.emd.fixed_sifts = c.emd_sifts;
   m.emd.max_sifts = std::max(m.emd.max_sifts, c.emd_sifts);
   m.emd.max_imfs = c.max_imfs;
+  m.band_limit.cutoff_ratio = c.band_limit_ratio;
   for (emd::StopRule rule : {emd::StopRule::kFixedSifts, emd::StopRule::kCauchy,
                              emd::StopRule::kSNumber, emd::StopRule::kRilling}) {
     if (c.emd_stop_rule == emd::ToString(rule)) m.emd.stop_rule = rule;

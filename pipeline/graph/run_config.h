@@ -34,6 +34,8 @@ struct RunConfig {
   std::string ar_estimator = "burg";
   int emd_sifts = 10;
   std::string emd_stop_rule = "fixed_sifts";
+  /// method::BandLimitOptions::cutoff_ratio (0: EMD's IMFs as they are, the paper's method).
+  double band_limit_ratio = method::BandLimitOptions().cutoff_ratio;
   int max_imfs = 0;
   double q = -1.0;
   double r = -1.0;

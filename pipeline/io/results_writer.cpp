@@ -239,6 +239,7 @@ void WriteAxis(Group axes, const AxisResults& axis, const ResultsOptions& option
   d.WriteStringAttribute("storage", ToString(options.imf_storage));
   d.WriteInt64Attribute("num_imfs", num_imfs);
   d.WriteStringAttribute("termination", ToString(e.summary.termination));
+  d.WriteDoubleAttribute("band_limit_ratio", r.band_limit_ratio);
   const ColumnStorage big = Columns(options.imf_storage, options);
   if (options.imf_storage != ImfStorage::kNone) {
     std::vector<const Eigen::VectorXd*> columns;
