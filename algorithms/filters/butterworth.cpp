@@ -16,9 +16,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 /// Runs one section over v in place, forward or backward, started in the steady state of its
 /// first input (unity DC gain: output = input = u, so z2 = (b2 - a2) u, z1 = (1 - b0) u).
-void RunSection(const Biquad& s, Eigen::VectorXd* v, bool forward) {
-  const Eigen::Index n = v->size();
-  double* d = v->data();
+void RunSection(const Biquad& s, double* d, Eigen::Index n, bool forward) {
   const double u = forward ? d[0] : d[n - 1];
   double z1 = (1.0 - s.b0) * u, z2 = (s.b2 - s.a2) * u;
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -67,19 +65,34 @@ double ZeroPhaseButterworthResponse(int order, double cutoff_hz, double sample_r
 
 Eigen::VectorXd FilterForwardBackward(const std::vector<Biquad>& sections, const Eigen::VectorXd& x,
                                       Eigen::Index pad_samples) {
+  std::vector<double> work;
+  Eigen::VectorXd out;
+  FilterForwardBackward(sections, x, pad_samples, &work, &out);
+  return out;
+}
+
+void FilterForwardBackward(const std::vector<Biquad>& sections, const Eigen::VectorXd& x,
+                           Eigen::Index pad_samples, std::vector<double>* work,
+                           Eigen::VectorXd* out) {
   const Eigen::Index n = x.size();
-  if (n < 2) return x;
+  if (n < 2) {
+    *out = x;
+    return;
+  }
   const Eigen::Index pad = std::clamp<Eigen::Index>(pad_samples, 1, n - 1);
   // Odd reflection about both end samples.
-  Eigen::VectorXd ext(n + 2 * pad);
+  const Eigen::Index length = n + 2 * pad;
+  if (static_cast<Eigen::Index>(work->size()) < length) work->resize(length);
+  double* ext = work->data();
   for (Eigen::Index i = 0; i < pad; ++i) {
     ext[i] = 2.0 * x[0] - x[pad - i];
     ext[n + pad + i] = 2.0 * x[n - 1] - x[n - 2 - i];
   }
-  ext.segment(pad, n) = x;
-  for (const Biquad& s : sections) RunSection(s, &ext, true);
-  for (const Biquad& s : sections) RunSection(s, &ext, false);
-  return ext.segment(pad, n);
+  std::copy(x.data(), x.data() + n, ext + pad);
+  for (const Biquad& s : sections) RunSection(s, ext, length, true);
+  for (const Biquad& s : sections) RunSection(s, ext, length, false);
+  out->resize(n);
+  std::copy(ext + pad, ext + pad + n, out->data());
 }
 
 bool ButterworthOptions::IsValid(std::string* error) const {
@@ -139,8 +152,9 @@ double ButterworthGcv::Score(double cutoff_hz, double* trace, double* rss) const
   // Above `ratio` x fc, |H|^2 < 1e-16 (order 4: 1 / (1 + 100^8); order 2: 1 / (1 + 1e4^4)); the
   // warping only makes it smaller. There the residual is the rest of the power.
   const double ratio = order_ == 4 ? 100.0 : 1e4;
-  const auto last = static_cast<std::size_t>(std::min<double>(
-      static_cast<double>(tan2_.size() - 1), std::ceil(ratio * cutoff_hz / sample_rate_hz_ * length_)));
+  const auto last = static_cast<std::size_t>(
+      std::min<double>(static_cast<double>(tan2_.size() - 1),
+                       std::ceil(ratio * cutoff_hz / sample_rate_hz_ * length_)));
   double residual = tail_power_[last + 1], sum_h = 0.0;
   for (std::size_t k = 0; k <= last; ++k) {
     const double h = PowerResponse(order_, tan2_[k] * inv);
@@ -188,9 +202,9 @@ ButterworthResult ZeroPhaseButterworth(const Eigen::VectorXd& x, double sample_r
     out.gcv = gcv.Score(out.cutoff_hz, &out.trace);
     out.at_lower_bound = best.at_lower_bound;
   }
-  out.output = FilterForwardBackward(
-      ButterworthSections(options.order, out.cutoff_hz, sample_rate_hz), x,
-      ButterworthPad(out.cutoff_hz, sample_rate_hz));
+  out.output =
+      FilterForwardBackward(ButterworthSections(options.order, out.cutoff_hz, sample_rate_hz), x,
+                            ButterworthPad(out.cutoff_hz, sample_rate_hz));
   out.termination = out.output.allFinite() ? Termination::kSuccess : Termination::kNumericalFailure;
   if (!HasResult(out.termination)) out.message = "butterworth: non-finite output";
   return out;

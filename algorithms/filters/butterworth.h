@@ -47,6 +47,12 @@ double ZeroPhaseButterworthResponse(int order, double cutoff_hz, double sample_r
 /// Same length as x; x shorter than 2 samples is returned unchanged.
 Eigen::VectorXd FilterForwardBackward(const std::vector<Biquad>& sections, const Eigen::VectorXd& x,
                                       Eigen::Index pad_samples);
+/// The same into *out, with *work holding the padded series: both are reused across calls and grow
+/// only when they must (fresh pages cost more than the filtering on long records). Equal to the
+/// allocating form to the last bit.
+void FilterForwardBackward(const std::vector<Biquad>& sections, const Eigen::VectorXd& x,
+                           Eigen::Index pad_samples, std::vector<double>* work,
+                           Eigen::VectorXd* out);
 
 struct ButterworthOptions {
   /// Filter order (of each pass): 2 or 4. Default 4.
@@ -64,10 +70,10 @@ struct ButterworthOptions {
 };
 
 struct ButterworthResult {
-  Eigen::VectorXd output;   ///< filtered x, units of x
-  double cutoff_hz = 0.0;   ///< the cutoff used
-  double gcv = 0.0;         ///< GCV score at the cutoff, (units of x)^2 (NaN when given)
-  double trace = 0.0;       ///< tr S at the cutoff (effective parameters), per N samples
+  Eigen::VectorXd output;       ///< filtered x, units of x
+  double cutoff_hz = 0.0;       ///< the cutoff used
+  double gcv = 0.0;             ///< GCV score at the cutoff, (units of x)^2 (NaN when given)
+  double trace = 0.0;           ///< tr S at the cutoff (effective parameters), per N samples
   bool at_lower_bound = false;  ///< GCV chose the lowest cutoff of its grid
   Termination termination = Termination::kInvalidOptions;
   std::string message;
@@ -91,11 +97,11 @@ class ButterworthGcv {
  private:
   int order_;
   double sample_rate_hz_;
-  Eigen::Index samples_ = 0;    // M
-  double length_ = 0.0;         // L = 2M - 2
-  std::vector<double> tan2_;    // tan^2(pi k / L), k = 0 .. L/2
-  std::vector<double> power_;   // weight_k |Y_k|^2 / (2 L)
-  std::vector<double> weight_;  // 1 at DC and Nyquist, else 2
+  Eigen::Index samples_ = 0;        // M
+  double length_ = 0.0;             // L = 2M - 2
+  std::vector<double> tan2_;        // tan^2(pi k / L), k = 0 .. L/2
+  std::vector<double> power_;       // weight_k |Y_k|^2 / (2 L)
+  std::vector<double> weight_;      // 1 at DC and Nyquist, else 2
   std::vector<double> tail_power_;  // sum of power_ from k on
 };
 

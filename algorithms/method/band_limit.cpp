@@ -1,6 +1,7 @@
 #include "algorithms/method/band_limit.h"
 
 #include <algorithm>
+#include <vector>
 
 #include "algorithms/filters/butterworth.h"
 
@@ -22,6 +23,8 @@ void BandLimitImfs(const BandLimitOptions& options, emd::EmdResult* d) {
   if (!(options.cutoff_ratio > 0.0)) return;
   const Eigen::Index n = d->residue.size();
   const int count = static_cast<int>(d->imfs.size());
+  std::vector<double> work;  // reused by every split (fresh pages are slow)
+  Eigen::VectorXd leak;
   for (int k = 0; k < count; ++k) {
     // The band of the component as it stands, the previous one's leakage included.
     emd::DescribeImf(d->imfs[k], &d->imf_info[k]);
@@ -32,8 +35,8 @@ void BandLimitImfs(const BandLimitOptions& options, emd::EmdResult* d) {
     // The odd-reflection pad of the low-pass, at most the record: the slowest IMFs' cutoffs have
     // periods near the record length, and a longer pad only repeats the record.
     const Eigen::Index pad = std::min<Eigen::Index>(filters::ButterworthPad(cutoff, 1.0), n - 1);
-    const Eigen::VectorXd leak = filters::FilterForwardBackward(
-        filters::ButterworthSections(options.order, cutoff, 1.0), d->imfs[k], pad);
+    filters::FilterForwardBackward(filters::ButterworthSections(options.order, cutoff, 1.0),
+                                   d->imfs[k], pad, &work, &leak);
     d->imfs[k] -= leak;
     emd::DescribeImf(d->imfs[k], &d->imf_info[k]);
     if (k + 1 < count) {
