@@ -427,6 +427,23 @@ void AssessBounds(const Points& p, double level, const std::vector<int>& cols,
 
 }  // namespace
 
+void MarkTermsAboveUnfiltered(const NoiseFitResult& unfiltered, NoiseFitResult* filtered) {
+  NoiseTerms terms = filtered->terms;
+  for (int j = 0; j < kTerms; ++j) {
+    const double limit = unfiltered.assessment[j].upper_limit;
+    const double amplitude = *Amplitude(&terms, j);
+    if (!std::isfinite(limit) || !(amplitude > limit)) continue;
+    TermAssessment& a = filtered->assessment[j];
+    a.reliable = false;
+    char text[200];
+    std::snprintf(text, sizeof(text),
+                  "above the unfiltered signal's upper limit (%.3g x): a filter removes noise, "
+                  "this reads the filter's Allan shape",
+                  amplitude / limit);
+    a.reason += (a.reason.empty() ? "" : "; ") + std::string(text);
+  }
+}
+
 const char* TermSymbol(int term) {
   static const char* kSymbols[kTerms] = {"Q", "N", "B", "K", "R"};
   return term >= 0 && term < kTerms ? kSymbols[term] : "?";

@@ -162,6 +162,14 @@ int UnreliableTermCount(const NoiseFitResult& fit);
 /// skipped.
 NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& options);
 
+/// For the fit of a filtered signal (a Kalman or low-pass output of the signal `unfiltered` was
+/// fitted to): marks unreliable every term whose amplitude exceeds the unfiltered fit's upper
+/// limit for it (TermAssessment::upper_limit). A filter removes noise, it cannot add a gyro's;
+/// such a term reads the filter's Allan shape (suppressed at short tau, rising back to the
+/// unfiltered curve) as noise, typically rate random walk. Terms of an unfiltered fit without
+/// standard errors are not compared.
+void MarkTermsAboveUnfiltered(const NoiseFitResult& unfiltered, NoiseFitResult* filtered);
+
 /// The model sigma^2(tau) [(rad/s)^2] of the five terms.
 double NoiseModelVariance(const NoiseTerms& terms, double tau_s);
 

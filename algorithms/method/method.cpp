@@ -130,6 +130,13 @@ void EvaluateAllan(double sample_rate_hz, const MethodOptions& options, const Fo
       outputs[i]->noise = allan::FitNoiseTerms(outputs[i]->allan.table, options.noise_fit);
     }
   });
+  // Terms of the filtered outputs above the raw fit's upper limits describe the filter.
+  if (HasResult(result->raw_allan.allan.summary.termination)) {
+    for (std::size_t i = 1; i < outputs.size(); ++i) {
+      if (HasResult(outputs[i]->allan.summary.termination))
+        allan::MarkTermsAboveUnfiltered(result->raw_allan.noise, &outputs[i]->noise);
+    }
+  }
   const char* names[3] = {"raw", "method 1", "method 2"};
   for (int i = 0; i < 3; ++i) {
     if (!HasResult(outputs[i]->allan.summary.termination)) {

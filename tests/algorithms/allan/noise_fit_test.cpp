@@ -64,6 +64,24 @@ void ExpectRelative(double got, double truth, double tolerance, const char* what
   EXPECT_NEAR(got / truth, 1.0, tolerance) << what << " got " << got << " truth " << truth;
 }
 
+// A filtered signal's term above the unfiltered fit's upper limit is marked, with its ratio; one
+// below it, or compared with a limit that is unknown, is left alone.
+TEST(MarkTermsAboveUnfiltered, FlagsOnlyTermsAboveTheUnfilteredUpperLimit) {
+  NoiseFitResult raw;
+  raw.assessment[1].upper_limit = 2e-5;  // N
+  raw.assessment[3].upper_limit = 1e-8;  // K
+  NoiseFitResult filtered;
+  filtered.terms.n_rad_sqrt_s = 1e-5;    // below raw's limit
+  filtered.terms.k_rad_s_sqrt_s = 3e-7;  // 30x above
+  filtered.terms.b_rad_s = 1.0;          // raw's limit unknown (NaN)
+  MarkTermsAboveUnfiltered(raw, &filtered);
+  EXPECT_TRUE(filtered.assessment[1].reliable);
+  EXPECT_TRUE(filtered.assessment[2].reliable);
+  EXPECT_FALSE(filtered.assessment[3].reliable);
+  EXPECT_NE(filtered.assessment[3].reason.find("30 x"), std::string::npos)
+      << filtered.assessment[3].reason;
+}
+
 TEST(FitNoiseTerms, RecoversQuantizationArwBiasInstabilityAndRateRandomWalk) {
   testing::GyroTruth truth = BaseTruth();
   truth.k_rad_s_sqrt_s = 1.224e-7;

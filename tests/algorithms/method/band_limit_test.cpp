@@ -102,7 +102,7 @@ TEST(BandLimit, MethodOneKeepsTheLongTauAllanDeviationOfStaticRecords) {
   };
   for (const Profile& profile : {Profile{"paper", simulation::PaperOptions},
                                  Profile{"navigation", simulation::NavigationGradeOptions}}) {
-    int within[2] = {0, 0};
+    int within[2] = {0, 0}, k_above = 0;
     double worst[2] = {0.0, 0.0};
     const int seeds = 20;
     for (int s = 0; s < seeds; ++s) {
@@ -128,6 +128,16 @@ TEST(BandLimit, MethodOneKeepsTheLongTauAllanDeviationOfStaticRecords) {
           ratio = std::max(ratio, m1.table.sigma[i] / raw.table.sigma[i]);
         }
         within[variant] += ratio <= 1.05;
+        if (variant == 0) {
+          // Every method-1 term above the raw fit's upper limit is flagged (EvaluateAllan).
+          EvaluateAllan(fs, options, SerialForEach, &r);
+          const double k = r.method1_allan.noise.terms.k_rad_s_sqrt_s;
+          const double limit = r.raw_allan.noise.assessment[3].upper_limit;
+          if (std::isfinite(limit) && k > limit) {
+            ++k_above;
+            EXPECT_FALSE(r.method1_allan.noise.assessment[3].reliable);
+          }
+        }
         worst[variant] = std::max(worst[variant], ratio);
       }
     }
@@ -135,6 +145,8 @@ TEST(BandLimit, MethodOneKeepsTheLongTauAllanDeviationOfStaticRecords) {
         "%s: OADEV(method 1) / OADEV(raw) <= 1.05 at every tau <= T/4 in %d of %d seeds "
         "(worst %.3f); with EMD's own IMFs %d of %d (worst %.3f)\n",
         profile.name, within[0], seeds, worst[0], within[1], seeds, worst[1]);
+    std::printf("%s: method 1's K above the raw fit's upper limit (so flagged) in %d of %d seeds\n",
+                profile.name, k_above, seeds);
     EXPECT_GE(within[0], 19) << profile.name;  // 95 % of 20
     EXPECT_LT(within[1], 19) << profile.name;
   }
