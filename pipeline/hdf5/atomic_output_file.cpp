@@ -9,6 +9,9 @@
 #include <cctype>
 #include <cerrno>
 #include <cstdlib>
+#include <mutex>
+#include <set>
+#include <string>
 #include <system_error>
 
 namespace fogpipe::hdf5 {
@@ -31,7 +34,32 @@ bool AllDigits(const std::string& text) {
   return true;
 }
 
+// The temporary files of this process not yet committed or removed, for a stop that cannot wait
+// (RemoveUncommittedTempFiles). Never destroyed: a detached thread may use them during exit.
+std::mutex& RegistryMutex() {
+  static auto* mutex = new std::mutex;
+  return *mutex;
+}
+std::set<std::string>& Registry() {
+  static auto* paths = new std::set<std::string>;
+  return *paths;
+}
+void Register(const std::filesystem::path& path) {
+  std::lock_guard<std::mutex> lock(RegistryMutex());
+  Registry().insert(path.string());
+}
+void Unregister(const std::filesystem::path& path) {
+  std::lock_guard<std::mutex> lock(RegistryMutex());
+  Registry().erase(path.string());
+}
+
 }  // namespace
+
+void RemoveUncommittedTempFiles() {
+  std::lock_guard<std::mutex> lock(RegistryMutex());
+  for (const std::string& path : Registry()) ::unlink(path.c_str());
+  Registry().clear();
+}
 
 std::filesystem::path MakeAtomicTempPath(const std::filesystem::path& final_path) {
   static std::atomic<unsigned long long> counter{0};
@@ -65,7 +93,9 @@ bool AtomicTempInUse(const std::filesystem::path& path) {
 AtomicOutputFile::AtomicOutputFile(std::filesystem::path final_path)
     : final_path_(std::move(final_path)),
       temp_path_(MakeAtomicTempPath(final_path_)),
-      file_(File::Create(temp_path_.string(), /*overwrite=*/false)) {}
+      file_(File::Create(temp_path_.string(), /*overwrite=*/false)) {
+  Register(temp_path_);
+}
 
 AtomicOutputFile::~AtomicOutputFile() {
   if (committed_) return;
@@ -76,6 +106,7 @@ AtomicOutputFile::~AtomicOutputFile() {
   }
   std::error_code ignored;
   std::filesystem::remove(temp_path_, ignored);
+  Unregister(temp_path_);
 }
 
 void AtomicOutputFile::Commit() {
@@ -85,6 +116,7 @@ void AtomicOutputFile::Commit() {
   SyncPath(temp_path_, false);
   std::filesystem::rename(temp_path_, final_path_);  // throws filesystem_error; dtor cleans up
   committed_ = true;
+  Unregister(temp_path_);
   SyncPath(final_path_.parent_path().empty() ? "." : final_path_.parent_path(), true);
 }
 

@@ -45,6 +45,10 @@ class AtomicOutputFile {
   bool committed_ = false;
 };
 
+/// Removes every temporary file of this process that is neither committed nor removed yet: for a
+/// stop that ends the process without running destructors (graph/interrupt.h). Thread-safe.
+void RemoveUncommittedTempFiles();
+
 /// The temporary name used for `final_path` by this process: "<final>.tmp-<pid>-<n>", n counting
 /// up per process so that concurrent writers never collide.
 std::filesystem::path MakeAtomicTempPath(const std::filesystem::path& final_path);

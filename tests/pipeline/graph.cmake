@@ -12,7 +12,7 @@ add_test(NAME graph_run_campaign_test
           identity)
 add_test(NAME graph_run_sigterm_test
   COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/tests/pipeline/cli/run_campaign_test.py
-          $<TARGET_FILE:fogpipe> ${PROJECT_SOURCE_DIR} sigterm)
+          $<TARGET_FILE:fogpipe> ${PROJECT_SOURCE_DIR} sigterm sigterm_fast)
 add_test(NAME graph_run_sigkill_test
   COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/tests/pipeline/cli/run_campaign_test.py
           $<TARGET_FILE:fogpipe> ${PROJECT_SOURCE_DIR} sigkill)

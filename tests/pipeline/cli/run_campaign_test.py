@@ -2,7 +2,7 @@
 """End-to-end tests of `fogpipe run` and `fogpipe info` (driven through the binary).
 
 Usage: run_campaign_test.py FOGPIPE_BINARY SOURCE_DIR [CASE...]
-Cases: campaign threads config dryrun resume identity sigterm sigkill (default: all). Recordings are written
+Cases: campaign threads config dryrun resume identity sigterm sigterm_fast sigkill (default: all). Recordings are written
 with h5py + numpy (seeded), so the test needs nothing but the binary.
 """
 import json
@@ -319,9 +319,35 @@ def case_signal(tmp, sig, name):
     complete_and_unique(rec, out)
 
 
+def case_sigterm_fast(tmp):
+    """SIGTERM in the middle of a long stage (the EMD of 24 h at 100 Hz, about 6 s) ends the run
+    within the watchdog's 1 s grace plus scheduling (3 s allowed), not at the stage's end: exit
+    143, no temporary file, no results file for the abandoned recording."""
+    rec = os.path.join(tmp, "day.h5")
+    r = run(["simulate", "-o", rec, "--profile", "nav", "--duration-s", "86400",
+             "--sample-rate-hz", "100", "--axes", "1", "--seed", "12", "--no-temperature"])
+    check(r.returncode == 0, f"sigterm_fast: the day-long recording is written ({r.stderr[-200:]})")
+    out = os.path.join(tmp, "out_sigterm_fast")
+    proc = subprocess.Popen([FOGPIPE, "run", rec, "-o", out, "--threads", "2"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    time.sleep(3.0)
+    check(proc.poll() is None, "sigterm_fast: the run is still busy when the signal is sent")
+    sent = time.monotonic()
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=300)
+    waited = time.monotonic() - sent
+    print(f"sigterm_fast: exit {proc.returncode} {waited:.2f} s after SIGTERM")
+    check(proc.returncode == 143, f"sigterm_fast: SIGTERM exits 143 (got {proc.returncode})")
+    check(waited <= 3.0, f"sigterm_fast: the run ended {waited:.2f} s after SIGTERM (<= 3 s)")
+    check("abandoned" in err, "sigterm_fast: the run says the recording was abandoned")
+    left = os.listdir(out) if os.path.isdir(out) else []
+    check(not [n for n in left if ".tmp-" in n], "sigterm_fast: no temporary file is left")
+    check(not [n for n in left if n.endswith(".fogpipe.h5")], "sigterm_fast: no results file")
+
+
 def main():
     cases = sys.argv[3:] or ["campaign", "threads", "config", "dryrun", "resume", "identity",
-                             "sigterm", "sigkill"]
+                             "sigterm", "sigterm_fast", "sigkill"]
     tmp = tempfile.mkdtemp(prefix="fogpipe_run_test_")
     try:
         if set(cases) & {"campaign", "threads", "config", "dryrun", "resume"}:
@@ -338,6 +364,8 @@ def main():
             case_identity(tmp)
         if "sigterm" in cases:
             case_signal(tmp, signal.SIGTERM, "sigterm")
+        if "sigterm_fast" in cases:
+            case_sigterm_fast(tmp)
         if "sigkill" in cases:
             case_signal(tmp, signal.SIGKILL, "sigkill")
     finally:
