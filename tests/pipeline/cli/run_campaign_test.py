@@ -321,8 +321,9 @@ def case_signal(tmp, sig, name):
 
 def case_sigterm_fast(tmp):
     """SIGTERM in the middle of a long stage (the EMD of 24 h at 100 Hz, about 6 s) ends the run
-    within the watchdog's 1 s grace plus scheduling (3 s allowed), not at the stage's end: exit
-    143, no temporary file, no results file for the abandoned recording."""
+    within the watchdog's 1 s grace plus scheduling (3 s allowed), not at the stage's end (19.9 s
+    before the watchdog): exit 143, no temporary file, no results file for the abandoned
+    recording."""
     rec = os.path.join(tmp, "day.h5")
     r = run(["simulate", "-o", rec, "--profile", "nav", "--duration-s", "86400",
              "--sample-rate-hz", "100", "--axes", "1", "--seed", "12", "--no-temperature"])
@@ -339,7 +340,10 @@ def case_sigterm_fast(tmp):
     print(f"sigterm_fast: exit {proc.returncode} {waited:.2f} s after SIGTERM")
     check(proc.returncode == 143, f"sigterm_fast: SIGTERM exits 143 (got {proc.returncode})")
     check(waited <= 3.0, f"sigterm_fast: the run ended {waited:.2f} s after SIGTERM (<= 3 s)")
-    check("abandoned" in err, "sigterm_fast: the run says the recording was abandoned")
+    # Within the grace the graph may reach a stage boundary and stop cleanly (a loaded machine
+    # can still be reading at 3 s); past it the watchdog abandons the recording and says so.
+    check("abandoned" in err or waited < 0.95,
+          "sigterm_fast: a run stopped by the watchdog says the recording was abandoned")
     left = os.listdir(out) if os.path.isdir(out) else []
     check(not [n for n in left if ".tmp-" in n], "sigterm_fast: no temporary file is left")
     check(not [n for n in left if n.endswith(".fogpipe.h5")], "sigterm_fast: no results file")
