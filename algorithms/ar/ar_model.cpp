@@ -42,8 +42,9 @@ ArModel MakeArModel(const Eigen::VectorXd& phi, double innovation_variance, doub
   model.innovation_variance = innovation_variance;
   model.mean = mean;
   model.num_samples = num_samples;
-  model.stationary = IsStationaryAsStored(phi);
+  // MaxRootModulusAsStored is below 1 exactly when IsStationaryAsStored holds.
   model.max_root_modulus = MaxRootModulusAsStored(phi);
+  model.stationary = model.max_root_modulus < 1.0;
   model.phi_std_error.setConstant(phi.size(), std::numeric_limits<double>::quiet_NaN());
   if (model.stationary && num_samples > 0) {
     const Eigen::VectorXd var =

@@ -230,8 +230,9 @@ bool ConstantGainLoopStable(const Eigen::VectorXd& phi, const Eigen::VectorXd& g
   const int p = static_cast<int>(phi.size());
   Eigen::VectorXd beta(p);
   Betas(phi.data(), gain.data(), p, beta.data(), 1);
+  if (ar::IsStationaryAsStored(phi, beta)) return true;
   if (modulus != nullptr) *modulus = ar::MaxRootModulusAsStored(phi, beta);
-  return ar::IsStationaryAsStored(phi, beta);
+  return false;
 }
 
 }  // namespace fogpipe::kalman

@@ -38,7 +38,8 @@ void SteadyStateFilter(const double* z, long long n, double mean, const Eigen::V
 /// root must be inside the unit circle, decided in extended precision (ar/stationarity.h). A
 /// stabilizing DARE gain makes it so in exact arithmetic, but when the model's roots cluster near
 /// z = 1 (slow components) the rounded phi and beta can put the loop's roots outside, and the
-/// estimate then grows like modulus^k. `modulus`, if not null, receives the largest root modulus.
+/// estimate then grows like modulus^k. `modulus`, if not null, receives the largest root modulus
+/// when the loop is not stable (its bisection is not spent on the loops that are).
 bool ConstantGainLoopStable(const Eigen::VectorXd& phi, const Eigen::VectorXd& gain,
                             double* modulus = nullptr);
 

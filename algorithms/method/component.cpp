@@ -51,16 +51,9 @@ ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_varia
   };
   filter();
   std::string diverged;
-  // Diverged output, or a constant-gain loop that would diverge as it runs and was not run
-  // (kalman::ConstantGainLoopStable): either way a lower order is tried.
   const auto diverges = [&](std::string* message) {
-    if (out.kalman.summary.loop_unstable) {
-      *message = out.kalman.summary.message;
-      return true;
-    }
-    return HasResult(out.kalman.summary.termination) &&
-           FilterDiverged((out.Output().array() - out.fit.model.mean).square().mean(), variance,
-                          message, options.diverged_rms_ratio);
+    return FilterBrokeDown(out.kalman, out.fit.model.mean, variance, message,
+                           options.diverged_rms_ratio);
   };
   // A filter on an ill-conditioned high-order model of a slow IMF can diverge in floating point
   // (README, Known limitations; keeping the time-varying gain to the end does not help: measured
@@ -91,6 +84,18 @@ ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_varia
     out.kalman.smoothed.resize(0);
   }
   return out;
+}
+
+bool FilterBrokeDown(const kalman::ArKalmanResult& result, double model_mean,
+                     double component_variance, std::string* message, double rms_ratio) {
+  if (result.summary.loop_unstable) {
+    *message = result.summary.message;
+    return true;
+  }
+  if (!HasResult(result.summary.termination)) return false;
+  const Eigen::VectorXd& estimate = result.smoothed.size() > 0 ? result.smoothed : result.filtered;
+  return FilterDiverged((estimate.array() - model_mean).square().mean(), component_variance,
+                        message, rms_ratio);
 }
 
 bool FilterDiverged(double estimate_mean_square, double component_variance, std::string* message,

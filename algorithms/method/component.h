@@ -67,6 +67,15 @@ void ApplyFilterNoise(const FilterNoise& noise, kalman::ArKalmanOptions* kalman)
 bool FilterDiverged(double estimate_mean_square, double component_variance, std::string* message,
                     double rms_ratio = kDivergedRmsRatio);
 
+/// Whether a filter on a component broke down, so that a lower AR order should be tried: its
+/// constant-gain loop would not be stable as it runs (kalman::ArKalmanSummary::loop_unstable; the
+/// filter then has no output), or its estimate (smoothed if there is one) diverged about
+/// `model_mean` (FilterDiverged against `component_variance`, units of x^2). Fills *message.
+/// ModelComponent and the sweep's fallback judge their filters with it.
+bool FilterBrokeDown(const kalman::ArKalmanResult& result, double model_mean,
+                     double component_variance, std::string* message,
+                     double rms_ratio = kDivergedRmsRatio);
+
 /// Fits the AR model to `x` and runs the Kalman filter on it, q and R from `white_noise_variance`
 /// (the component's white share, units of x^2) by options.noise_rule unless given explicitly. A
 /// diverged filter (FilterDiverged) is reported as a numerical failure of the filter.

@@ -354,13 +354,16 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
     // in component order as the ranges above do, so the other components contribute exactly what
     // they did. Only if no order down to AR(1) works is the setting a numerical failure naming
     // the component.
+    std::vector<std::vector<double>> mean_squares(num_components);
+    for (int k = 0; k < num_components; ++k) {
+      if (banks[k]) mean_squares[k] = banks[k]->EstimateMeanSquares();
+    }
     std::vector<int> redo;
     for (int j = 0; j < count; ++j) {
       if (!HasResult(out.points[begin + j].termination)) continue;
       for (int k = 0; k < num_components; ++k) {
         std::string diverged;
-        if (banks[k] &&
-            FilterDiverged(banks[k]->EstimateMeanSquares()[j], components[k].variance, &diverged)) {
+        if (banks[k] && FilterDiverged(mean_squares[k][j], components[k].variance, &diverged)) {
           redo.push_back(j);
           break;
         }
@@ -384,14 +387,7 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
           filtered =
               kalman::FilterAr(*m.signal, model.phi, model.innovation_variance, m.white_noise,
                                SettingFilterOptions(m, model, point.setting, options));
-          const Eigen::VectorXd& estimate =
-              filtered.smoothed.size() > 0 ? filtered.smoothed : filtered.filtered;
-          bool bad = filtered.summary.loop_unstable;
-          if (bad) diverged = filtered.summary.message;
-          if (!bad && HasResult(filtered.summary.termination)) {
-            bad = FilterDiverged((estimate.array() - model.mean).square().mean(), m.variance,
-                                 &diverged);
-          }
+          const bool bad = FilterBrokeDown(filtered, model.mean, m.variance, &diverged);
           const int lower = used > 1 ? UsedOrder(m, used - 1) : 0;
           if (!bad || lower < 1 || lower >= used) {
             if (bad) {

@@ -44,8 +44,6 @@ WhiteNoiseLevels EstimateWhiteNoiseLevels(const Eigen::VectorXd& x) {
   return out;
 }
 
-double WhiteNoiseVariance(const Eigen::VectorXd& x) { return EstimateWhiteNoiseLevels(x).Total(); }
-
 std::vector<double> ShareWhiteNoise(const WhiteNoiseLevels& levels,
                                     const std::vector<double>& mean_period_samples,
                                     const std::vector<double>& imf_variance) {
@@ -71,14 +69,6 @@ std::vector<double> ShareWhiteNoise(const WhiteNoiseLevels& levels,
     r[k] = std::min(share, imf_variance[k]);
   }
   return r;
-}
-
-std::vector<double> ShareWhiteNoise(double white_noise_variance,
-                                    const std::vector<double>& mean_period_samples,
-                                    const std::vector<double>& imf_variance) {
-  WhiteNoiseLevels levels;
-  levels.rate_variance = white_noise_variance;
-  return ShareWhiteNoise(levels, mean_period_samples, imf_variance);
 }
 
 std::vector<double> ComponentVariances(const emd::EmdResult& decomposition) {

@@ -45,7 +45,7 @@
 // Why not R = u + 2v (the whole white level) on every IMF or Q = innovation variance with R = u +
 // 2v: the AR innovation variance of a noisy component already contains its share of the measurement
 // noise (method.md, "What to keep in mind"); the whole level as R on every IMF would count the
-// white noise once per IMF, and R = sigma_w^2 with Q = innovation variance would count it twice.
+// white noise once per IMF, and R = u + 2v with Q = innovation variance would count it twice.
 #pragma once
 
 #include <Eigen/Core>
@@ -99,16 +99,9 @@ struct WhiteNoiseLevels {
 /// (coarse quantization: MAD 0), their plain mean square replaces the robust scale.
 WhiteNoiseLevels EstimateWhiteNoiseLevels(const Eigen::VectorXd& x);
 
-/// EstimateWhiteNoiseLevels(x).Total(): the R of method 2's filter on the raw signal.
-double WhiteNoiseVariance(const Eigen::VectorXd& x);
-
 /// Step 2: R_k for each IMF from the levels, the IMFs' mean periods (samples) and the IMFs'
 /// variances (units of x^2). Non-positive or non-finite periods get no share.
 std::vector<double> ShareWhiteNoise(const WhiteNoiseLevels& levels,
-                                    const std::vector<double>& mean_period_samples,
-                                    const std::vector<double>& imf_variance);
-/// The same for white rate noise alone (levels.rate_variance = white_noise_variance).
-std::vector<double> ShareWhiteNoise(double white_noise_variance,
                                     const std::vector<double>& mean_period_samples,
                                     const std::vector<double>& imf_variance);
 

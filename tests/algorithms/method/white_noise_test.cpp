@@ -31,7 +31,7 @@ TEST(WhiteNoise, EstimatesTheVarianceOfWhiteNoiseUnderASlowRandomWalk) {
   }
   // Truth 4. The MAD-based scale of n = 2e5 differences has relative standard error
   // ~1.36 / sqrt(n) = 0.3 % (asymptotic efficiency 37 %), so 2 % is > 6 standard errors.
-  EXPECT_NEAR(WhiteNoiseVariance(x) / 4.0, 1.0, 0.02);
+  EXPECT_NEAR(EstimateWhiteNoiseLevels(x).Total() / 4.0, 1.0, 0.02);
 }
 
 // Joint white rate (u) and white angle (v) noise: x_t = sqrt(u) g_t + sqrt(v) (h_t - h_{t-1}) plus
@@ -133,7 +133,9 @@ TEST(WhiteNoise, TheShareLawJudgesTheNoisiestComponentsOfPureNoisePureNoise) {
         judged += share[k] >= variances[k];
         covered += uncapped[k];
       }
-      const std::vector<double> white_law = ShareWhiteNoise(levels.Total(), periods, variances);
+      WhiteNoiseLevels as_white;  // the same total under the white law (1/T)
+      as_white.rate_variance = levels.Total();
+      const std::vector<double> white_law = ShareWhiteNoise(as_white, periods, variances);
       white_law_misses += white_law[0] < variances[0];
     }
     std::printf(
@@ -141,17 +143,21 @@ TEST(WhiteNoise, TheShareLawJudgesTheNoisiestComponentsOfPureNoisePureNoise) {
         "the white law misses the first component in %d of 8 records\n",
         angle ? "white angle noise" : "white rate noise", judged, expected, white_law_misses);
     EXPECT_EQ(judged, expected);
-    if (angle) EXPECT_GT(white_law_misses, 4);
+    if (angle) {
+      EXPECT_GT(white_law_misses, 4);
+    }
   }
 }
 
 TEST(WhiteNoise, SharesInverselyToMeanPeriodAndCapsAtTheImfVariance) {
-  const std::vector<double> r = ShareWhiteNoise(1.0, {3.0, 6.0, 12.0}, {10.0, 10.0, 0.1});
+  WhiteNoiseLevels white;
+  white.rate_variance = 1.0;
+  const std::vector<double> r = ShareWhiteNoise(white, {3.0, 6.0, 12.0}, {10.0, 10.0, 0.1});
   // Weights 1/3, 1/6, 1/12 over their sum 7/12: 4/7, 2/7, 1/7 (the last capped at 0.1).
   EXPECT_NEAR(r[0], 4.0 / 7.0, 1e-15);
   EXPECT_NEAR(r[1], 2.0 / 7.0, 1e-15);
   EXPECT_DOUBLE_EQ(r[2], 0.1);
-  EXPECT_EQ(ShareWhiteNoise(0.0, {3.0}, {1.0})[0], 0.0);
+  EXPECT_EQ(ShareWhiteNoise(WhiteNoiseLevels(), {3.0}, {1.0})[0], 0.0);
 }
 
 // Step 3: R is the white fraction of sigma_e^2, so R < sigma_e^2 whenever the component is not all
