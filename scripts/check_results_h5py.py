@@ -201,7 +201,8 @@ def check_shapes(where, g):
     for signal in ("raw", "method1", "method2"):
         a = g[f"allan/{signal}"]
         lengths = {name: a[name].shape for name in ("tau_s", "m", "sigma", "ci_low", "ci_high",
-                                                   "edf", "alpha", "alpha_method", "count")}
+                                                   "edf", "edf_source", "alpha", "alpha_method",
+                                                   "count")}
         if len(set(lengths.values())) != 1 or len(next(iter(lengths.values()))) != 1:
             fail(f"{where}/allan/{signal}", f"columns of different shapes {lengths}")
     return n, k

@@ -1,10 +1,13 @@
 #include "algorithms/allan/allan.h"
 
+#include <array>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "algorithms/allan/edf.h"
+#include "algorithms/allan/estimate_law.h"
 #include "algorithms/allan/noise_id.h"
 #include "algorithms/allan/phase.h"
 #include "algorithms/common/chi_square.h"
@@ -13,11 +16,34 @@ namespace fogpipe::allan {
 
 bool AllanOptions::IsValid(std::string* error) const {
   if (!grid.IsValid(error)) return false;
+  if (threads < 1) {
+    if (error) *error = "threads must be at least 1";
+    return false;
+  }
   if (!(confidence > 0.0 && confidence < 1.0)) {
     if (error) *error = "confidence must be in (0, 1)";
     return false;
   }
   return true;
+}
+
+const char* ToString(EdfSource source) {
+  switch (source) {
+    case EdfSource::kNoiseType:
+      return "noise_type";
+    case EdfSource::kModel:
+      return "model";
+    case EdfSource::kNone:
+      break;
+  }
+  return "none";
+}
+
+std::vector<std::string> EdfSourceNames(const std::vector<EdfSource>& sources) {
+  std::vector<std::string> names;
+  names.reserve(sources.size());
+  for (EdfSource s : sources) names.emplace_back(ToString(s));
+  return names;
 }
 
 void ConfidenceBounds(double sigma, double edf, double confidence, double* low, double* high) {
@@ -46,6 +72,15 @@ std::vector<double> OverlappingAllanBelow30Averages(const Eigen::VectorXd& phase
   const std::vector<double> v = DeviationVariances(phase, Deviation::kOverlappingAllan, few);
   for (size_t i = 0; i < few.size(); ++i) out[where[i]] = v[i];
   return out;
+}
+
+// The law of the estimate of one frequency-noise type with few averages (estimate_law.h); empty
+// where chi-square serves.
+std::vector<double> FewAveragesLaw(int alpha, long long m, long long count) {
+  if (alpha > 0 || alpha < -2) return {};
+  std::array<double, 4> theta{};
+  theta[static_cast<size_t>(1 - alpha)] = 1.0;  // 0 -> N, -1 -> B, -2 -> K
+  return OverlappingAllanLawWeights(theta, m, count);
 }
 
 }  // namespace
@@ -78,7 +113,8 @@ AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double s
   }
   table.m = AveragingFactors(options.grid, max_m, n);
   const Eigen::VectorXd phase = MeanRemovedPhase(rate);
-  const std::vector<double> variance = DeviationVariances(phase, options.deviation, table.m);
+  const std::vector<double> variance =
+      DeviationVariances(phase, options.deviation, table.m, options.threads);
 
   const size_t rows = table.m.size();
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -90,6 +126,7 @@ AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double s
   table.edf.assign(rows, nan);
   table.alpha.assign(rows, 0);
   table.alpha_method.assign(rows, NoiseIdMethod::kNone);
+  table.edf_source.assign(rows, EdfSource::kNone);
   for (size_t k = 0; k < rows; ++k) {
     table.tau_s[k] = static_cast<double>(table.m[k]) / sample_rate_hz;
     // TDEV comes in rate x tau0 (deviation.h): tau0 = 1 / sample_rate_hz makes it rate x s.
@@ -100,6 +137,11 @@ AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double s
   if (options.confidence_intervals) {
     const std::vector<double> b1_avar =
         OverlappingAllanBelow30Averages(phase, options.deviation, table.m, variance);
+    // The estimate's own law with few averages (estimate_law.h) belongs to the calibrated rule;
+    // Stable32's rule keeps its chi-square bounds.
+    const bool law_applies = options.deviation == Deviation::kOverlappingAllan &&
+                             options.noise_id == NoiseIdRule::kCalibrated &&
+                             options.sampled_phase_edf;
     const std::vector<NoiseId> ids = IdentifyNoiseTypes(
         phase, table.m, table.count, b1_avar, DifferenceOrder(options.deviation), options.noise_id);
     for (size_t k = 0; k < rows; ++k) {
@@ -107,7 +149,14 @@ AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double s
       table.alpha_method[k] = ids[k].method;
       table.edf[k] =
           DeviationEdf(options.deviation, ids[k].alpha, table.m[k], n, options.sampled_phase_edf);
-      if (table.edf[k] > 0.0)
+      if (!(table.edf[k] > 0.0)) continue;
+      table.edf_source[k] = EdfSource::kNoiseType;
+      const std::vector<double> law = law_applies
+                                          ? FewAveragesLaw(ids[k].alpha, table.m[k], table.count[k])
+                                          : std::vector<double>();
+      if (!law.empty())
+        LawBounds(table.sigma[k], law, options.confidence, &table.ci_low[k], &table.ci_high[k]);
+      else
         ConfidenceBounds(table.sigma[k], table.edf[k], options.confidence, &table.ci_low[k],
                          &table.ci_high[k]);
     }

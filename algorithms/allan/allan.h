@@ -35,9 +35,22 @@ struct AllanOptions {
   /// Noise identification along the tau grid (noise_id.h): kCalibrated (default) is chosen by
   /// the measured coverage of the intervals; kStable32 reproduces Stable32's Alpha column.
   NoiseIdRule noise_id = NoiseIdRule::kCalibrated;
+  /// Threads for the deviation sums (deviation.h); the numbers do not depend on it. Default 1:
+  /// `run` already computes its tables side by side.
+  int threads = 1;
 
   bool IsValid(std::string* error) const;
 };
+
+/// What a row's EDF (and so its interval) rests on.
+enum class EdfSource {
+  kNone,       ///< no EDF (intervals off, or no noise type)
+  kNoiseType,  ///< Greenhall's EDF of the identified power law alpha (edf.h)
+  kModel,      ///< the fitted noise model's Allan-variance covariance (model_edf.h)
+};
+const char* ToString(EdfSource source);  ///< "none", "noise_type", "model"
+/// ToString of each source, for string columns.
+std::vector<std::string> EdfSourceNames(const std::vector<EdfSource>& sources);
 
 /// One row per averaging factor. sigma, ci_low and ci_high are in the unit of the input rate
 /// (rad/s for fogpipe's gyro data).
@@ -50,6 +63,7 @@ struct AllanTable {
   std::vector<double> edf;      ///< Equivalent degrees of freedom (Greenhall & Riley 2003).
   std::vector<int> alpha;       ///< Identified power-law exponent S_y ~ f^alpha (noise_id.h).
   std::vector<NoiseIdMethod> alpha_method;  ///< How alpha was identified (noise_id.h).
+  std::vector<EdfSource> edf_source;        ///< What edf rests on.
   std::vector<long long> count;             ///< Number of difference terms (Stable32's "#").
   Deviation deviation = Deviation::kOverlappingAllan;
   NoiseIdRule noise_id_rule = NoiseIdRule::kCalibrated;  ///< the rule behind alpha
@@ -71,7 +85,9 @@ struct AllanResult {
 
 /// Deviation of `rate` sampled at sample_rate_hz. Non-finite input gives kNumericalFailure; fewer
 /// than 2 (Allan) or 3 (Hadamard) samples give kInsufficientData. When confidence intervals are
-/// off, ci_low / ci_high / edf are NaN, alpha is 0 and alpha_method kNone.
+/// off, ci_low / ci_high / edf are NaN, alpha is 0, alpha_method and edf_source kNone. Every EDF
+/// is that of the identified noise type; ApplyModelEdf (model_edf.h) replaces it with the fitted
+/// model's where that model describes the curve.
 AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double sample_rate_hz,
                          const AllanOptions& options);
 

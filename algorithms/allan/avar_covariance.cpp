@@ -158,8 +158,11 @@ Sums LagSums(const Pair& pair) {
       sums.h[kQ] += n * c[kQ];
     }
   }
-  FlickerTail(pair, hi + 0.5, +1.0, &sums);
-  FlickerTail(pair, lo - 0.5, -1.0, &sums);
+  // Beyond the support only flicker remains. Where the number of differences ends the lag range
+  // first there is no lag beyond it: a tail there would add fractional lags of every term (a
+  // single difference then read white FM's EDF as 0.8 instead of 1).
+  if (hi == 2 * pair.ma) FlickerTail(pair, hi + 0.5, +1.0, &sums);
+  if (lo == -2 * pair.mb) FlickerTail(pair, lo - 0.5, -1.0, &sums);
   return sums;
 }
 
@@ -188,6 +191,13 @@ double Evaluate(const std::array<double, 10>& s, const std::array<double, 4>& h,
 }
 
 }  // namespace
+
+std::array<double, 4> SecondDifferenceCovariance(long long m, double lag) {
+  const Pair pair{m, m, 1, 1};
+  std::array<double, 4> c{};
+  pair.Continuous(lag, c.data());
+  return c;
+}
 
 AvarCovarianceModel::AvarCovarianceModel(const std::vector<long long>& m,
                                          const std::vector<long long>& count,

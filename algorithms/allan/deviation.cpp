@@ -1,12 +1,17 @@
 #include "algorithms/allan/deviation.h"
 
 #include <algorithm>
+#include <atomic>
+#include <thread>
+#include <vector>
 
 namespace fogpipe::allan {
 namespace {
 
 // 8192 doubles = 64 KiB per stream: a block and its neighbours at short lags stay in L2.
 constexpr Eigen::Index kBlock = 8192;
+// 64 blocks (4 MiB of each stream) per unit of work shared among threads.
+constexpr Eigen::Index kChunk = 64 * kBlock;
 
 using ConstSegment = Eigen::Map<const Eigen::VectorXd>;
 using StridedSegment = Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<>>;
@@ -170,7 +175,7 @@ long long DifferenceCount(Deviation deviation, long long n_rate_samples, long lo
 }
 
 std::vector<double> DeviationVariances(const Eigen::VectorXd& phase, Deviation deviation,
-                                       const std::vector<long long>& m) {
+                                       const std::vector<long long>& m, int threads) {
   const Eigen::Index n_phase = phase.size();
   const long long n = n_phase - 1;
   const int d = DifferenceOrder(deviation);
@@ -180,17 +185,42 @@ std::vector<double> DeviationVariances(const Eigen::VectorXd& phase, Deviation d
   Eigen::VectorXd hi, lo;
   if (modified) PhasePrefixSum(phase, &hi, &lo);
   if (IsOverlapping(deviation)) {
-    // One sweep over blocks of start indices; for each block every factor adds its terms.
+    // Sweeps over blocks of start indices; for each block every factor adds its terms. The starts
+    // are cut into fixed chunks whose partial sums are added in chunk order, so the result does
+    // not depend on how many threads share the chunks.
     long long max_count = 0;
     for (long long mk : m) max_count = std::max(max_count, SweepCount(deviation, n, mk));
-    for (Eigen::Index b = 0; b < max_count; b += kBlock) {
-      for (size_t k = 0; k < m.size(); ++k) {
-        const Eigen::Index end = std::min<Eigen::Index>(b + kBlock, SweepCount(deviation, n, m[k]));
-        if (end <= b) continue;
-        sums[k] += modified ? ModifiedBlockSum(hi.data(), lo.data(), m[k], b, end)
-                            : OverlappingBlockSum(x, d, m[k], b, end);
+    const Eigen::Index chunks = (max_count + kChunk - 1) / kChunk;
+    std::vector<double> partial(static_cast<size_t>(chunks) * m.size(), 0.0);
+    auto sweep_chunk = [&](Eigen::Index c) {
+      double* out = partial.data() + static_cast<size_t>(c) * m.size();
+      const Eigen::Index chunk_end = std::min<Eigen::Index>((c + 1) * kChunk, max_count);
+      for (Eigen::Index b = c * kChunk; b < chunk_end; b += kBlock) {
+        for (size_t k = 0; k < m.size(); ++k) {
+          const Eigen::Index end = std::min<Eigen::Index>(
+              std::min<Eigen::Index>(b + kBlock, chunk_end), SweepCount(deviation, n, m[k]));
+          if (end <= b) continue;
+          out[k] += modified ? ModifiedBlockSum(hi.data(), lo.data(), m[k], b, end)
+                             : OverlappingBlockSum(x, d, m[k], b, end);
+        }
       }
+    };
+    const int workers = static_cast<int>(std::min<Eigen::Index>(std::max(threads, 1), chunks));
+    if (workers <= 1) {
+      for (Eigen::Index c = 0; c < chunks; ++c) sweep_chunk(c);
+    } else {
+      std::atomic<Eigen::Index> next{0};
+      auto work = [&] {
+        for (Eigen::Index c = next++; c < chunks; c = next++) sweep_chunk(c);
+      };
+      std::vector<std::thread> pool;
+      for (int t = 1; t < workers; ++t) pool.emplace_back(work);
+      work();
+      for (std::thread& t : pool) t.join();
     }
+    for (Eigen::Index c = 0; c < chunks; ++c)
+      for (size_t k = 0; k < m.size(); ++k)
+        sums[k] += partial[static_cast<size_t>(c) * m.size() + k];
     if (deviation == Deviation::kTotal)
       for (size_t k = 0; k < m.size(); ++k) sums[k] += TotalReflectedSum(phase, m[k]);
   } else {

@@ -76,7 +76,9 @@ long long DifferenceCount(Deviation deviation, long long n_rate_samples, long lo
 /// at lag m, O(1) per term whatever m), kept as an unevaluated double-double (hi + lo, 2 (N + 1)
 /// doubles) so that the window sums P_{j+m} - P_j keep full precision however large P grows.
 /// TOTDEV adds the 2 (m - 1) reflected terms at the ends to the overlapping Allan sweep.
+/// `threads` > 1 shares fixed chunks of the sweep among that many threads; the chunks' sums are
+/// added in a fixed order, so the values are the same for every thread count.
 std::vector<double> DeviationVariances(const Eigen::VectorXd& phase, Deviation deviation,
-                                       const std::vector<long long>& m);
+                                       const std::vector<long long>& m, int threads = 1);
 
 }  // namespace fogpipe::allan

@@ -494,6 +494,7 @@ NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& opt
   const int npts = p.size();
   const int ncol = static_cast<int>(cols.size());
   summary.points = npts;
+  if (npts > 0) result.fitted_range = {p.tau.front(), p.tau.back()};
   if (npts < ncol) {
     summary.termination = Termination::kInsufficientData;
     summary.message = "fewer usable table rows than terms to fit";

@@ -139,6 +139,8 @@ struct NoiseFitResult {
   double p_value = std::numeric_limits<double>::quiet_NaN();
   /// Tau ranges where the measured Allan variance leaves the model's interval (file comment).
   std::vector<TauRange> misfit_ranges;
+  /// The shortest and longest tau of the rows fitted [s] (0, 0 when none was).
+  TauRange fitted_range;
   /// Per term, in the order Q, N, B, K, R.
   std::array<TermAssessment, kNoiseTermCount> assessment;
   bool generalized = false;  ///< true when the GLS covariance was used.

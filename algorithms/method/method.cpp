@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "algorithms/allan/model_edf.h"
 #include "algorithms/method/white_noise.h"
 
 namespace fogpipe::method {
@@ -127,7 +128,8 @@ void EvaluateAllan(double sample_rate_hz, const MethodOptions& options, const Fo
   for_each(static_cast<int>(signals.size()), [&](int i) {
     outputs[i]->allan = allan::ComputeAllan(*signals[i], sample_rate_hz, options.allan);
     if (HasResult(outputs[i]->allan.summary.termination)) {
-      outputs[i]->noise = allan::FitNoiseTerms(outputs[i]->allan.table, options.noise_fit);
+      outputs[i]->noise = allan::FitNoiseTermsAndModelEdf(
+          options.noise_fit, options.allan.confidence, &outputs[i]->allan.table);
     }
   });
   // Terms of the filtered outputs above the raw fit's upper limits describe the filter.

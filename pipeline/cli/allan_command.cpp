@@ -9,8 +9,10 @@
 #include <string>
 
 #include "algorithms/allan/allan.h"
+#include "algorithms/allan/model_edf.h"
 #include "algorithms/allan/noise_fit.h"
 #include "pipeline/cli/commands.h"
+#include "pipeline/graph/run_config.h"
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/allan_report.h"
 #include "pipeline/io/isolated_reader.h"
@@ -29,6 +31,7 @@ struct AllanArgs {
   bool csv = false;
   double confidence = 0.683;
   long long max_nan_gap = 10;
+  int threads = 0;
 };
 
 int RunAllan(const AllanArgs& args) {
@@ -41,6 +44,7 @@ int RunAllan(const AllanArgs& args) {
   Eigen::VectorXd rate_rad_s;
   allan::AllanOptions options;
   options.confidence = args.confidence;
+  options.threads = graph::ResolveThreads(args.threads);
   if (!allan::ParseNoiseIdRule(args.noise_id, &options.noise_id)) {
     std::cerr << "fogpipe allan: --noise-id must be calibrated or stable32, got '" << args.noise_id
               << "'\n";
@@ -94,7 +98,9 @@ int RunAllan(const AllanArgs& args) {
   // The IEEE terms are coefficients of the Allan variance's response; on any other table they
   // would be wrong without saying so.
   report.fitted = allan::IeeeModelApplies(options.deviation);
-  if (report.fitted) report.fit = allan::FitNoiseTerms(report.table, allan::NoiseFitOptions{});
+  if (report.fitted)
+    report.fit = allan::FitNoiseTermsAndModelEdf(allan::NoiseFitOptions{}, options.confidence,
+                                                 &report.table);
   if (args.json) {
     std::cout << io::AllanReportJson(report).dump(2) << "\n";
   } else if (args.csv) {
@@ -134,6 +140,10 @@ void AddAllanCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("--max-nan-gap", args->max_nan_gap,
                   "Longest run of missing (NaN) samples bridged by linear interpolation")
       ->capture_default_str();
+  cmd->add_option("--threads", args->threads,
+                  "Threads for the deviation sums (0: SLURM_CPUS_PER_TASK if set, else all "
+                  "cores); the numbers do not depend on it")
+      ->check(CLI::Range(0, 4096));
   cmd->callback([args, exit_code]() { *exit_code = RunAllan(*args); });
 }
 

@@ -92,11 +92,14 @@ void PrintAllanText(std::ostream& out, const AllanReport& r) {
       << Fixed(100.0 * r.confidence, "%.1f") << " % confidence interval (Stable32 convention), "
       << "noise types by the " << allan::ToString(t.noise_id_rule) << " rule\n"
       << "  alpha: S_y(f) ~ f^alpha, 2 white PM, 1 flicker PM, 0 white FM, -1 flicker FM, -2 "
-         "random-walk FM\n\n";
+         "random-walk FM\n"
+      << "  EDF from: noise_type = Greenhall's EDF of alpha, model = the fitted noise terms' "
+         "(where the fit holds)\n\n";
   out << std::setw(14) << "tau [s]" << std::setw(10) << "m" << std::setw(15)
       << "sigma [" + du.primary + "]" << std::setw(16) << "sigma" + e << std::setw(16)
-      << "ci_low" + e << std::setw(17) << "ci_high" + e << std::setw(10) << "EDF" << std::setw(7)
-      << "alpha" << std::setw(9) << "method" << std::setw(11) << "count"
+      << "ci_low" + e << std::setw(17) << "ci_high" + e << std::setw(10) << "EDF" << std::setw(11)
+      << "EDF from" << std::setw(7) << "alpha" << std::setw(9) << "method" << std::setw(11)
+      << "count"
       << "\n";
   for (size_t i = 0; i < t.size(); ++i) {
     out << std::setw(14) << Fixed(t.tau_s[i], "%.6g") << std::setw(10) << t.m[i] << std::setw(15)
@@ -104,8 +107,9 @@ void PrintAllanText(std::ostream& out, const AllanReport& r) {
         << Fixed(t.sigma[i] * du.engineering_per_si, "%.6e") << std::setw(16)
         << Fixed(t.ci_low[i] * du.engineering_per_si, "%.6e") << std::setw(17)
         << Fixed(t.ci_high[i] * du.engineering_per_si, "%.6e") << std::setw(10)
-        << Fixed(t.edf[i], "%.4g") << std::setw(7) << t.alpha[i] << std::setw(9)
-        << allan::ToString(t.alpha_method[i]) << std::setw(11) << t.count[i] << "\n";
+        << Fixed(t.edf[i], "%.4g") << std::setw(11) << allan::ToString(t.edf_source[i])
+        << std::setw(7) << t.alpha[i] << std::setw(9) << allan::ToString(t.alpha_method[i])
+        << std::setw(11) << t.count[i] << "\n";
   }
   if (!r.fitted) {
     out << "\nNoise terms: " << NotFittedReason(t.deviation) << ".\n";
@@ -124,13 +128,14 @@ void PrintAllanCsv(std::ostream& out, const AllanReport& r) {
       << " taus, CI " << r.confidence << ", noise types by the " << allan::ToString(t.noise_id_rule)
       << " rule\n";
   out << "tau_s,m,sigma_" << UnitToken(du.primary) << ",sigma_" << e << ",ci_low_" << e
-      << ",ci_high_" << e << ",edf,alpha,alpha_method,count\n";
+      << ",ci_high_" << e << ",edf,edf_source,alpha,alpha_method,count\n";
   auto g = [](double v) { return Fixed(v, "%.17g"); };
   for (size_t i = 0; i < t.size(); ++i) {
     out << g(t.tau_s[i]) << "," << t.m[i] << "," << g(t.sigma[i] * du.primary_per_si) << ","
         << g(t.sigma[i] * du.engineering_per_si) << "," << g(t.ci_low[i] * du.engineering_per_si)
-        << "," << g(t.ci_high[i] * du.engineering_per_si) << "," << g(t.edf[i]) << "," << t.alpha[i]
-        << "," << allan::ToString(t.alpha_method[i]) << "," << t.count[i] << "\n";
+        << "," << g(t.ci_high[i] * du.engineering_per_si) << "," << g(t.edf[i]) << ","
+        << allan::ToString(t.edf_source[i]) << "," << t.alpha[i] << ","
+        << allan::ToString(t.alpha_method[i]) << "," << t.count[i] << "\n";
   }
 }
 
@@ -154,6 +159,7 @@ nlohmann::json AllanReportJson(const AllanReport& r) {
   table["ci_low_" + e] = low;
   table["ci_high_" + e] = high;
   table["edf"] = edf;
+  table["edf_source"] = allan::EdfSourceNames(t.edf_source);
   table["alpha"] = t.alpha;
   table["alpha_method"] = allan::MethodNames(t.alpha_method);
   table["noise_id_rule"] = allan::ToString(t.noise_id_rule);

@@ -181,6 +181,7 @@ void WriteAllan(Group group, const method::AllanEvaluation& evaluation) {
   group.WriteDataset("ci_low", t.ci_low, results::kRateUnits);
   group.WriteDataset("ci_high", t.ci_high, results::kRateUnits);
   group.WriteDataset("edf", t.edf, "1");
+  group.WriteStringDataset("edf_source", allan::EdfSourceNames(t.edf_source));
   group.WriteStringAttribute("noise_id_rule", allan::ToString(t.noise_id_rule));
   group.WriteDataset("alpha", std::vector<long long>(t.alpha.begin(), t.alpha.end()), "1");
   group.WriteStringDataset("alpha_method", allan::MethodNames(t.alpha_method));

@@ -1,7 +1,8 @@
-// Speed of algorithms/allan (one thread). Target: OADEV at 64 log-spaced taus of 1e7 samples,
-// confidence intervals included, <= 0.5 s (allantools: 3.6 s, 38 s with CIs). MDEV and TOTDEV
-// on the octave grid of the first 1e6 and of all 1e7 samples (results: docs/allan-deviations.md).
-//   build/tests/benchmarks/allan_benchmark --benchmark_repetitions=5 \
+// Speed of algorithms/allan (one thread unless the name says otherwise). Target: OADEV at 64
+// log-spaced taus of 1e7 samples, confidence intervals included, <= 0.5 s (allantools: 3.6 s, 38 s
+// with CIs). MDEV and TOTDEV on the octave grid of the first 1e6 and of all 1e7 samples (results:
+// docs/allan-deviations.md).
+//   build/tests/benchmarks/allan_benchmark --benchmark_repetitions=5
 //       --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "algorithms/allan/allan.h"
+#include "algorithms/allan/model_edf.h"
 #include "algorithms/allan/noise_fit.h"
 
 namespace fogpipe::allan {
@@ -49,9 +51,10 @@ std::vector<long long> LogSpacedFactors(long long max_m, int count) {
 }
 
 void RunAllan(benchmark::State& state, Deviation deviation, bool ci,
-              NoiseIdRule rule = NoiseIdRule::kCalibrated) {
+              NoiseIdRule rule = NoiseIdRule::kCalibrated, int threads = 1) {
   const Eigen::VectorXd& rate = Rate();
   AllanOptions options;
+  options.threads = threads;
   options.noise_id = rule;
   options.deviation = deviation;
   options.confidence_intervals = ci;
@@ -66,6 +69,10 @@ void RunAllan(benchmark::State& state, Deviation deviation, bool ci,
 }
 
 void BM_Oadev64TausWithCi(benchmark::State& s) { RunAllan(s, Deviation::kOverlappingAllan, true); }
+// As `fogpipe allan` runs it on this 2-core machine (--threads defaults to the cores).
+void BM_Oadev64TausWithCiTwoThreads(benchmark::State& s) {
+  RunAllan(s, Deviation::kOverlappingAllan, true, NoiseIdRule::kCalibrated, 2);
+}
 // The Stable32 rule, for the cost of the calibrated rule's R(n) passes (noise_id.h).
 void BM_Oadev64TausWithCiStable32Rule(benchmark::State& s) {
   RunAllan(s, Deviation::kOverlappingAllan, true, NoiseIdRule::kStable32);
@@ -106,7 +113,7 @@ void BM_FitNoiseTermsOctave(benchmark::State& state) {
 // The fit at 100 log-spaced taus (target <= 50 ms): the generalised fit with its covariance lag
 // sums (avar_covariance.h). "Rejected": the same record plus a 0.5 Hz sinusoid the five-term
 // model cannot describe, so the model-discrepancy search runs too.
-void RunFit100(benchmark::State& state, double sine_amplitude) {
+void RunFit100(benchmark::State& state, double sine_amplitude, bool model_edf = false) {
   Eigen::VectorXd rate = Rate();
   for (long long i = 0; i < kSamples; ++i)
     rate[i] += sine_amplitude * std::sin(6.283185307179586 * 0.5 * static_cast<double>(i) / 100.0);
@@ -118,15 +125,24 @@ void RunFit100(benchmark::State& state, double sine_amplitude) {
   if (table.size() != 100) state.SkipWithError("grid is not 100 taus");
   NoiseFitResult f;
   for (auto _ : state) {
-    f = FitNoiseTerms(table, NoiseFitOptions());
+    if (model_edf) {
+      AllanTable t = table;
+      f = FitNoiseTermsAndModelEdf(NoiseFitOptions(), options.confidence, &t);
+      benchmark::DoNotOptimize(t.ci_low.data());
+    } else {
+      f = FitNoiseTerms(table, NoiseFitOptions());
+    }
     benchmark::DoNotOptimize(f.chi2);
   }
   state.counters["discrepancy"] = f.model_discrepancy;
 }
 void BM_FitNoiseTerms100Taus(benchmark::State& s) { RunFit100(s, 0.0); }
 void BM_FitNoiseTerms100TausRejected(benchmark::State& s) { RunFit100(s, 0.3); }
+// The fit and the model's intervals (model_edf.h), as `allan` and `run` make them.
+void BM_FitNoiseTermsAndModelEdf100Taus(benchmark::State& s) { RunFit100(s, 0.0, true); }
 
 BENCHMARK(BM_Oadev64TausWithCi)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Oadev64TausWithCiTwoThreads)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Oadev64TausWithCiStable32Rule)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Oadev64TausNoCi)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Adev64TausWithCi)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -146,6 +162,7 @@ BENCHMARK(BM_OadevOctave)
     ->UseRealTime();
 BENCHMARK(BM_FitNoiseTermsOctave)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FitNoiseTerms100Taus)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FitNoiseTermsAndModelEdf100Taus)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_FitNoiseTerms100TausRejected)->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -13,11 +13,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "algorithms/allan/allan.h"
 #include "algorithms/allan/edf.h"
+#include "algorithms/allan/model_edf.h"
+#include "algorithms/allan/noise_fit.h"
 #include "tests/algorithms/allan/power_law_noise.h"
 
 namespace fogpipe::allan {
@@ -56,25 +59,58 @@ struct CoverageRow {
   int phase_noise = 0;                   // rows identified as phase noise (alpha >= 1)
   int alpha_count[5] = {0, 0, 0, 0, 0};  // identified alpha = 2 - index
   int covered_true_alpha[2] = {0, 0};  // with the EDF of the dominant true alpha (printed, sampled)
+  int model_edf = 0;                   // rows whose EDF came from the fitted model
 };
+
+// One way of making the intervals: the Allan options, then optionally the fitted model's EDF
+// (model_edf.h) where the model describes the curve, as `fogpipe allan` and `run` do.
+struct Variant {
+  AllanOptions options;
+  bool model_edf = true;
+};
+
+// The true variance behind each deviation kind (power_law_noise.h); TDEV's is tau^2 MVAR / 3
+// with tau = m samples. NaN for TOTDEV, which estimates the Allan variance with a bias of its own.
+double TrueVariance(const PowerLawNoise& noise, Deviation deviation, long long m) {
+  switch (deviation) {
+    case Deviation::kOverlappingAllan:
+    case Deviation::kAllan:
+      return noise.TrueAllanVariance(m);
+    case Deviation::kOverlappingHadamard:
+    case Deviation::kHadamard:
+      return noise.TrueHadamardVariance(m);
+    case Deviation::kModifiedAllan:
+      return noise.TrueModifiedAllanVariance(m);
+    case Deviation::kTime:
+      return noise.TrueModifiedAllanVariance(m) * static_cast<double>(m * m) / 3.0;
+    default:
+      return std::numeric_limits<double>::quiet_NaN();
+  }
+}
 
 // Coverage of each option set in `variants` on the same realisations.
 std::vector<std::vector<CoverageRow>> Coverage(const NoiseCase& c, long long n, int realisations,
                                                std::uint64_t first_seed,
-                                               const std::vector<AllanOptions>& variants,
+                                               const std::vector<Variant>& variants,
                                                int true_alpha = 99) {
   const PowerLawNoise noise(c.terms, n);
   std::vector<std::vector<CoverageRow>> out(variants.size());
-  std::vector<double> truth;
+  std::vector<std::vector<double>> truths(variants.size());
   for (int r = 0; r < realisations; ++r) {
     const Eigen::VectorXd rate = noise.Draw(first_seed + r);
     for (size_t v = 0; v < variants.size(); ++v) {
-      const AllanOptions& options = variants[v];
+      const AllanOptions& options = variants[v].options;
       std::vector<CoverageRow>& rows = out[v];
-      const AllanTable t = ComputeAllan(rate, 1.0, options).table;
+      AllanTable t = ComputeAllan(rate, 1.0, options).table;
+      if (variants[v].model_edf) {
+        ModelEdfOptions model;
+        model.confidence = options.confidence;
+        ApplyModelEdf(FitNoiseTerms(t, NoiseFitOptions()), model, &t);
+      }
+      std::vector<double>& truth = truths[v];
       if (truth.empty())
         for (size_t k = 0; k < t.size(); ++k)
-          truth.push_back(std::sqrt(noise.TrueAllanVariance(t.m[k])));
+          truth.push_back(std::sqrt(TrueVariance(noise, options.deviation, t.m[k])));
       if (rows.empty()) {
         rows.resize(t.size());
         for (size_t k = 0; k < t.size(); ++k) rows[k].m = t.m[k];
@@ -85,6 +121,7 @@ std::vector<std::vector<CoverageRow>> Coverage(const NoiseCase& c, long long n, 
         rows[k].below += t.ci_high[k] < truth[k];
         rows[k].edf_sum += t.edf[k];
         rows[k].phase_noise += t.alpha[k] >= 1;
+        rows[k].model_edf += t.edf_source[k] == EdfSource::kModel;
         if (t.alpha[k] >= -2 && t.alpha[k] <= 2) ++rows[k].alpha_count[2 - t.alpha[k]];
         if (true_alpha == 99) continue;
         for (int sampled = 0; sampled < 2; ++sampled) {
@@ -101,8 +138,8 @@ std::vector<std::vector<CoverageRow>> Coverage(const NoiseCase& c, long long n, 
 }
 
 std::vector<CoverageRow> Coverage(const NoiseCase& c, long long n, int realisations,
-                                  std::uint64_t first_seed, const AllanOptions& options) {
-  return Coverage(c, n, realisations, first_seed, std::vector<AllanOptions>{options})[0];
+                                  std::uint64_t first_seed, const Variant& variant) {
+  return Coverage(c, n, realisations, first_seed, std::vector<Variant>{variant})[0];
 }
 
 void Print(const NoiseCase& c, const char* rule, const std::vector<CoverageRow>& rows) {
@@ -124,33 +161,54 @@ TEST(PowerLawNoise, TrueAllanVarianceEqualsTheClosedFormsOfWhiteFmAndWhitePm) {
   }
 }
 
-// The simulator against its own truth, for the laws without a closed form: the mean of the
-// overlapping Allan variance over 400 realisations equals TrueAllanVariance within 4 standard
-// errors of that mean (the estimator is unbiased for a stationary process: every second
-// difference has the same variance).
-TEST(PowerLawNoise, MeanAllanVarianceOfRealisationsEqualsTheTruth) {
+// Closed forms of white FM and white PM for the other variances: white FM's Hadamard variance is
+// h / m (weights 1, -2, 1 on three independent averages, over 6), white PM's 20 h / (6 m^2) (the
+// third difference of white phase has variance (1 + 9 + 9 + 1) h).
+TEST(PowerLawNoise, TrueHadamardVarianceEqualsTheClosedFormsOfWhiteFmAndWhitePm) {
+  const PowerLawNoise white_fm({{0, 2.0}}, 1024), white_pm({{2, 2.0}}, 1024);
+  for (long long m : {1LL, 3LL, 64LL, 256LL}) {
+    EXPECT_NEAR(white_fm.TrueHadamardVariance(m), 2.0 / m, 1e-12 / m) << m;
+    EXPECT_NEAR(white_pm.TrueHadamardVariance(m), 40.0 / (6.0 * m * m), 1e-12 / (m * m)) << m;
+  }
+}
+
+// The simulator against its own truth, for the laws and kinds without a closed form: the mean of
+// the overlapping Allan, overlapping Hadamard and modified Allan variances over 400 realisations
+// equals the true one within 4 standard errors of that mean (each estimator is unbiased for a
+// stationary process: every difference has the same variance).
+TEST(PowerLawNoise, MeanVarianceOfRealisationsEqualsTheTruth) {
   const long long n = 4096;
-  AllanOptions options;
-  options.confidence_intervals = false;
-  for (int alpha : {1, -1, -2}) {
+  const std::vector<Deviation> kinds = {Deviation::kOverlappingAllan,
+                                        Deviation::kOverlappingHadamard, Deviation::kModifiedAllan};
+  for (int alpha : {2, 1, 0, -1, -2}) {
     const PowerLawNoise noise({{alpha, 1.0}}, n);
     const int realisations = 400;
-    std::vector<double> sum, sum_sq;
-    std::vector<long long> m;
+    std::vector<std::vector<double>> sum(kinds.size()), sum_sq(kinds.size());
+    std::vector<std::vector<long long>> m(kinds.size());
     for (int r = 0; r < realisations; ++r) {
-      const AllanTable t = ComputeAllan(noise.Draw(500 + r), 1.0, options).table;
-      if (sum.empty()) sum.assign(t.size(), 0.0), sum_sq.assign(t.size(), 0.0), m = t.m;
-      for (size_t k = 0; k < t.size(); ++k) {
-        const double v = t.sigma[k] * t.sigma[k];
-        sum[k] += v, sum_sq[k] += v * v;
+      const Eigen::VectorXd rate = noise.Draw(500 + r);
+      for (size_t d = 0; d < kinds.size(); ++d) {
+        AllanOptions options;
+        options.confidence_intervals = false;
+        options.deviation = kinds[d];
+        const AllanTable t = ComputeAllan(rate, 1.0, options).table;
+        if (sum[d].empty())
+          sum[d].assign(t.size(), 0.0), sum_sq[d].assign(t.size(), 0.0), m[d] = t.m;
+        for (size_t k = 0; k < t.size(); ++k) {
+          const double v = t.sigma[k] * t.sigma[k];
+          sum[d][k] += v, sum_sq[d][k] += v * v;
+        }
       }
     }
-    for (size_t k = 0; k < m.size(); ++k) {
-      if (n / m[k] < 8) continue;  // there the variance of the estimate is itself heavy-tailed
-      const double mean = sum[k] / realisations;
-      const double se = std::sqrt((sum_sq[k] / realisations - mean * mean) / (realisations - 1));
-      EXPECT_NEAR(mean, noise.TrueAllanVariance(m[k]), 4.0 * se)
-          << "alpha " << alpha << " m " << m[k];
+    for (size_t d = 0; d < kinds.size(); ++d) {
+      for (size_t k = 0; k < m[d].size(); ++k) {
+        if (n / m[d][k] < 8) continue;  // there the variance of the estimate is itself heavy-tailed
+        const double mean = sum[d][k] / realisations;
+        const double se =
+            std::sqrt((sum_sq[d][k] / realisations - mean * mean) / (realisations - 1));
+        EXPECT_NEAR(mean, TrueVariance(noise, kinds[d], m[d][k]), 4.0 * se)
+            << ToString(kinds[d]) << " alpha " << alpha << " m " << m[d][k];
+      }
     }
   }
 }
@@ -168,7 +226,7 @@ TEST(AllanCoverage, SixtyEightPercentIntervalsCoverTheTrueDeviationAtEveryOctave
   const double z = 3.67;
   AllanOptions options;
   for (const NoiseCase& c : Cases(n)) {
-    const std::vector<CoverageRow> rows = Coverage(c, n, realisations, 1, options);
+    const std::vector<CoverageRow> rows = Coverage(c, n, realisations, 1, Variant{options});
     ASSERT_EQ(rows.size(), 14u) << c.name;
     Print(c, "calibrated", rows);
     for (const CoverageRow& row : rows) {
@@ -187,7 +245,8 @@ TEST(AllanCoverage, WhiteFmIsAlmostNeverReadAsPhaseNoiseAtLongTau) {
   const long long n = 1 << 14;
   const int realisations = 400;
   const NoiseCase white{"white FM", {{0, 1.0}}};
-  const std::vector<CoverageRow> rows = Coverage(white, n, realisations, 1, AllanOptions());
+  const std::vector<CoverageRow> rows =
+      Coverage(white, n, realisations, 1, Variant{AllanOptions(), false});
   int phase = 0, total = 0;
   for (const CoverageRow& row : rows) {
     if (n / row.m < 8 || n / row.m > 1000) continue;
@@ -208,17 +267,32 @@ TEST(AllanCoverage, Study) {
   const char* only = std::getenv("FOGPIPE_ALLAN_COVERAGE_NOISE");
   for (const NoiseCase& c : Cases(n)) {
     if (only != nullptr && c.name != only) continue;
-    std::vector<AllanOptions> variants;
+    std::vector<Variant> variants;
     std::vector<std::string> labels;
     for (NoiseIdRule rule : {NoiseIdRule::kCalibrated, NoiseIdRule::kStable32}) {
       for (bool sampled : {false, true}) {
-        AllanOptions options;
-        options.noise_id = rule;
-        options.sampled_phase_edf = sampled;
-        variants.push_back(options);
-        labels.push_back(std::string(ToString(rule)) +
-                         (sampled ? ", sampled-phase EDF" : ", printed EDF"));
+        for (bool model : {false, true}) {
+          if (model && !(rule == NoiseIdRule::kCalibrated && sampled)) continue;
+          Variant v;
+          v.options.noise_id = rule;
+          v.options.sampled_phase_edf = sampled;
+          v.model_edf = model;
+          variants.push_back(v);
+          labels.push_back(std::string(ToString(rule)) +
+                           (sampled ? ", sampled-phase EDF" : ", printed EDF") +
+                           (model ? ", model EDF where the fit holds" : ""));
+        }
       }
+    }
+    // The other kinds with their defaults (calibrated rule, sampled-phase EDF; no model EDF, which
+    // is OADEV's).
+    for (Deviation d : {Deviation::kAllan, Deviation::kOverlappingHadamard, Deviation::kHadamard,
+                        Deviation::kModifiedAllan}) {
+      Variant v;
+      v.options.deviation = d;
+      v.model_edf = false;
+      variants.push_back(v);
+      labels.push_back(std::string(ToString(d)) + ", calibrated, sampled-phase EDF");
     }
     const auto all =
         Coverage(c, n, realisations, seed, variants, c.terms.size() == 1 ? c.terms[0].alpha : 99);
@@ -227,6 +301,8 @@ TEST(AllanCoverage, Study) {
       Print(c, labels[v].c_str(), rows);
       std::printf("|   mean EDF |");
       for (const CoverageRow& row : rows) std::printf(" %.3g", row.edf_sum / row.total);
+      std::printf(" |\n|   rows with the model EDF |");
+      for (const CoverageRow& row : rows) std::printf(" %d", row.model_edf);
       std::printf(" |\n|   alpha 2/1/0/-1/-2 |");
       for (const CoverageRow& row : rows)
         std::printf(" %d/%d/%d/%d/%d", row.alpha_count[0], row.alpha_count[1], row.alpha_count[2],

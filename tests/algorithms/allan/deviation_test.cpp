@@ -269,6 +269,23 @@ TEST(Deviation, HadamardIsBlindToARateRampThatAllanSees) {
   }
 }
 
+// The sweep's chunks are shared among threads but added in a fixed order: every overlapping kind
+// gives bit-identical values for 1, 2 and 3 threads on a record of several chunks.
+TEST(Deviation, ValuesDoNotDependOnTheThreadCount) {
+  testing::GyroTruth truth;
+  truth.n_rad_sqrt_s = 1.0;
+  truth.k_rad_s_sqrt_s = 1e-3;
+  const Eigen::VectorXd y = testing::SimulateGyro(truth, 1700000, 1.0, 34);
+  const Eigen::VectorXd phase = MeanRemovedPhase(y);
+  const std::vector<long long> m = {1, 7, 64, 1000, 30000, 400000};
+  for (Deviation d : {Deviation::kOverlappingAllan, Deviation::kOverlappingHadamard,
+                      Deviation::kModifiedAllan, Deviation::kTotal}) {
+    const std::vector<double> one = DeviationVariances(phase, d, m, 1);
+    for (int threads : {2, 3})
+      EXPECT_EQ(DeviationVariances(phase, d, m, threads), one) << ToString(d);
+  }
+}
+
 // The compensated cumulative sum keeps a huge bias from eating the digits of the noise: a 1e6 bias
 // on unit noise must give the same deviation as the noise alone.
 TEST(Phase, MeanRemovalKeepsDeviationsIndependentOfALargeBias) {

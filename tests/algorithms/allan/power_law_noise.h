@@ -74,18 +74,36 @@ class PowerLawNoise {
   }
 
   /// The exact Allan variance at averaging factor m [rate^2] (see the header).
-  double TrueAllanVariance(long long m) const {
+  double TrueAllanVariance(long long m) const { return Sum(m, 4, 2, 2.0); }
+
+  /// The exact Hadamard variance (1/6) E[(third difference of m-averages)^2] [rate^2]: the
+  /// difference's transfer function is |1 - e^{-2 pi i f m}|^6 / m^2 times the average's, so
+  /// |H|^2 / 6 = (8 / 3) sin^6(pi f m) / (m^2 sin^2(pi f)).
+  double TrueHadamardVariance(long long m) const { return Sum(m, 6, 2, 8.0 / 3.0); }
+
+  /// The exact modified Allan variance E[(mean over m starts of the phase's second difference at
+  /// lag m)^2] / (2 m^2) [rate^2]: the m-start mean adds sin^2(pi f m) / (m^2 sin^2(pi f)) to the
+  /// Allan variance's transfer function, 2 sin^6(pi f m) / (m^4 sin^4(pi f)).
+  double TrueModifiedAllanVariance(long long m) const {
+    const double md = static_cast<double>(m);
+    return Sum(m, 6, 4, 2.0) / (md * md);
+  }
+
+ private:
+  // (1 / L) sum_k S(k / L) c sin^p(pi f m) / (m^2 sin^q(pi f)).
+  double Sum(long long m, int p, int q, double c) const {
     constexpr double kPi = 3.14159265358979323846;
     long double sum = 0.0L;
     const double md = static_cast<double>(m);
     for (long long k = 1; k < length_; ++k) {
       const double f = static_cast<double>(k) / length_;
       const double s1 = std::sin(kPi * f * md), s = std::sin(kPi * f);
-      sum += spectrum_[k] * 2.0 * s1 * s1 * s1 * s1 / (md * md * s * s);
+      sum += spectrum_[k] * c * std::pow(s1, p) / (md * md * std::pow(s, q));
     }
     return static_cast<double>(sum / length_);
   }
 
+ public:
  private:
   std::vector<PowerLawTerm> terms_;
   long long n_ = 0;

@@ -116,9 +116,10 @@ TEST(AllanCommand, CsvAndTextCarryTheSameNumbersInTheRecordingUnitAndInDegPerHou
   std::getline(lines, line);
   EXPECT_EQ(line.rfind("# fogpipe allan: ", 0), 0u) << line;
   std::getline(lines, line);
-  EXPECT_EQ(
-      line,
-      "tau_s,m,sigma_rad_s,sigma_deg_h,ci_low_deg_h,ci_high_deg_h,edf,alpha,alpha_method,count");
+  EXPECT_EQ(line,
+            "tau_s,m,sigma_rad_s,sigma_deg_h,ci_low_deg_h,ci_high_deg_h,edf,edf_source,alpha,alpha_"
+            "method,"
+            "count");
   int rows = 0;
   while (std::getline(lines, line)) {
     double tau, sigma_rad_s, sigma_deg_h;
@@ -175,9 +176,10 @@ TEST(AllanCommand, EveryDeviationKindCarriesItsNameAndUnitsInTextCsvAndJson) {
     EXPECT_EQ(j["deviation"], kind);
     EXPECT_EQ(j["deviation_units"], angle ? "rad" : "deg/s");
     const auto& t = j["table"];
-    for (const std::string& key : {std::string("tau_s"), primary, "sigma_" + eng, "ci_low_" + eng,
-                                   "ci_high_" + eng, std::string("edf"), std::string("alpha"),
-                                   std::string("alpha_method"), std::string("count")})
+    for (const std::string& key :
+         {std::string("tau_s"), primary, "sigma_" + eng, "ci_low_" + eng, "ci_high_" + eng,
+          std::string("edf"), std::string("edf_source"), std::string("alpha"),
+          std::string("alpha_method"), std::string("count")})
       ASSERT_TRUE(t.contains(key)) << kind << " lacks " << key;
     ASSERT_GE(t["tau_s"].size(), 8u) << kind;
     for (size_t i = 0; i < t["tau_s"].size(); ++i) {
@@ -206,7 +208,7 @@ TEST(AllanCommand, EveryDeviationKindCarriesItsNameAndUnitsInTextCsvAndJson) {
     ASSERT_EQ(csv.exit_code, 0) << csv.output;
     EXPECT_NE(csv.output.find(", " + kind + ", octave taus"), std::string::npos) << csv.output;
     EXPECT_NE(csv.output.find("tau_s,m," + primary + ",sigma_" + eng + ",ci_low_" + eng +
-                              ",ci_high_" + eng + ",edf,alpha,alpha_method,count\n"),
+                              ",ci_high_" + eng + ",edf,edf_source,alpha,alpha_method,count\n"),
               std::string::npos)
         << csv.output;
     const auto text = RunFogpipe("allan " + Quote(path) + " --deviation " + kind);

@@ -114,20 +114,35 @@ def case_checker_fails(tmp, good):
     check(c.returncode == 1 and "energy: shape" in c.stdout, "a dataset of the wrong shape fails")
 
 
-def tree_pss_kib(pid):
-    """Proportional set size of a process and its descendants [KiB]: shared pages counted once."""
-    total, todo = 0, [pid]
+def tree_pids(pid):
+    """A process and its descendants, from /proc's children lists."""
+    pids, todo = [], [pid]
     while todo:
         p = todo.pop()
+        pids.append(p)
         try:
-            with open(f"/proc/{p}/smaps_rollup") as f:
-                total += sum(int(l.split()[1]) for l in f if l.startswith("Pss:"))
             for task in os.listdir(f"/proc/{p}/task"):
                 with open(f"/proc/{p}/task/{task}/children") as f:
                     todo += [int(c) for c in f.read().split()]
         except (FileNotFoundError, ProcessLookupError, PermissionError, ValueError):
             pass
-    return total
+    return sorted(pids)
+
+
+def tree_pss_kib(pid):
+    """Proportional set size of a process and its descendants [KiB]: shared pages counted once,
+    or None when the tree changed while it was read. A parent read just before a fork and its
+    child read just after it would count the shared pages one and a half times, so a sample
+    counts only if the same processes exist before and after it."""
+    before = tree_pids(pid)
+    total = 0
+    for p in before:
+        try:
+            with open(f"/proc/{p}/smaps_rollup") as f:
+                total += sum(int(l.split()[1]) for l in f if l.startswith("Pss:"))
+        except (FileNotFoundError, ProcessLookupError, PermissionError, ValueError):
+            return None
+    return total if tree_pids(pid) == before else None
 
 
 def peak_rss_kib(args):
@@ -138,7 +153,7 @@ def peak_rss_kib(args):
     proc = subprocess.Popen([FOGPIPE] + args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     peak = 0
     while proc.poll() is None:
-        peak = max(peak, tree_pss_kib(proc.pid))
+        peak = max(peak, tree_pss_kib(proc.pid) or 0)
         time.sleep(0.01)
     return proc.returncode, peak
 
