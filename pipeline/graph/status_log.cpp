@@ -1,6 +1,7 @@
 #include "pipeline/graph/status_log.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -43,11 +44,19 @@ void StatusLog::Append(const FileOutcome& outcome) {
   const std::string line = ToJsonLine(outcome) + "\n";
   std::lock_guard<std::mutex> lock(mutex_);
   if (fd_ < 0) return;
-  // One call: with O_APPEND the kernel places the whole line at the end at once.
-  ssize_t written = -1;
-  do {
-    written = ::write(fd_, line.data(), line.size());
-  } while (written < 0 && errno == EINTR);
+  // With O_APPEND the kernel places one write at the end at once. An exclusive flock across the
+  // write keeps the line whole also where one write(2) is cut short (a signal, a filesystem that
+  // does not append atomically, such as NFS) and the rest needs a second call.
+  while (::flock(fd_, LOCK_EX) != 0 && errno == EINTR) {
+  }
+  size_t done = 0;
+  while (done < line.size()) {
+    const ssize_t written = ::write(fd_, line.data() + done, line.size() - done);
+    if (written < 0 && errno == EINTR) continue;
+    if (written <= 0) break;
+    done += static_cast<size_t>(written);
+  }
+  ::flock(fd_, LOCK_UN);
 }
 
 }  // namespace fogpipe::graph

@@ -1,7 +1,7 @@
-// OUTDIR/status.jsonl: one JSON object per line and per input file, each line one write(2) on a
-// descriptor opened with O_APPEND, so that a run killed at any point leaves only complete lines
-// and concurrent runs appending to one log never interleave within a line, whatever its length
-// (appends to a regular file are atomic with respect to each other on Linux). The log is opened
+// OUTDIR/status.jsonl: one JSON object per line and per input file, each line written under an
+// exclusive flock on a descriptor opened with O_APPEND, so that a run killed at any point leaves
+// only complete lines and concurrent runs appending to one log never interleave within a line,
+// whatever its length. The log is opened
 // with O_NOFOLLOW: a symlink planted in its place is refused, never written through.
 //   {"file": "...", "output": "...", "axes": 3, "status": "ok", "seconds": 12.5, "message": ""}
 // status is "ok", "failed" or "skipped" (output present with the same configuration hash).
@@ -33,8 +33,8 @@ class StatusLog {
   StatusLog& operator=(const StatusLog&) = delete;
 
   bool ok() const { return fd_ >= 0; }
-  /// Appends one line in one write(2) (fsync is not needed for a killed process; the kernel
-  /// keeps written data). Thread-safe.
+  /// Appends one line under an exclusive flock (fsync is not needed for a killed process; the
+  /// kernel keeps written data). Thread-safe, and safe between processes.
   void Append(const FileOutcome& outcome);
 
  private:

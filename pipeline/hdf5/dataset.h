@@ -45,6 +45,13 @@ struct DatasetOptions {
 class Dataset : public Object {
  public:
   Dataset(std::string file_path, std::string path, H5::DataSet dataset);
+  Dataset(const Dataset&) = default;
+  Dataset(Dataset&&) = default;
+  Dataset& operator=(const Dataset&) = default;
+  Dataset& operator=(Dataset&&) = default;
+  /// Closes quietly. A close that fails (a full disk when HDF5 flushes) is reported by the file's
+  /// own close or flush; H5::DataSet's destructor would print each failure to stderr instead.
+  ~Dataset() override;
 
   /// Extent of each dimension; empty for a scalar dataset.
   std::vector<hsize_t> dims() const;

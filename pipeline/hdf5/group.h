@@ -26,6 +26,12 @@ inline constexpr const char* kUnitsAttribute = "units";
 class Group : public Object {
  public:
   Group(std::string file_path, std::string path, H5::Group group);
+  Group(const Group&) = default;
+  Group(Group&&) = default;
+  Group& operator=(const Group&) = default;
+  Group& operator=(Group&&) = default;
+  /// Closes quietly, like Dataset's destructor.
+  ~Group() override;
 
   /// What `relative_path` (may contain '/', or be absolute) names: a group, a dataset, something
   /// else (named datatype, dangling link) or nothing. Missing intermediate groups give kMissing.

@@ -5,6 +5,8 @@ fogpipe_add_test(NAME graph_run_config_test
   SOURCES ${CMAKE_CURRENT_LIST_DIR}/graph/run_config_test.cpp LIBS fogpipe::pipeline)
 fogpipe_add_test(NAME graph_inputs_test
   SOURCES ${CMAKE_CURRENT_LIST_DIR}/graph/inputs_test.cpp LIBS fogpipe::pipeline)
+fogpipe_add_test(NAME graph_status_log_test
+  SOURCES ${CMAKE_CURRENT_LIST_DIR}/graph/status_log_test.cpp LIBS fogpipe::pipeline)
 # End-to-end through the binary (tests/pipeline/cli/run_campaign_test.py; Debian python3-h5py).
 add_test(NAME graph_run_campaign_test
   COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/tests/pipeline/cli/run_campaign_test.py

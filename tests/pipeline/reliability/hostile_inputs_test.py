@@ -2,7 +2,8 @@
 """Hostile inputs through the binary: every file of hostile_corpus.py fails with its named error
 kind beside valid files that all finish, in `run` (twice: a rerun does not crash either) and in
 `validate`; a FIFO given by name is refused at once; a write error (EFBIG through RLIMIT_FSIZE,
-the same path as ENOSPC) is a named failure with no partial output; a planted status.jsonl
+the same path as ENOSPC) is a named failure with no partial output, in `run`, `simulate` and
+`merge`; a planted status.jsonl
 symlink is refused; overlapping runs into one folder never fail spuriously.
 
 Usage: hostile_inputs_test.py FOGPIPE_BINARY [TRIALS]   (TRIALS: overlapping-run trials, default 3)
@@ -96,6 +97,25 @@ def write_error(tmp):
     check(len(lines) == 1 and lines[0]["status"] == "failed" and "File too large" in
           lines[0]["message"], "the write error is that file's named failure")
     check(sorted(os.listdir(outdir)) == ["status.jsonl"], "no partial output is left")
+
+    # simulate and merge under the same limit: a named error, no partial file, and none of the
+    # HDF5 C++ destructors' own complaints on stderr.
+    sim = os.path.join(tmp, "sim_full")
+    r = run(["simulate", "-o", sim, "--files", "2", "--profile", "paper", "--seed", "5"],
+            preexec=small_files)
+    check(r.returncode == 1 and "sim_000.h5" in r.stderr and "sim_001.h5" in r.stderr and
+          "File too large" in r.stderr, f"simulate names each file it could not write ({r.returncode})")
+    check(os.listdir(sim) == [], f"simulate leaves no partial recording ({os.listdir(sim)})")
+    check("~" not in r.stderr, "simulate's stderr has no destructor messages")
+    done = os.path.join(tmp, "out_merge")
+    r = run(["run", src, "-o", done])
+    check(r.returncode == 0, f"a results folder to merge ({r.returncode})")
+    r = run(["merge", done], preexec=small_files)
+    check(r.returncode == 2 and "campaign.h5" in r.stderr and "File too large" in r.stderr,
+          f"merge names the table it could not write ({r.returncode})")
+    check(not any(n.startswith("campaign") for n in os.listdir(done)),
+          f"merge leaves no partial table ({sorted(os.listdir(done))})")
+    check("~" not in r.stderr, "merge's stderr has no destructor messages")
 
 
 def planted_symlink(tmp):
