@@ -9,13 +9,16 @@
 
 namespace fogpipe::graph {
 
-std::uint64_t AutoMemoryBudgetBytes() {
+std::uint64_t PhysicalMemoryBytes() {
   const long pages = sysconf(_SC_PHYS_PAGES);
   const long page_size = sysconf(_SC_PAGE_SIZE);
-  const std::uint64_t physical =
-      pages > 0 && page_size > 0
-          ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page_size)
-          : 0;
+  return pages > 0 && page_size > 0
+             ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page_size)
+             : 0;
+}
+
+std::uint64_t AutoMemoryBudgetBytes() {
+  const std::uint64_t physical = PhysicalMemoryBytes();
   if (const char* slurm = std::getenv("SLURM_MEM_PER_NODE")) {
     // A job's --mem in MiB: a whole number. Anything else is ignored, and no job can hold more
     // than the machine, so the budget never exceeds 80 % of the physical memory either.
@@ -71,8 +74,8 @@ std::uint64_t BytesPerAxis(std::uint64_t num_samples, int max_imfs) {
   if (max_imfs > 0) imfs = std::min(imfs, max_imfs + 1);
   const std::uint64_t expected_imfs = 2 * static_cast<std::uint64_t>(imfs);
   std::uint64_t bytes = 0;
-  if (__builtin_mul_overflow((expected_imfs + 8 + kReferenceFilterDoubles) * 8, std::max<std::uint64_t>(num_samples, 1),
-                             &bytes)) {
+  if (__builtin_mul_overflow((expected_imfs + 8 + kReferenceFilterDoubles) * 8,
+                             std::max<std::uint64_t>(num_samples, 1), &bytes)) {
     return UINT64_MAX;  // saturates: never admitted, never 0
   }
   return bytes;

@@ -11,6 +11,9 @@ namespace fogpipe::graph {
 /// T=2^40; an optional trailing "B" or "iB" is accepted). nullopt for anything else or <= 0.
 std::optional<std::uint64_t> ParseByteSize(const std::string& text);
 
+/// The machine's physical memory (sysconf), 0 when the system does not say.
+std::uint64_t PhysicalMemoryBytes();
+
 /// The budget `--memory-budget auto` (the default) stands for: 80 % of SLURM_MEM_PER_NODE (MiB)
 /// when Slurm set it (a job's --mem; at most 80 % of the physical memory), else half of the
 /// physical memory (sysconf), else 2 GiB.

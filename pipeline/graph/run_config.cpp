@@ -258,6 +258,13 @@ bool ToCampaignOptions(const RunConfig& c, CampaignOptions* o, std::string* erro
              c.memory_budget + "'";
     return false;
   }
+  // A budget the machine cannot hold would admit recordings that then swap or are killed.
+  const std::uint64_t physical = PhysicalMemoryBytes();
+  if (physical > 0 && *budget > physical) {
+    *error = "--memory-budget " + c.memory_budget + " is more than this machine's " +
+             std::to_string(physical >> 20) + " MiB of physical memory; give at most that";
+    return false;
+  }
   o->memory_budget_bytes = *budget;
   o->threads = ResolveThreads(c.threads);
   o->output_dir = c.output_dir;

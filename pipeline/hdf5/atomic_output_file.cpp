@@ -100,7 +100,7 @@ AtomicOutputFile::AtomicOutputFile(std::filesystem::path final_path)
 AtomicOutputFile::~AtomicOutputFile() {
   if (committed_) return;
   try {
-    file_.Close();
+    if (!closed_) file_.Close();
   } catch (...) {
     // Nothing useful to report from a destructor; the file is removed below either way.
   }
@@ -109,10 +109,16 @@ AtomicOutputFile::~AtomicOutputFile() {
   Unregister(temp_path_);
 }
 
-void AtomicOutputFile::Commit() {
-  if (committed_) return;
+void AtomicOutputFile::CloseFile() {
+  if (closed_) return;
   file_.Flush();
   file_.Close();
+  closed_ = true;
+}
+
+void AtomicOutputFile::Commit() {
+  if (committed_) return;
+  CloseFile();
   SyncPath(temp_path_, false);
   std::filesystem::rename(temp_path_, final_path_);  // throws filesystem_error; dtor cleans up
   committed_ = true;

@@ -8,7 +8,9 @@
 // IsAtomicTempName() lets a rerun recognise and remove it. A reader therefore never sees a
 // partial file under a final name.
 //
-// Requires the caller to hold LockHdf5() from construction to destruction.
+// Requires the caller to hold LockHdf5() from construction until CloseFile() (or destruction).
+// After CloseFile() only POSIX calls remain: Commit()'s fsync and rename, which can take a while
+// on a large file, and the destructor need no lock, so other threads' HDF5 work goes on.
 #pragma once
 
 #include <filesystem>
@@ -33,15 +35,20 @@ class AtomicOutputFile {
   const std::filesystem::path& temp_path() const { return temp_path_; }
   bool committed() const { return committed_; }
 
-  /// Flushes, closes (every wrapper taken from file() becomes invalid), fsyncs and renames the
-  /// temporary file to final_path, replacing any file there. Throws hdf5::Error or
-  /// std::filesystem::filesystem_error; on failure the temporary file is removed.
+  /// Flushes and closes the HDF5 file (every wrapper taken from file() becomes invalid). Needs
+  /// the lock. Throws hdf5::Error; the temporary file is then removed by the destructor.
+  void CloseFile();
+
+  /// CloseFile() if not done, then fsyncs and renames the temporary file to final_path,
+  /// replacing any file there. Throws hdf5::Error or std::filesystem::filesystem_error; on
+  /// failure the temporary file is removed. Needs the lock only if CloseFile() was not called.
   void Commit();
 
  private:
   std::filesystem::path final_path_;
   std::filesystem::path temp_path_;
   File file_;
+  bool closed_ = false;
   bool committed_ = false;
 };
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <ctime>
 #include <limits>
+#include <optional>
 
 #include "algorithms/common/units.h"
 #include "pipeline/hdf5/atomic_output_file.h"
@@ -326,33 +327,44 @@ std::string UtcNowIso8601() {
 
 void WriteResultsFile(const std::filesystem::path& final_path, const Provenance& provenance,
                       const std::vector<AxisResults>& axes, const ResultsOptions& options) {
-  auto lock = hdf5::LockHdf5();
-  hdf5::AtomicOutputFile out(final_path);
+  std::optional<hdf5::AtomicOutputFile> out;
   {
-    Group root = out.Root();
-    root.WriteStringAttribute(results::kFormatAttribute, results::kFormat);
-    Group p = root.CreateGroup("provenance");
-    p.WriteStringAttribute("fogpipe_version", provenance.fogpipe_version);
-    p.WriteStringAttribute("git_commit", provenance.git_commit);
-    p.WriteStringAttribute(results::kConfigHashAttribute, provenance.config_sha256);
-    p.WriteStringAttribute("input_path", provenance.input_path);
-    p.WriteInt64Attribute("input_size_bytes", provenance.input_size_bytes);
-    p.WriteStringAttribute("input_sha256", provenance.input_sha256);
-    p.WriteStringAttribute("start_time_utc", provenance.start_time_utc);
-    p.WriteStringAttribute("end_time_utc", provenance.end_time_utc);
-    p.WriteInt64Attribute("threads", provenance.threads);
-    if (!provenance.model_path.empty()) {
-      p.WriteStringAttribute("model_path", provenance.model_path);
-      p.WriteStringAttribute("model_sha256", provenance.model_sha256);
-      p.WriteStringAttribute("model_compensated_terms", provenance.model_compensated_terms);
+    auto lock = hdf5::LockHdf5();
+    try {
+      out.emplace(final_path);
+      {
+        Group root = out->Root();
+        root.WriteStringAttribute(results::kFormatAttribute, results::kFormat);
+        Group p = root.CreateGroup("provenance");
+        p.WriteStringAttribute("fogpipe_version", provenance.fogpipe_version);
+        p.WriteStringAttribute("git_commit", provenance.git_commit);
+        p.WriteStringAttribute(results::kConfigHashAttribute, provenance.config_sha256);
+        p.WriteStringAttribute("input_path", provenance.input_path);
+        p.WriteInt64Attribute("input_size_bytes", provenance.input_size_bytes);
+        p.WriteStringAttribute("input_sha256", provenance.input_sha256);
+        p.WriteStringAttribute("start_time_utc", provenance.start_time_utc);
+        p.WriteStringAttribute("end_time_utc", provenance.end_time_utc);
+        p.WriteInt64Attribute("threads", provenance.threads);
+        if (!provenance.model_path.empty()) {
+          p.WriteStringAttribute("model_path", provenance.model_path);
+          p.WriteStringAttribute("model_sha256", provenance.model_sha256);
+          p.WriteStringAttribute("model_compensated_terms", provenance.model_compensated_terms);
+        }
+        p.WriteTextDataset("config_toml", provenance.config_toml);
+        p.WriteStringDataset("stage_names", provenance.stage_names);
+        p.WriteDataset("stage_seconds", provenance.stage_seconds, "s");
+        Group axes_group = root.CreateGroup("axes");
+        for (const AxisResults& axis : axes) WriteAxis(axes_group, axis, options);
+      }
+      out->CloseFile();
+    } catch (...) {
+      out.reset();  // its HDF5 handles are released under the lock
+      throw;
     }
-    p.WriteTextDataset("config_toml", provenance.config_toml);
-    p.WriteStringDataset("stage_names", provenance.stage_names);
-    p.WriteDataset("stage_seconds", provenance.stage_seconds, "s");
-    Group axes_group = root.CreateGroup("axes");
-    for (const AxisResults& axis : axes) WriteAxis(axes_group, axis, options);
   }
-  out.Commit();
+  // The fsyncs and the rename of a large file take seconds; other recordings' HDF5 reads and
+  // writes need not wait for them.
+  out->Commit();
 }
 
 }  // namespace fogpipe::io

@@ -9,6 +9,8 @@
 #include <set>
 #include <string>
 
+#include "pipeline/graph/memory_budget.h"
+
 namespace fogpipe::graph {
 namespace {
 
@@ -50,6 +52,25 @@ TEST(RunConfig, ChangingAnOptionChangesTheConfigurationText) {
   b = a;
   b.q_scale = 2.0;
   EXPECT_NE(EffectiveConfigToml(a), EffectiveConfigToml(b));
+}
+
+// A budget the machine cannot hold is refused with the physical memory in the message; one
+// within it is taken as given.
+TEST(RunConfig, AMemoryBudgetAboveThePhysicalMemoryIsRefused) {
+  const std::uint64_t physical = PhysicalMemoryBytes();
+  ASSERT_GT(physical, 0u);
+  RunConfig config;
+  config.output_dir = "out";
+  config.memory_budget = std::to_string(2 * (physical >> 20)) + "M";
+  CampaignOptions options;
+  std::string error;
+  EXPECT_FALSE(ToCampaignOptions(config, &options, &error));
+  EXPECT_NE(error.find("physical memory"), std::string::npos) << error;
+  EXPECT_NE(error.find(std::to_string(physical >> 20) + " MiB"), std::string::npos) << error;
+  config.memory_budget = "256M";
+  error.clear();
+  EXPECT_TRUE(ToCampaignOptions(config, &options, &error)) << error;
+  EXPECT_EQ(options.memory_budget_bytes, 256u << 20);
 }
 
 }  // namespace
