@@ -76,11 +76,11 @@ std::vector<double> OverlappingAllanBelow30Averages(const Eigen::VectorXd& phase
 
 // The law of the estimate of one frequency-noise type with few averages (estimate_law.h); empty
 // where chi-square serves.
-std::vector<double> FewAveragesLaw(int alpha, long long m, long long count) {
+std::vector<double> FewAveragesLaw(int d, int alpha, long long m, long long count) {
   if (alpha > 0 || alpha < -2) return {};
   std::array<double, 4> theta{};
   theta[static_cast<size_t>(1 - alpha)] = 1.0;  // 0 -> N, -1 -> B, -2 -> K
-  return OverlappingAllanLawWeights(theta, m, count);
+  return OverlappingLawWeights(d, theta, m, count);
 }
 
 }  // namespace
@@ -139,7 +139,8 @@ AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double s
         OverlappingAllanBelow30Averages(phase, options.deviation, table.m, variance);
     // The estimate's own law with few averages (estimate_law.h) belongs to the calibrated rule;
     // Stable32's rule keeps its chi-square bounds.
-    const bool law_applies = options.deviation == Deviation::kOverlappingAllan &&
+    const bool law_applies = (options.deviation == Deviation::kOverlappingAllan ||
+                              options.deviation == Deviation::kOverlappingHadamard) &&
                              options.noise_id == NoiseIdRule::kCalibrated &&
                              options.sampled_phase_edf;
     const std::vector<NoiseId> ids = IdentifyNoiseTypes(
@@ -152,7 +153,8 @@ AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double s
       if (!(table.edf[k] > 0.0)) continue;
       table.edf_source[k] = EdfSource::kNoiseType;
       const std::vector<double> law = law_applies
-                                          ? FewAveragesLaw(ids[k].alpha, table.m[k], table.count[k])
+                                          ? FewAveragesLaw(DifferenceOrder(options.deviation),
+                                                           ids[k].alpha, table.m[k], table.count[k])
                                           : std::vector<double>();
       if (!law.empty())
         LawBounds(table.sigma[k], law, options.confidence, &table.ci_low[k], &table.ci_high[k]);

@@ -19,6 +19,14 @@ constexpr double kGlX[4] = {-0.8611363115940526, -0.3399810435848563, 0.33998104
 constexpr double kGlW[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
                             0.3478548451374538};
 
+// w times the generalised autocovariances of the phase at lag u (file comment) of N, B and K.
+void AddAutocovariance(double u, double w, double c[4]) {
+  const double a = std::abs(u);
+  c[kN] += w * (-0.5 * a);
+  c[kK] += w * (a * a * a / 12.0);
+  if (a > 0.0) c[kB] += w * (u * u * std::log(a) / (2.0 * units::kPi));
+}
+
 // Lag sums in sample units (t0 = 1), before normalisation.
 struct Sums {
   double s[4][4] = {};
@@ -44,14 +52,8 @@ struct Pair {
   void Continuous(double l, double c[4]) const {
     c[kQ] = c[kN] = c[kB] = c[kK] = 0.0;
     for (int p = 0; p < 3; ++p)
-      for (int q = 0; q < 3; ++q) {
-        const double u = l + static_cast<double>(q * mb - p * ma);
-        const double a = std::abs(u);
-        const double w = kW[p] * kW[q];
-        c[kN] += w * (-0.5 * a);
-        c[kK] += w * (a * a * a / 12.0);
-        if (a > 0.0) c[kB] += w * (u * u * std::log(a) / (2.0 * units::kPi));
-      }
+      for (int q = 0; q < 3; ++q)
+        AddAutocovariance(l + static_cast<double>(q * mb - p * ma), kW[p] * kW[q], c);
   }
   // White-PM coefficient at an integer lag: the weights of coinciding phase samples.
   double WhitePm(long long l) const {
@@ -192,10 +194,18 @@ double Evaluate(const std::array<double, 10>& s, const std::array<double, 4>& h,
 
 }  // namespace
 
-std::array<double, 4> SecondDifferenceCovariance(long long m, double lag) {
-  const Pair pair{m, m, 1, 1};
+std::array<double, 4> DifferenceCovariance(int d, long long m, double lag) {
   std::array<double, 4> c{};
-  pair.Continuous(lag, c.data());
+  if (d == 2) {
+    const Pair pair{m, m, 1, 1};
+    pair.Continuous(lag, c.data());
+    return c;
+  }
+  // Third differences: the same generalised autocovariances under the weights 1, -3, 3, -1.
+  constexpr double kW3[4] = {1.0, -3.0, 3.0, -1.0};
+  for (int p = 0; p < 4; ++p)
+    for (int q = 0; q < 4; ++q)
+      AddAutocovariance(lag + static_cast<double>((q - p) * m), kW3[p] * kW3[q], c.data());
   return c;
 }
 

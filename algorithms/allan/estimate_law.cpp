@@ -33,18 +33,18 @@ Cgf Evaluate(const std::vector<double>& mu, double t) {
 
 }  // namespace
 
-bool FewAverages(long long m, long long count) {
-  return m >= 1 && count >= 1 && (count + 2 * m - 1) / m < kLawBelowAverages;
+bool FewAverages(int d, long long m, long long count) {
+  return m >= 1 && count >= 1 && (count + d * m - 1) / m < kLawBelowAverages;
 }
 
-std::vector<double> OverlappingAllanLawWeights(const std::array<double, 4>& theta, long long m,
-                                               long long count) {
-  if (!FewAverages(m, count)) return {};
+std::vector<double> OverlappingLawWeights(int d, const std::array<double, 4>& theta, long long m,
+                                          long long count) {
+  if ((d != 2 && d != 3) || !FewAverages(d, m, count)) return {};
   const int k = static_cast<int>(std::min<long long>(count, kLawPoints));
   const double step = static_cast<double>(count) / k;  // samples per point (1 when count <= K)
   std::vector<double> lag_covariance(static_cast<size_t>(k));
   for (int l = 0; l < k; ++l) {
-    const std::array<double, 4> c = SecondDifferenceCovariance(m, l * step);
+    const std::array<double, 4> c = DifferenceCovariance(d, m, l * step);
     lag_covariance[static_cast<size_t>(l)] = theta[1] * c[1] + theta[2] * c[2] + theta[3] * c[3];
   }
   Eigen::MatrixXd cov(k, k);

@@ -1,7 +1,8 @@
 // The distribution of an overlapping Allan-variance estimate with few averages, for confidence
 // bounds that do not rest on the chi-square approximation.
 //
-// s2(m) = sum_{i<M} D_i^2 / (2 tau^2 M) is a quadratic form in the Gaussian second differences D,
+// s2(m) = sum_{i<M} D_i^2 / (c tau^2 M) is a quadratic form in the Gaussian differences D (second
+// differences of the phase for OADEV, c = 2; third for OHDEV, c = 6),
 // so s2 / E[s2] = sum_j mu_j chi2_1,j with mu the eigenvalues of D's M x M covariance, normalised
 // to sum 1 (Imhof 1961). The chi-square law with the EDF 1 / sum mu^2 (Greenhall & Riley's EDF is
 // exactly this) matches its first two moments only. With many averages the weights are many and
@@ -26,22 +27,23 @@
 
 namespace fogpipe::allan {
 
-/// With fewer averages than this (rate samples / m), OADEV bounds of frequency noise come from the
-/// estimate's law (LawBounds) instead of chi-square, under the calibrated noise-identification
-/// rule.
+/// With fewer averages than this (rate samples / m), OADEV and OHDEV bounds of frequency noise
+/// come from the estimate's law (LawBounds) instead of chi-square, under the calibrated
+/// noise-identification rule.
 inline constexpr long long kLawBelowAverages = 16;
 
-/// true when an OADEV row at factor m with `count` overlapping differences (count + 2m - 1 rate
-/// samples) has fewer than kLawBelowAverages averages.
-bool FewAverages(long long m, long long count);
+/// true when an overlapping d-th difference row at factor m with `count` differences
+/// (count + d m - 1 rate samples; d = 2 OADEV, 3 OHDEV) has fewer than kLawBelowAverages
+/// averages.
+bool FewAverages(int d, long long m, long long count);
 
-/// Normalised weights mu (sum 1, descending) of s2 / E[s2] at averaging factor m with `count`
-/// overlapping differences, for D's covariance sum_k theta_k c_k (avar_covariance.h's
-/// SecondDifferenceCovariance; theta = (ignored, N^2 t0, B^2 t0^2, K^2 t0^3), any common scale).
-/// Empty when the row does not have FewAverages (chi-square serves there) or the covariance is not
-/// positive.
-std::vector<double> OverlappingAllanLawWeights(const std::array<double, 4>& theta, long long m,
-                                               long long count);
+/// Normalised weights mu (sum 1, descending) of s2 / E[s2] for the overlapping d-th difference
+/// variance at averaging factor m with `count` differences, for D's covariance
+/// sum_k theta_k c_k (avar_covariance.h's DifferenceCovariance; theta = (ignored, N^2 t0,
+/// B^2 t0^2, K^2 t0^3), any common scale). Empty when the row does not have FewAverages
+/// (chi-square serves there) or the covariance is not positive.
+std::vector<double> OverlappingLawWeights(int d, const std::array<double, 4>& theta, long long m,
+                                          long long count);
 
 /// P(sum mu_j chi2_1 <= x) by the Lugannani-Rice saddlepoint approximation, mu > 0.
 double WeightedChiSquareCdf(const std::vector<double>& mu, double x);

@@ -24,7 +24,7 @@ bool InMisfitRange(const NoiseFitResult& fit, double tau_s) {
 // model variance. Empty where chi-square is kept.
 std::vector<double> FewAveragesLaw(const NoiseTerms& terms, long long m, long long count,
                                    double t0) {
-  if (!FewAverages(m, count)) return {};
+  if (!FewAverages(2, m, count)) return {};
   const double tau = static_cast<double>(m) * t0;
   NoiseTerms white_pm_and_ramp;
   white_pm_and_ramp.q_rad = std::sqrt(Square(terms.q_rad));
@@ -35,7 +35,8 @@ std::vector<double> FewAveragesLaw(const NoiseTerms& terms, long long m, long lo
   all.k_rad_s_sqrt_s = std::sqrt(Square(terms.k_rad_s_sqrt_s));
   if (!(NoiseModelVariance(white_pm_and_ramp, tau) < 0.01 * NoiseModelVariance(all, tau)))
     return {};
-  return OverlappingAllanLawWeights(
+  return OverlappingLawWeights(
+      2,
       {0.0, Square(terms.n_rad_sqrt_s) * t0, Square(terms.b_rad_s) * t0 * t0,
        Square(terms.k_rad_s_sqrt_s) * t0 * t0 * t0},
       m, count);

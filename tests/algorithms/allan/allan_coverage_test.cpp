@@ -294,6 +294,15 @@ TEST(AllanCoverage, Study) {
       variants.push_back(v);
       labels.push_back(std::string(ToString(d)) + ", calibrated, sampled-phase EDF");
     }
+    // FOGPIPE_ALLAN_COVERAGE_KIND=<deviation> keeps only that kind's variants.
+    if (const char* kind = std::getenv("FOGPIPE_ALLAN_COVERAGE_KIND")) {
+      std::vector<Variant> kept;
+      std::vector<std::string> kept_labels;
+      for (size_t v = 0; v < variants.size(); ++v)
+        if (std::string(ToString(variants[v].options.deviation)) == kind)
+          kept.push_back(variants[v]), kept_labels.push_back(labels[v]);
+      variants = kept, labels = kept_labels;
+    }
     const auto all =
         Coverage(c, n, realisations, seed, variants, c.terms.size() == 1 ? c.terms[0].alpha : 99);
     for (size_t v = 0; v < variants.size(); ++v) {

@@ -51,8 +51,8 @@ TEST(EstimateLaw, QuantilesOfUnequalWeightsMatchSimulatedSums) {
   std::vector<std::vector<double>> cases = {
       {0.5, 0.3, 0.15, 0.05}, {0.7, 0.2, 0.1}, {0.4, 0.4, 0.1, 0.05, 0.05}};
   const long long n = 4096, m = 1024;
-  cases.push_back(OverlappingAllanLawWeights({0.0, 0.0, 0.0, 1.0}, m,
-                                             DifferenceCount(Deviation::kOverlappingAllan, n, m)));
+  cases.push_back(OverlappingLawWeights(2, {0.0, 0.0, 0.0, 1.0}, m,
+                                        DifferenceCount(Deviation::kOverlappingAllan, n, m)));
   simulation::RandomSource rng(424242);
   const int draws = 400000;
   for (const std::vector<double>& mu : cases) {
@@ -81,52 +81,56 @@ TEST(EstimateLaw, QuantilesOfUnequalWeightsMatchSimulatedSums) {
 }
 
 // The weights from K = 128 sampled starts against the eigenvalues of the full M x M covariance of
-// the second differences (white FM and random-walk FM, 1024 samples, 4-13 averages): the 15.85 %
+// the second (OADEV) and third (OHDEV) differences (white FM and random-walk FM, 1024 samples,
+// 4-13 averages): the 15.85 %
 // and 84.15 % quantiles agree to 5e-3 (relative; q f(q) < 0.6 at these quantiles, so a tail
 // probability moves by under 0.003, within kIntervalTolerance), and 1 / sum mu^2 is Greenhall's EDF
 // for sampled phase within the 3 % of his asymptotic forms (edf.h).
 TEST(EstimateLaw, SampledCovarianceGivesTheFullEigenvaluesQuantiles) {
   const long long n = 1024;
-  for (int alpha : {0, -2}) {
-    std::array<double, 4> theta{};
-    theta[static_cast<size_t>(1 - alpha)] = 1.0;
-    for (long long m : {80LL, 128LL, 256LL}) {
-      const long long count = DifferenceCount(Deviation::kOverlappingAllan, n, m);
-      Eigen::MatrixXd cov(count, count);
-      for (long long i = 0; i < count; ++i)
-        for (long long j = 0; j < count; ++j) {
-          const std::array<double, 4> c =
-              SecondDifferenceCovariance(m, static_cast<double>(std::abs(i - j)));
-          cov(i, j) = theta[1] * c[1] + theta[3] * c[3];
-        }
-      const Eigen::VectorXd ev =
-          Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(cov, Eigen::EigenvaluesOnly).eigenvalues();
-      std::vector<double> full;
-      for (Eigen::Index j = 0; j < ev.size(); ++j)
-        if (ev[j] > 1e-12 * ev.maxCoeff()) full.push_back(ev[j]);
-      double sum = 0.0;
-      for (double v : full) sum += v;
-      for (double& v : full) v /= sum;
-      const std::vector<double> sampled = OverlappingAllanLawWeights(theta, m, count);
-      ASSERT_FALSE(sampled.empty());
-      for (double p : {kLow, kHigh})
-        EXPECT_NEAR(WeightedChiSquareQuantile(sampled, p) / WeightedChiSquareQuantile(full, p), 1.0,
-                    5e-3)
-            << "alpha " << alpha << " m " << m << " p " << p;
-      double sum_sq = 0.0;
-      for (double v : sampled) sum_sq += v * v;
-      EXPECT_NEAR((1.0 / sum_sq) / GreenhallEdf(alpha, 2, m, n + 1, true, true), 1.0, 0.03)
-          << "alpha " << alpha << " m " << m;
+  for (int d : {2, 3})
+    for (int alpha : {0, -2}) {
+      std::array<double, 4> theta{};
+      theta[static_cast<size_t>(1 - alpha)] = 1.0;
+      for (long long m : {80LL, 128LL, 256LL}) {
+        const long long count = DifferenceCount(
+            d == 2 ? Deviation::kOverlappingAllan : Deviation::kOverlappingHadamard, n, m);
+        Eigen::MatrixXd cov(count, count);
+        for (long long i = 0; i < count; ++i)
+          for (long long j = 0; j < count; ++j) {
+            const std::array<double, 4> c =
+                DifferenceCovariance(d, m, static_cast<double>(std::abs(i - j)));
+            cov(i, j) = theta[1] * c[1] + theta[3] * c[3];
+          }
+        const Eigen::VectorXd ev =
+            Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(cov, Eigen::EigenvaluesOnly)
+                .eigenvalues();
+        std::vector<double> full;
+        for (Eigen::Index j = 0; j < ev.size(); ++j)
+          if (ev[j] > 1e-12 * ev.maxCoeff()) full.push_back(ev[j]);
+        double sum = 0.0;
+        for (double v : full) sum += v;
+        for (double& v : full) v /= sum;
+        const std::vector<double> sampled = OverlappingLawWeights(d, theta, m, count);
+        ASSERT_FALSE(sampled.empty());
+        for (double p : {kLow, kHigh})
+          EXPECT_NEAR(WeightedChiSquareQuantile(sampled, p) / WeightedChiSquareQuantile(full, p),
+                      1.0, 5e-3)
+              << "d " << d << " alpha " << alpha << " m " << m << " p " << p;
+        double sum_sq = 0.0;
+        for (double v : sampled) sum_sq += v * v;
+        EXPECT_NEAR((1.0 / sum_sq) / GreenhallEdf(alpha, d, m, n + 1, true, true), 1.0, 0.03)
+            << "d " << d << " alpha " << alpha << " m " << m;
+      }
     }
-  }
 }
 
 // With 4 averages the law's interval is narrower than chi-square's with the same EDF: the
 // over-wide intervals it replaces (file comment of estimate_law.h).
 TEST(EstimateLaw, FewAveragesGiveANarrowerIntervalThanChiSquare) {
   const long long n = 4096, m = 1024;
-  const std::vector<double> mu = OverlappingAllanLawWeights(
-      {0.0, 1.0, 0.0, 0.0}, m, DifferenceCount(Deviation::kOverlappingAllan, n, m));
+  const std::vector<double> mu = OverlappingLawWeights(
+      2, {0.0, 1.0, 0.0, 0.0}, m, DifferenceCount(Deviation::kOverlappingAllan, n, m));
   double sum_sq = 0.0;
   for (double v : mu) sum_sq += v * v;
   const double edf = 1.0 / sum_sq;

@@ -134,7 +134,7 @@ TEST(ModelEdf, ApplyReplacesTheRowsWhereTheFitHolds) {
     }
     ++model_rows;
     // With few averages the bounds come from the estimate's law (estimate_law_test).
-    if (FewAverages(table.m[k], table.count[k])) continue;
+    if (FewAverages(2, table.m[k], table.count[k])) continue;
     double low = 0.0, high = 0.0;
     ConfidenceBounds(table.sigma[k], table.edf[k], 0.683, &low, &high);
     EXPECT_EQ(table.ci_low[k], low);
