@@ -195,17 +195,14 @@ double Evaluate(const std::array<double, 10>& s, const std::array<double, 4>& h,
 }  // namespace
 
 std::array<double, 4> DifferenceCovariance(int d, long long m, double lag) {
-  std::array<double, 4> c{};
-  if (d == 2) {
-    const Pair pair{m, m, 1, 1};
-    pair.Continuous(lag, c.data());
-    return c;
-  }
-  // Third differences: the same generalised autocovariances under the weights 1, -3, 3, -1.
+  // The difference's weights on phase samples m apart: 1, -2, 1 or 1, -3, 3, -1.
   constexpr double kW3[4] = {1.0, -3.0, 3.0, -1.0};
-  for (int p = 0; p < 4; ++p)
-    for (int q = 0; q < 4; ++q)
-      AddAutocovariance(lag + static_cast<double>((q - p) * m), kW3[p] * kW3[q], c.data());
+  const double* w = d == 2 ? kW : kW3;
+  std::array<double, 4> c{};
+  if (d != 2 && d != 3) return c;
+  for (int p = 0; p <= d; ++p)
+    for (int q = 0; q <= d; ++q)
+      AddAutocovariance(lag + static_cast<double>((q - p) * m), w[p] * w[q], c.data());
   return c;
 }
 

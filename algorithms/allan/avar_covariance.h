@@ -58,6 +58,7 @@ class AvarCovarianceModel {
 /// phase at lag m (d = 2 Allan: weights 1, -2, 1; d = 3 Hadamard: 1, -3, 3, -1), for the
 /// frequency noises N (k = 1), B (2) and K (3) at any real lag l [samples]; element 0 (white PM,
 /// which lives on integer knots only) is 0. Multiply by theta_k t0^k for the covariance in rad^2.
+/// All zero for any other d.
 std::array<double, 4> DifferenceCovariance(int d, long long m, double lag);
 
 /// Reference: the same covariance for one pair by the explicit sum over every integer lag (slow

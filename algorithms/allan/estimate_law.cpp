@@ -7,6 +7,7 @@
 
 #include "algorithms/allan/avar_covariance.h"
 #include "algorithms/common/chi_square.h"
+#include "algorithms/common/units.h"
 
 namespace fogpipe::allan {
 namespace {
@@ -52,17 +53,13 @@ std::vector<double> OverlappingLawWeights(int d, const std::array<double, 4>& th
     for (int j = 0; j < k; ++j) cov(i, j) = lag_covariance[static_cast<size_t>(std::abs(i - j))];
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(cov, Eigen::EigenvaluesOnly);
   if (eig.info() != Eigen::Success) return {};
-  std::vector<double> mu;
-  double sum = 0.0;
-  for (int j = 0; j < k; ++j) {
-    const double v = eig.eigenvalues()[j];
-    if (v > 0.0) mu.push_back(v), sum += v;
-  }
+  double sum = 0.0;  // of the positive eigenvalues (rounding leaves tiny negative ones)
+  for (int j = 0; j < k; ++j) sum += std::max(eig.eigenvalues()[j], 0.0);
   if (!(sum > 0.0)) return {};
   // Weights below 1e-12 of the total carry nothing measurable and only cost time.
   std::vector<double> out;
-  for (double v : mu)
-    if (v / sum > 1e-12) out.push_back(v / sum);
+  for (int j = 0; j < k; ++j)
+    if (eig.eigenvalues()[j] / sum > 1e-12) out.push_back(eig.eigenvalues()[j] / sum);
   std::sort(out.rbegin(), out.rend());
   return out;
 }
@@ -95,22 +92,37 @@ Cgf Saddlepoint(const std::vector<double>& mu, double x, double* t_out) {
 
 }  // namespace
 
-double WeightedChiSquareCdf(const std::vector<double>& mu, double x) {
-  if (!(x > 0.0)) return 0.0;
-  if (mu.empty()) return std::numeric_limits<double>::quiet_NaN();
+namespace {
+
+// The Lugannani-Rice distribution function at x, and the saddlepoint density
+// exp(K(t) - t x) / sqrt(2 pi K''(t)) from the same saddlepoint (the quantile's Newton steps need
+// both).
+struct SaddlepointAt {
+  double cdf = 0.0, density = 0.0;
+};
+SaddlepointAt Approximate(const std::vector<double>& mu, double x) {
   double mean = 0.0, k2 = 0.0, k3 = 0.0;
   for (double w : mu) mean += w, k2 += 2.0 * w * w, k3 += 8.0 * w * w * w;
+  // Near the mean the Lugannani-Rice terms cancel; their limit is 1/2 + skewness / (6 sqrt(2 pi)).
   const double skew_limit = 0.5 + k3 / (6.0 * kSqrt2Pi * std::pow(k2, 1.5));
-  if (std::abs(x - mean) < 1e-9 * mean) return skew_limit;
   double t = 0.0;
   const Cgf c = Saddlepoint(mu, x, &t);
+  const double density = std::exp(c.k0 - t * x) / std::sqrt(2.0 * units::kPi * c.k2);
   const double w2 = 2.0 * (t * x - c.k0);
-  // Near the mean the Lugannani-Rice terms cancel; their limit is 1/2 + skewness / (6 sqrt(2 pi)).
-  if (std::abs(t) * std::sqrt(c.k2) < 1e-4 || !(w2 > 0.0)) return skew_limit;
+  if (std::abs(x - mean) < 1e-9 * mean || std::abs(t) * std::sqrt(c.k2) < 1e-4 || !(w2 > 0.0))
+    return {skew_limit, density};
   const double w = (t > 0.0 ? 1.0 : -1.0) * std::sqrt(w2);
   const double u = t * std::sqrt(c.k2);
   const double f = NormalCdf(w) + std::exp(-0.5 * w * w) / kSqrt2Pi * (1.0 / w - 1.0 / u);
-  return std::clamp(f, 0.0, 1.0);
+  return {std::clamp(f, 0.0, 1.0), density};
+}
+
+}  // namespace
+
+double WeightedChiSquareCdf(const std::vector<double>& mu, double x) {
+  if (!(x > 0.0)) return 0.0;
+  if (mu.empty()) return std::numeric_limits<double>::quiet_NaN();
+  return Approximate(mu, x).cdf;
 }
 
 double WeightedChiSquareQuantile(const std::vector<double>& mu, double p) {
@@ -119,16 +131,14 @@ double WeightedChiSquareQuantile(const std::vector<double>& mu, double p) {
   if (mu.size() == 1) return mu[0] * stats::ChiSquareQuantile(p, 1.0);
   double lo = 0.0, hi = 2.0;
   while (WeightedChiSquareCdf(mu, hi) < p) hi *= 2.0;
-  // Newton on F(x) = p with the saddlepoint density exp(K(t) - t x) / sqrt(2 pi K''(t)), inside
-  // the bracket [lo, hi], bisection when a step leaves it.
+  // Newton on F(x) = p with the saddlepoint density, inside the bracket [lo, hi], bisection when
+  // a step leaves it.
   double x = 0.5 * (lo + hi);
   for (int it = 0; it < 100 && hi - lo > 1e-9 * hi; ++it) {
-    const double f = WeightedChiSquareCdf(mu, x) - p;
+    const SaddlepointAt s = Approximate(mu, x);
+    const double f = s.cdf - p;
     (f < 0.0 ? lo : hi) = x;
-    double t = 0.0;
-    const Cgf c = Saddlepoint(mu, x, &t);
-    const double density = std::exp(c.k0 - t * x) / std::sqrt(2.0 * 3.141592653589793 * c.k2);
-    double next = density > 0.0 ? x - f / density : 0.5 * (lo + hi);
+    double next = s.density > 0.0 ? x - f / s.density : 0.5 * (lo + hi);
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
     if (std::abs(next - x) <= 1e-10 * x) return next;
     x = next;

@@ -48,8 +48,9 @@ std::vector<double> OverlappingLawWeights(int d, const std::array<double, 4>& th
 /// P(sum mu_j chi2_1 <= x) by the Lugannani-Rice saddlepoint approximation, mu > 0.
 double WeightedChiSquareCdf(const std::vector<double>& mu, double x);
 
-/// The p-quantile of sum mu_j chi2_1, 0 < p < 1 (bisection on WeightedChiSquareCdf to 1e-9
-/// relative; exact chi-square(1) for one weight).
+/// The p-quantile of sum mu_j chi2_1, 0 < p < 1 (safeguarded Newton steps on
+/// WeightedChiSquareCdf with the saddlepoint density, to 1e-9 relative; exact chi-square(1) for
+/// one weight).
 double WeightedChiSquareQuantile(const std::vector<double>& mu, double p);
 
 /// Two-sided bounds of a deviation sigma whose variance estimate is s2 = E[s2] sum mu_j chi2_1:

@@ -13,6 +13,14 @@ namespace {
 
 double Square(double a) { return std::isfinite(a) ? a * a : 0.0; }
 
+// The amplitudes with NaN (a term not fitted) as 0.
+NoiseTerms FiniteAmplitudes(const NoiseTerms& terms) {
+  NoiseTerms t = terms;
+  for (double* a : {&t.q_rad, &t.n_rad_sqrt_s, &t.b_rad_s, &t.k_rad_s_sqrt_s, &t.r_rad_s2})
+    *a = std::sqrt(Square(*a));
+  return t;
+}
+
 bool InMisfitRange(const NoiseFitResult& fit, double tau_s) {
   for (const TauRange& r : fit.misfit_ranges)
     if (tau_s >= r.low_s && tau_s <= r.high_s) return true;
@@ -21,25 +29,19 @@ bool InMisfitRange(const NoiseFitResult& fit, double tau_s) {
 
 // The estimate's law with few averages (estimate_law.h) where the model's frequency noises carry
 // the row: white PM and the ramp (whose D are not continuous, or not centred) below 1 % of the
-// model variance. Empty where chi-square is kept.
+// model variance. `terms` are finite (FiniteAmplitudes). Empty where chi-square is kept.
 std::vector<double> FewAveragesLaw(const NoiseTerms& terms, long long m, long long count,
                                    double t0) {
   if (!FewAverages(2, m, count)) return {};
   const double tau = static_cast<double>(m) * t0;
   NoiseTerms white_pm_and_ramp;
-  white_pm_and_ramp.q_rad = std::sqrt(Square(terms.q_rad));
-  white_pm_and_ramp.r_rad_s2 = std::sqrt(Square(terms.r_rad_s2));
-  NoiseTerms all = white_pm_and_ramp;
-  all.n_rad_sqrt_s = std::sqrt(Square(terms.n_rad_sqrt_s));
-  all.b_rad_s = std::sqrt(Square(terms.b_rad_s));
-  all.k_rad_s_sqrt_s = std::sqrt(Square(terms.k_rad_s_sqrt_s));
-  if (!(NoiseModelVariance(white_pm_and_ramp, tau) < 0.01 * NoiseModelVariance(all, tau)))
+  white_pm_and_ramp.q_rad = terms.q_rad;
+  white_pm_and_ramp.r_rad_s2 = terms.r_rad_s2;
+  if (!(NoiseModelVariance(white_pm_and_ramp, tau) < 0.01 * NoiseModelVariance(terms, tau)))
     return {};
-  return OverlappingLawWeights(
-      2,
-      {0.0, Square(terms.n_rad_sqrt_s) * t0, Square(terms.b_rad_s) * t0 * t0,
-       Square(terms.k_rad_s_sqrt_s) * t0 * t0 * t0},
-      m, count);
+  const double n2 = terms.n_rad_sqrt_s * terms.n_rad_sqrt_s, b2 = terms.b_rad_s * terms.b_rad_s,
+               k2 = terms.k_rad_s_sqrt_s * terms.k_rad_s_sqrt_s;
+  return OverlappingLawWeights(2, {0.0, n2 * t0, b2 * t0 * t0, k2 * t0 * t0 * t0}, m, count);
 }
 
 }  // namespace
@@ -55,12 +57,7 @@ bool ModelEdfOptions::IsValid(std::string* error) const {
 double ModelOverlappingAllanEdf(const NoiseTerms& terms, long long m, long long count,
                                 double sample_period_s) {
   const double tau_s = static_cast<double>(m) * sample_period_s;
-  NoiseTerms t = terms;
-  t.q_rad = std::sqrt(Square(t.q_rad));
-  t.n_rad_sqrt_s = std::sqrt(Square(t.n_rad_sqrt_s));
-  t.b_rad_s = std::sqrt(Square(t.b_rad_s));
-  t.k_rad_s_sqrt_s = std::sqrt(Square(t.k_rad_s_sqrt_s));
-  t.r_rad_s2 = std::sqrt(Square(t.r_rad_s2));
+  const NoiseTerms t = FiniteAmplitudes(terms);
   const double mean = NoiseModelVariance(t, tau_s);
   if (!(mean > 0.0)) return std::numeric_limits<double>::quiet_NaN();
   const AvarCovarianceModel covariance({m}, {count}, sample_period_s);
@@ -80,6 +77,7 @@ int ApplyModelEdf(const NoiseFitResult& fit, const ModelEdfOptions& options, All
   const size_t rows = table->size();
   if (table->edf.size() != rows) return 0;
   if (table->edf_source.size() != rows) table->edf_source.assign(rows, EdfSource::kNone);
+  const NoiseTerms terms = FiniteAmplitudes(fit.terms);
   int changed = 0;
   for (size_t k = 0; k < rows; ++k) {
     const double tau = table->tau_s[k];
@@ -88,12 +86,11 @@ int ApplyModelEdf(const NoiseFitResult& fit, const ModelEdfOptions& options, All
       continue;
     if (tau < fit.fitted_range.low_s || tau > fit.fitted_range.high_s || InMisfitRange(fit, tau))
       continue;
-    const double edf = ModelOverlappingAllanEdf(fit.terms, table->m[k], table->count[k],
-                                                tau / static_cast<double>(table->m[k]));
+    const double t0 = tau / static_cast<double>(table->m[k]);
+    const double edf = ModelOverlappingAllanEdf(terms, table->m[k], table->count[k], t0);
     if (!(edf > 0.0) || !std::isfinite(edf)) continue;
     table->edf[k] = edf;
-    const std::vector<double> law =
-        FewAveragesLaw(fit.terms, table->m[k], table->count[k], tau / table->m[k]);
+    const std::vector<double> law = FewAveragesLaw(terms, table->m[k], table->count[k], t0);
     if (!law.empty())
       LawBounds(table->sigma[k], law, options.confidence, &table->ci_low[k], &table->ci_high[k]);
     else

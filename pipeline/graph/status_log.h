@@ -1,8 +1,8 @@
 // OUTDIR/status.jsonl: one JSON object per line and per input file, each line written under an
 // exclusive flock on a descriptor opened with O_APPEND, so that a run killed at any point leaves
 // only complete lines and concurrent runs appending to one log never interleave within a line,
-// whatever its length. The log is opened
-// with O_NOFOLLOW: a symlink planted in its place is refused, never written through.
+// whatever its length. The log is opened with O_NOFOLLOW: a symlink planted in its place is
+// refused, never written through.
 //   {"file": "...", "output": "...", "axes": 3, "status": "ok", "seconds": 12.5, "message": ""}
 // status is "ok", "failed" or "skipped" (output present with the same configuration hash).
 #pragma once

@@ -100,7 +100,7 @@ AtomicOutputFile::AtomicOutputFile(std::filesystem::path final_path)
 AtomicOutputFile::~AtomicOutputFile() {
   if (committed_) return;
   try {
-    if (!closed_) file_.Close();
+    file_.Close();  // nothing to do after CloseFile()
   } catch (...) {
     // Nothing useful to report from a destructor; the file is removed below either way.
   }
@@ -110,10 +110,9 @@ AtomicOutputFile::~AtomicOutputFile() {
 }
 
 void AtomicOutputFile::CloseFile() {
-  if (closed_) return;
+  if (!file_.is_open()) return;
   file_.Flush();
   file_.Close();
-  closed_ = true;
 }
 
 void AtomicOutputFile::Commit() {

@@ -48,7 +48,6 @@ class AtomicOutputFile {
   std::filesystem::path final_path_;
   std::filesystem::path temp_path_;
   File file_;
-  bool closed_ = false;
   bool committed_ = false;
 };
 

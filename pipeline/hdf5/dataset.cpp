@@ -21,14 +21,7 @@ bool DatasetOptions::IsValid(std::string* error) const {
   return true;
 }
 
-Dataset::~Dataset() {
-  // H5Dclose releases the identifier even when it fails, so H5::DataSet's destructor then finds
-  // nothing left to close and prints nothing.
-  try {
-    dataset_.close();
-  } catch (const H5::Exception&) {
-  }
-}
+Dataset::~Dataset() { detail::CloseQuietly(&dataset_); }
 
 Dataset::Dataset(std::string file_path, std::string path, H5::DataSet dataset)
     : Object(std::move(file_path), std::move(path)), dataset_(std::move(dataset)) {}

@@ -49,8 +49,7 @@ class Dataset : public Object {
   Dataset(Dataset&&) = default;
   Dataset& operator=(const Dataset&) = default;
   Dataset& operator=(Dataset&&) = default;
-  /// Closes quietly. A close that fails (a full disk when HDF5 flushes) is reported by the file's
-  /// own close or flush; H5::DataSet's destructor would print each failure to stderr instead.
+  /// Closes quietly (detail::CloseQuietly).
   ~Dataset() override;
 
   /// Extent of each dimension; empty for a scalar dataset.

@@ -30,6 +30,18 @@ T CheckC(T status, const std::string& file, const std::string& object,
   return status;
 }
 
+/// Closes an H5::DataSet or H5::Group without printing. H5Dclose / H5Gclose release the
+/// identifier even when they fail (a full disk when HDF5 flushes), so the C++ object's own
+/// destructor then finds nothing to close; left to it, each failure would be printed to stderr.
+/// The failure itself is reported once, by the file's flush or close.
+template <typename T>
+void CloseQuietly(T* object) {
+  try {
+    object->close();
+  } catch (const H5::Exception&) {
+  }
+}
+
 /// Owns one C identifier and closes it with the matching H5*close.
 class ScopedId {
  public:

@@ -57,12 +57,7 @@ void RequireUnits(const std::string& units, const std::string& path) {
 
 }  // namespace
 
-Group::~Group() {
-  try {
-    group_.close();
-  } catch (const H5::Exception&) {
-  }
-}
+Group::~Group() { detail::CloseQuietly(&group_); }
 
 Group::Group(std::string file_path, std::string path, H5::Group group)
     : Object(std::move(file_path), std::move(path)), group_(std::move(group)) {}

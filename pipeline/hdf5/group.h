@@ -30,7 +30,7 @@ class Group : public Object {
   Group(Group&&) = default;
   Group& operator=(const Group&) = default;
   Group& operator=(Group&&) = default;
-  /// Closes quietly, like Dataset's destructor.
+  /// Closes quietly (detail::CloseQuietly).
   ~Group() override;
 
   /// What `relative_path` (may contain '/', or be absolute) names: a group, a dataset, something
