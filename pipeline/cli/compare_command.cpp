@@ -152,7 +152,7 @@ int Run(const CompareArguments& a) {
   for (const auto& ch : info.aux) {
     io::ReadOptions ao = ro;
     ao.reject_constant = false;
-    in.aux.push_back({ch.name, ch.units, io::ReadAux(a.recording, ch.name, ao)});
+    in.aux.push_back({ch.name, ch.units, io::ReadAuxIsolated(info, ch.name, ao)});
   }
   const model::CompareOptions options;
   const model::CompareResult r = model::Compare(in, terms, options, graph::TbbForEach);

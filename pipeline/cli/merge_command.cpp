@@ -18,6 +18,7 @@
 
 #include "pipeline/cli/commands.h"
 #include "pipeline/io/campaign_table.h"
+#include "pipeline/io/text_output_file.h"
 
 namespace fogpipe::cli {
 namespace {
@@ -45,19 +46,14 @@ int RunMerge(const MergeConfig& config) {
     return 2;
   }
   if (!config.csv.empty()) {
-    // O_NOFOLLOW: a symlink planted at the CSV's name is refused, never written through.
-    const std::string text = io::FormatCampaignCsv(table);
-    const int fd =
-        ::open(config.csv.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
-    const bool written =
-        fd >= 0 && ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
-    if (fd >= 0) ::close(fd);
-    if (!written) {
-      std::cerr << "fogpipe merge: " << config.csv << ": cannot write"
-                << (fd < 0 && errno == ELOOP ? " (it is a symbolic link; refused)" : "") << "\n";
+    try {
+      io::WriteTextFileAtomically(config.csv, io::FormatCampaignCsv(table));
+    } catch (const std::exception& e) {
+      std::cerr << "fogpipe merge: " << e.what() << "\n";
       return 2;
     }
   }
+
   for (const std::string& p : table.problems) std::cerr << "fogpipe merge: " << p << "\n";
   int ok = 0, failed = 0, missing = 0;
   std::string last;

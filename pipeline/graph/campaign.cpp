@@ -3,9 +3,13 @@
 #include <oneapi/tbb/flow_graph.h>
 #include <oneapi/tbb/global_control.h>
 
+#include <atomic>
 #include <chrono>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 
 #include "algorithms/method/tables.h"
@@ -13,6 +17,7 @@
 #include "pipeline/cli/version.h"
 #include "pipeline/graph/interrupt.h"
 #include "pipeline/graph/memory_budget.h"
+#include "pipeline/graph/output_space.h"
 #include "pipeline/graph/progress.h"
 #include "pipeline/graph/tbb_for_each.h"
 #include "pipeline/hdf5/atomic_output_file.h"
@@ -136,7 +141,15 @@ class CampaignRunner {
     if (outcome.status == FileStatus::kOk) ++report_->ok;
     if (outcome.status == FileStatus::kFailed) ++report_->failed;
     if (outcome.status == FileStatus::kSkipped) ++report_->skipped;
-    log_->Append(outcome);
+    if (const int error = log_->Append(outcome); error != 0) {
+      // The line is then only on stderr (the progress line below): say so once per cause.
+      if (error != status_log_error_) {
+        status_log_error_ = error;
+        std::fprintf(stderr, "fogpipe run: cannot append to %s/status.jsonl: %s\n",
+                     options_.output_dir.c_str(), std::strerror(error));
+      }
+      NoteOutputFailure(OutputExhaustedReason(options_.output_dir, error));
+    }
     progress_->FileDone(outcome.file, ToString(outcome.status),
                         outcome.status == FileStatus::kFailed ? outcome.message : "");
     report_->outcomes[index] = std::move(outcome);
@@ -144,11 +157,33 @@ class CampaignRunner {
 
   void Finish(FileJob* job);
 
+  /// Stops the campaign when `reason` (from OutputExhaustedReason) is not empty.
+  void NoteOutputFailure(const std::string& reason) {
+    if (reason.empty() || output_exhausted_.load()) return;
+    {
+      std::lock_guard<std::mutex> lock(reason_mutex_);
+      exhausted_reason_ = reason;
+    }
+    output_exhausted_.store(true);
+    std::fprintf(stderr, "fogpipe run: %s; no further recording is started\n", reason.c_str());
+  }
+  bool OutputExhausted() const { return output_exhausted_.load(); }
+  std::string ExhaustedReason() {
+    std::lock_guard<std::mutex> lock(reason_mutex_);
+    return exhausted_reason_;
+  }
+
   const CampaignOptions& options_;
   CampaignReport* report_;
   StatusLog* log_;
   Progress* progress_;
   std::string tables_text_;
+
+ private:
+  int status_log_error_ = 0;
+  std::atomic<bool> output_exhausted_{false};
+  std::mutex reason_mutex_;
+  std::string exhausted_reason_;
 };
 
 void CampaignRunner::Finish(FileJob* job) {
@@ -210,6 +245,7 @@ void CampaignRunner::Finish(FileJob* job) {
       }
     } catch (const std::exception& e) {
       failure = job->input.path + ": writing " + final_path.string() + ": " + e.what();
+      NoteOutputFailure(OutputExhaustedReason(options_.output_dir, e.what()));
     }
   }
   if (outcome.status != FileStatus::kOk) {
@@ -349,7 +385,7 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
   flow::graph g;
   std::size_t next = 0;
   flow::input_node<FileJob*> source(g, [&](tbb::flow_control& control) -> FileJob* {
-    if (next >= jobs.size() || StopRequested()) {
+    if (next >= jobs.size() || StopRequested() || runner.OutputExhausted()) {
       control.stop();
       return nullptr;
     }
@@ -386,7 +422,8 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
         } else {
           io::ReadOptions aux_read = options.read;
           aux_read.reject_constant = false;
-          temperature_degc = io::ReadAux(job->input.path, "temperature", aux_read);
+          temperature_degc =
+              io::ReadAuxIsolated(job->info, "temperature", aux_read, nullptr, ReadLimits());
         }
       } catch (const std::exception& e) {
         file_error = job->input.path + ": --model: reading /aux/temperature: " + e.what();
@@ -496,15 +533,14 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
   progress.Finish();
 
   report.interrupted = StopRequested();
-  if (report.interrupted) {
+  if (report.interrupted || runner.OutputExhausted()) {
     // Files never admitted: reported so that every input has a line.
+    const std::string why = report.interrupted
+                                ? "interrupted (signal " + std::to_string(StopSignal()) + ")"
+                                : runner.ExhaustedReason() + "; rerun when there is room";
     for (std::size_t j = next; j < jobs.size(); ++j) {
-      FileOutcome outcome{jobs[j]->input.path,
-                          "",
-                          0,
-                          FileStatus::kFailed,
-                          0.0,
-                          "not started: interrupted (signal " + std::to_string(StopSignal()) + ")"};
+      FileOutcome outcome{jobs[j]->input.path, "",  0,
+                          FileStatus::kFailed, 0.0, jobs[j]->input.path + ": not started: " + why};
       runner.Record(outcome, jobs[j]->outcome_index);
     }
   }

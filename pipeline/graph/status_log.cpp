@@ -40,23 +40,34 @@ StatusLog::~StatusLog() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-void StatusLog::Append(const FileOutcome& outcome) {
+int StatusLog::Append(const FileOutcome& outcome) {
   const std::string line = ToJsonLine(outcome) + "\n";
   std::lock_guard<std::mutex> lock(mutex_);
-  if (fd_ < 0) return;
+  if (fd_ < 0) return EBADF;
   // With O_APPEND the kernel places one write at the end at once. An exclusive flock across the
   // write keeps the line whole also where one write(2) is cut short (a signal, a filesystem that
   // does not append atomically, such as NFS) and the rest needs a second call.
   while (::flock(fd_, LOCK_EX) != 0 && errno == EINTR) {
   }
+  const off_t before = ::lseek(fd_, 0, SEEK_END);
   size_t done = 0;
+  int error = 0;
   while (done < line.size()) {
     const ssize_t written = ::write(fd_, line.data() + done, line.size() - done);
     if (written < 0 && errno == EINTR) continue;
-    if (written <= 0) break;
+    if (written <= 0) {
+      error = written < 0 ? errno : EIO;
+      break;
+    }
     done += static_cast<size_t>(written);
   }
+  // A line cut by a full disk is taken back: the log holds whole lines only.
+  if (error != 0 && done > 0 && before >= 0) {
+    while (::ftruncate(fd_, before) != 0 && errno == EINTR) {
+    }
+  }
   ::flock(fd_, LOCK_UN);
+  return error;
 }
 
 }  // namespace fogpipe::graph

@@ -34,8 +34,9 @@ class StatusLog {
 
   bool ok() const { return fd_ >= 0; }
   /// Appends one line under an exclusive flock (fsync is not needed for a killed process; the
-  /// kernel keeps written data). Thread-safe, and safe between processes.
-  void Append(const FileOutcome& outcome);
+  /// kernel keeps written data). Thread-safe, and safe between processes. Returns 0, or the
+  /// errno of a failed write (ENOSPC, say), after which the log holds no part of the line.
+  int Append(const FileOutcome& outcome);
 
  private:
   std::mutex mutex_;

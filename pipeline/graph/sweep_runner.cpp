@@ -29,6 +29,7 @@
 #include "pipeline/io/isolated_reader.h"
 #include "pipeline/io/recording_reader.h"
 #include "pipeline/io/recording_writer.h"
+#include "pipeline/io/text_output_file.h"
 
 namespace fogpipe::graph {
 namespace {
@@ -181,13 +182,7 @@ bool SweepRecording(const std::string& recording, const SweepRunOptions& options
   try {
     fs::create_directories(options.output_dir);
     WriteSweepHdf5(out.string() + ".h5", *tables, options.rank_by);
-    const std::string csv_temp = out.string() + ".csv.tmp";
-    {
-      std::ofstream csv(csv_temp, std::ios::trunc);
-      csv << FormatSweepCsv(*tables);
-      if (!csv) throw std::runtime_error(csv_temp + ": cannot write");
-    }
-    fs::rename(csv_temp, out.string() + ".csv");
+    io::WriteTextFileAtomically(out.string() + ".csv", FormatSweepCsv(*tables));
   } catch (const std::exception& e) {
     *error = recording + ": " + e.what();
     return false;

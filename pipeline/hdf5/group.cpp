@@ -1,6 +1,7 @@
 #include "pipeline/hdf5/group.h"
 
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 #include <utility>
 
@@ -86,6 +87,47 @@ ObjectKind Group::KindOf(const std::string& relative_path) const {
     default:
       return ObjectKind::kOther;
   }
+}
+
+namespace {
+
+LinkTrace TraceFrom(hid_t location, const std::string& path, int depth) {
+  std::string prefix;
+  std::size_t begin = 1;
+  while (begin <= path.size()) {
+    std::size_t end = path.find('/', begin);
+    if (end == std::string::npos) end = path.size();
+    if (end > begin) {
+      prefix += "/" + path.substr(begin, end - begin);
+      H5L_info_t link{};
+      if (H5Lget_info(location, prefix.c_str(), &link, H5P_DEFAULT) < 0) return {};
+      if (link.type == H5L_TYPE_SOFT) {
+        if (depth >= LinkTrace::kMaxSoftLinks) {
+          return {LinkTrace::End::kTooManySoftLinks, prefix};
+        }
+        std::string target(link.u.val_size + 1, '\0');
+        if (H5Lget_val(location, prefix.c_str(), target.data(), target.size(), H5P_DEFAULT) < 0) {
+          return {};
+        }
+        target.resize(std::strlen(target.c_str()));
+        if (target.empty() || target[0] != '/') {
+          target = prefix.substr(0, prefix.rfind('/') + 1) + target;
+        }
+        LinkTrace inner = TraceFrom(location, target, depth + 1);
+        if (inner.end != LinkTrace::End::kInFile) return inner;
+      } else if (link.type != H5L_TYPE_HARD) {
+        return {LinkTrace::End::kLeavesFile, prefix};
+      }
+    }
+    begin = end + 1;
+  }
+  return {};
+}
+
+}  // namespace
+
+LinkTrace Group::TraceLinks(const std::string& absolute_path) const {
+  return TraceFrom(id(), absolute_path, 0);
 }
 
 std::vector<std::string> Group::ChildNames() const {

@@ -20,6 +20,20 @@ namespace fogpipe::hdf5 {
 
 enum class ObjectKind { kMissing, kGroup, kDataset, kOther };
 
+/// Where the links along a path lead, found link by link without opening any object, so that
+/// nothing outside the file is touched (HDF5 opens the target file of an external link as soon
+/// as an object behind it is looked up).
+struct LinkTrace {
+  enum class End {
+    kInFile,            ///< hard and soft links only (or a missing link: the caller reports it)
+    kLeavesFile,        ///< an external or user-defined link, at `link`
+    kTooManySoftLinks,  ///< more than kMaxSoftLinks soft links followed: a cycle, most likely
+  };
+  static constexpr int kMaxSoftLinks = 16;
+  End end = End::kInFile;
+  std::string link;  ///< the link where the path leaves the file
+};
+
 /// The name of the attribute every numeric dataset carries.
 inline constexpr const char* kUnitsAttribute = "units";
 
@@ -39,6 +53,8 @@ class Group : public Object {
   bool Exists(const std::string& relative_path) const {
     return KindOf(relative_path) != ObjectKind::kMissing;
   }
+  /// Follows the links of `absolute_path` from the file's root (see LinkTrace).
+  LinkTrace TraceLinks(const std::string& absolute_path) const;
   /// Names of the direct children (links), sorted by name.
   std::vector<std::string> ChildNames() const;
 

@@ -10,6 +10,8 @@
 #include <sstream>
 #include <system_error>
 
+#include "pipeline/io/text_output_file.h"
+
 namespace fogpipe::io {
 
 namespace fs = std::filesystem;
@@ -45,22 +47,10 @@ std::string FormatManifest(const std::vector<graph::InputFile>& inputs) {
 
 bool WriteManifest(const std::string& path, const std::vector<graph::InputFile>& inputs,
                    std::string* error) {
-  const std::string temp = path + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(temp, std::ios::trunc);
-    out << FormatManifest(inputs);
-    out.close();
-    if (!out) {
-      *error = path + ": cannot write manifest";
-      std::remove(temp.c_str());
-      return false;
-    }
-  }
-  std::error_code ec;
-  fs::rename(temp, path, ec);
-  if (ec) {
-    *error = path + ": cannot rename manifest into place: " + ec.message();
-    std::remove(temp.c_str());
+  try {
+    WriteTextFileAtomically(path, FormatManifest(inputs));
+  } catch (const std::exception& e) {
+    *error = e.what();
     return false;
   }
   return true;

@@ -18,7 +18,7 @@
 #include "pipeline/hdf5/file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/file_validation.h"
-#include "pipeline/io/recording_reader.h"
+#include "pipeline/io/isolated_reader.h"
 #include "pipeline/io/results_layout.h"
 
 namespace fogpipe::io {
@@ -223,7 +223,7 @@ CampaignTable CollectCampaign(const std::string& outdir, const std::string& mani
     // Serial and instrument live in the recording, not in the results file.
     std::string serial, instrument;
     try {
-      const RecordingInfo info = InspectRecording(input);
+      const RecordingInfo info = InspectRecordingIsolated(input);
       serial = info.serial.value_or("");
       instrument = info.instrument.value_or("");
     } catch (const std::exception&) {

@@ -1,10 +1,12 @@
 #include "pipeline/io/file_validation.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <new>
 #include <nlohmann/json.hpp>
 
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/recording_check.h"
 #include "pipeline/io/recording_reader.h"
 
 namespace fogpipe::io {
@@ -79,13 +81,17 @@ FileValidation ValidateFile(const std::string& path, const FileValidationOptions
     }
     const Schema schema = Schema::FromFile(result.schema_path);
     result.schema = schema.name();
-    ValidationReport report = schema.Validate(file);
-    result.problems = std::move(report.problems);
-    result.objects_checked = report.objects_checked;
-    if (result.problems.empty() && tag.empty() && options.check_data) {
-      CheckRecordingData(options, &result);
-    } else if (result.problems.empty() && tag.empty()) {
-      RecordingReader reader(path);  // metadata checks only
+    if (tag.empty()) {
+      // A recording: the checks every reading command makes (recording_check.h).
+      RecordingCheck check = CheckRecordingMetadata(path, file, schema);
+      result.problems = std::move(check.problems);
+      result.objects_checked = check.objects_checked;
+      if (check.admitted()) result.samples_per_column = check.info.samples;
+      if (result.problems.empty() && options.check_data) CheckRecordingData(options, &result);
+    } else {
+      ValidationReport report = schema.Validate(file);
+      result.problems = std::move(report.problems);
+      result.objects_checked = report.objects_checked;
     }
   } catch (const RecordingError& e) {
     result.problems.push_back({"/", e.problem() + " [" + e.kind() + "]"});
@@ -105,6 +111,7 @@ std::string ToWire(const FileValidation& v) {
   j["schema_path"] = v.schema_path;
   j["objects_checked"] = v.objects_checked;
   j["samples_checked"] = v.samples_checked;
+  j["samples_per_column"] = v.samples_per_column;
   j["usage_error"] = v.usage_error;
   for (const SchemaProblem& p : v.problems) j["problems"].push_back({p.object, p.message});
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
@@ -119,6 +126,7 @@ FileValidation FromWire(const std::string& path, const std::string& wire) {
   v.schema_path = j.at("schema_path").get<std::string>();
   v.objects_checked = j.at("objects_checked").get<long long>();
   v.samples_checked = j.at("samples_checked").get<long long>();
+  v.samples_per_column = j.at("samples_per_column").get<long long>();
   v.usage_error = j.at("usage_error").get<std::string>();
   if (j.contains("problems")) {
     for (const auto& p : j["problems"]) v.problems.push_back({p[0], p[1]});
@@ -158,12 +166,12 @@ FileValidation ValidateInChild(const std::string& path, const FileValidationOpti
   }
   FileValidation v;
   v.file = path;
-  const char* kind = outcome.end == IsolatedOutcome::End::kSignalled ? error_kind::kReaderCrashed
-                     : outcome.end == IsolatedOutcome::End::kTimedOut ? error_kind::kReaderTimeout
-                     : outcome.end == IsolatedOutcome::End::kExited &&
-                             outcome.exit_code == kOutOfMemory
-                         ? error_kind::kReaderOutOfMemory
-                         : error_kind::kUnreadableFile;
+  const char* kind =
+      outcome.end == IsolatedOutcome::End::kSignalled  ? error_kind::kReaderCrashed
+      : outcome.end == IsolatedOutcome::End::kTimedOut ? error_kind::kReaderTimeout
+      : outcome.end == IsolatedOutcome::End::kExited && outcome.exit_code == kOutOfMemory
+          ? error_kind::kReaderOutOfMemory
+          : error_kind::kUnreadableFile;
   v.problems.push_back({"/", "validating it in a child process: the HDF5 library " +
                                  outcome.Describe(limits) +
                                  " (damaged HDF5 metadata, a file that blocks, or an allocation "
@@ -185,6 +193,12 @@ FileValidation ValidateFileIsolated(const std::string& path, const FileValidatio
     short_limits.seconds = std::min(limits.seconds, IsolationLimits().seconds);
     FileValidation first = ValidateInChild(path, metadata, short_limits);
     if (!first.valid()) return first;
+    // One column at a time is in memory, as in the reading commands: the allowance grows by
+    // what they allow for it (isolated_reader.h), so that both accept the same lengths.
+    IsolationLimits data_limits = limits;
+    data_limits.extra_memory_bytes +=
+        2 * static_cast<std::uint64_t>(std::max(first.samples_per_column, 0ll)) * sizeof(double);
+    return ValidateInChild(path, options, data_limits);
   }
   return ValidateInChild(path, options, limits);
 }

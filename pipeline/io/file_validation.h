@@ -37,7 +37,8 @@ struct FileValidation {
   std::string schema_path;
   std::vector<SchemaProblem> problems;  ///< empty when valid
   long long objects_checked = 0;
-  long long samples_checked = 0;  ///< values read by the semantic checks
+  long long samples_checked = 0;     ///< values read by the semantic checks
+  long long samples_per_column = 0;  ///< N of a recording whose metadata were admitted
   /// Not empty when the file could not be validated for reasons outside the file (schema not
   /// found or broken): a usage error, exit code 2.
   std::string usage_error;

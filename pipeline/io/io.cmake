@@ -15,6 +15,16 @@ set_source_files_properties(${CMAKE_CURRENT_LIST_DIR}/schema_validator.cpp
   DIRECTORY ${PROJECT_SOURCE_DIR}/pipeline PROPERTIES
   COMPILE_DEFINITIONS "FOGPIPE_SCHEMAS_FROM_BINDIR=\"${_fogpipe_schemas_from_bindir}\";FOGPIPE_BUILD_DIR=\"${PROJECT_BINARY_DIR}\";FOGPIPE_SCHEMAS_DIR=\"${PROJECT_SOURCE_DIR}/schemas\"")
 target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/file_validation.cpp)
+# The recording layout is compiled in: the commands that read recordings check it without
+# looking for schema files.
+file(READ ${PROJECT_SOURCE_DIR}/schemas/recording-v1.json FOGPIPE_RECORDING_SCHEMA_JSON)
+configure_file(${CMAKE_CURRENT_LIST_DIR}/recording_schema_text.cpp.in
+  ${PROJECT_BINARY_DIR}/generated/recording_schema_text.cpp @ONLY)
+set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
+  ${PROJECT_SOURCE_DIR}/schemas/recording-v1.json)
+target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/text_output_file.cpp)
+target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/recording_check.cpp
+  ${PROJECT_BINARY_DIR}/generated/recording_schema_text.cpp)
 target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/allan_report.cpp)
 target_sources(fogpipe_pipeline PRIVATE ${CMAKE_CURRENT_LIST_DIR}/noise_fit_report.cpp)
 # Inputs inspected and read in child processes (a crash or hang in HDF5 stays in the child).

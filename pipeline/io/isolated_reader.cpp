@@ -1,12 +1,13 @@
 #include "pipeline/io/isolated_reader.h"
 
 #include <cstring>
-#include <nlohmann/json.hpp>
 #include <new>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <type_traits>
 
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/recording_check.h"
 
 namespace fogpipe::io {
 namespace {
@@ -140,8 +141,8 @@ RecordingInfo InspectRecordingIsolated(const std::string& path, const IsolationL
   // here would not be safe even after the child succeeded).
   std::string wire;
   RunReaderChild(
-      path, "reading its metadata",
-      [&](std::string* out) { *out = ToWire(RecordingReader(path).info()); }, limits, &wire);
+      path, "reading its metadata", [&](std::string* out) { *out = ToWire(AdmitRecording(path)); },
+      limits, &wire);
   try {
     return FromWire(wire);
   } catch (const std::exception& e) {
@@ -150,39 +151,66 @@ RecordingInfo InspectRecordingIsolated(const std::string& path, const IsolationL
   }
 }
 
-Eigen::VectorXd ReadAxisRadPerSecondIsolated(const RecordingInfo& info, const std::string& axis,
-                                             const ReadOptions& options, ReadReport* report,
-                                             const IsolationLimits& limits) {
+namespace {
+
+/// One column read by `read` in a child; the samples come back through the pipe.
+Eigen::VectorXd ReadColumnIsolated(
+    const RecordingInfo& info, const std::string& what,
+    const std::function<Eigen::VectorXd(const RecordingReader&, ReadReport*)>& read,
+    ReadReport* report, const IsolationLimits& limits) {
   const std::string& path = info.path;
   static_assert(std::is_trivially_copyable<ReadReport>::value,
                 "the report crosses the pipe as bytes (the child is this same binary)");
   std::string output;
   IsolationLimits read_limits = limits;
-  auto read = [&](std::string* out) {
+  auto body = [&](std::string* out) {
     RecordingReader reader(path);
     ReadReport local;
-    const Eigen::VectorXd x = reader.ReadAxisRadPerSecond(axis, options, &local);
+    const Eigen::VectorXd x = read(reader, &local);
     out->assign(reinterpret_cast<const char*>(&local), sizeof(local));
     out->append(reinterpret_cast<const char*>(x.data()),
                 static_cast<std::size_t>(x.size()) * sizeof(double));
   };
-  // The axis itself is allowed on top of the limit, twice (the vector and the pipe's copy).
+  // The column itself is allowed on top of the limit, twice (the vector and the pipe's copy).
   read_limits.extra_memory_bytes += 2 * static_cast<std::uint64_t>(info.samples) * sizeof(double);
-  RunReaderChild(path, "reading /rate axis '" + axis + "'", read, read_limits, &output);
+  RunReaderChild(path, what, body, read_limits, &output);
   if (output.size() < sizeof(ReadReport) ||
       (output.size() - sizeof(ReadReport)) % sizeof(double) != 0) {
-    throw RecordingError(error_kind::kUnreadableFile, path,
-                         "reading /rate axis '" + axis + "': the reader process returned " +
-                             std::to_string(output.size()) + " bytes");
+    throw RecordingError(
+        error_kind::kUnreadableFile, path,
+        what + ": the reader process returned " + std::to_string(output.size()) + " bytes");
   }
   ReadReport local;
   std::memcpy(&local, output.data(), sizeof(local));
-  const auto n =
-      static_cast<Eigen::Index>((output.size() - sizeof(ReadReport)) / sizeof(double));
+  const auto n = static_cast<Eigen::Index>((output.size() - sizeof(ReadReport)) / sizeof(double));
   Eigen::VectorXd x(n);
   std::memcpy(x.data(), output.data() + sizeof(ReadReport), static_cast<std::size_t>(n) * 8);
   if (report) *report = local;
   return x;
+}
+
+}  // namespace
+
+Eigen::VectorXd ReadAxisRadPerSecondIsolated(const RecordingInfo& info, const std::string& axis,
+                                             const ReadOptions& options, ReadReport* report,
+                                             const IsolationLimits& limits) {
+  return ReadColumnIsolated(
+      info, "reading /rate axis '" + axis + "'",
+      [&](const RecordingReader& reader, ReadReport* local) {
+        return reader.ReadAxisRadPerSecond(axis, options, local);
+      },
+      report, limits);
+}
+
+Eigen::VectorXd ReadAuxIsolated(const RecordingInfo& info, const std::string& name,
+                                const ReadOptions& options, ReadReport* report,
+                                const IsolationLimits& limits) {
+  return ReadColumnIsolated(
+      info, "reading /aux/" + name,
+      [&](const RecordingReader& reader, ReadReport* local) {
+        return reader.ReadAux(name, options, local);
+      },
+      report, limits);
 }
 
 }  // namespace fogpipe::io

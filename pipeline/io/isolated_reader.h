@@ -31,4 +31,9 @@ Eigen::VectorXd ReadAxisRadPerSecondIsolated(const RecordingInfo& info, const st
                                              ReadReport* report = nullptr,
                                              const IsolationLimits& limits = DataReadLimits());
 
+/// ReadAux(info.path, name) in a child, as ReadAxisRadPerSecondIsolated. Throws RecordingError.
+Eigen::VectorXd ReadAuxIsolated(const RecordingInfo& info, const std::string& name,
+                                const ReadOptions& options = {}, ReadReport* report = nullptr,
+                                const IsolationLimits& limits = DataReadLimits());
+
 }  // namespace fogpipe::io

@@ -15,6 +15,7 @@
 #include "pipeline/hdf5/file.h"
 #include "pipeline/hdf5/group.h"
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/text_output_file.h"
 
 namespace fogpipe::io {
 namespace {
@@ -38,17 +39,6 @@ std::string NowUtc() {
   char buf[32];
   std::strftime(buf, sizeof(buf), "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
   return buf;
-}
-
-void WriteText(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream f(tmp);
-    if (!f) throw std::runtime_error("cannot write " + tmp.string());
-    f << text;
-    if (!f) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, path);
 }
 
 // A scalar of a view as a one-element dataset, so that it carries its `units` attribute like
@@ -237,7 +227,7 @@ void WriteModelFile(const std::string& path, const model::Evaluation& e) {
                 {"temperature_smoothing_s", d.temperature_smoothing_s},
                 {"components", comps}}},
               {"model", ModelJson(e)}};
-  WriteText(path, out.dump(2) + "\n");
+  WriteTextFileAtomically(fs::path(path).string(), out.dump(2) + "\n");
 }
 
 ModelFile ReadModelFile(const std::string& path) {

@@ -69,43 +69,19 @@ void CheckFiltersAvailable(const hdf5::Dataset& dataset) {
 /// and nothing else. Checked link by link before anything is opened, so nothing outside the
 /// file is ever touched. `path` is absolute; a missing link is left to the caller to report.
 void CheckPathStaysInFile(const hdf5::Group& root, const std::string& path,
-                          const std::string& shown, int depth = 0) {
-  constexpr int kMaxSoftLinks = 16;
-  const hid_t file = root.id();
-  const std::string& file_path = root.file_path();
-  std::string prefix;
-  std::size_t begin = 1;
-  while (begin <= path.size()) {
-    std::size_t end = path.find('/', begin);
-    if (end == std::string::npos) end = path.size();
-    if (end > begin) {
-      prefix += "/" + path.substr(begin, end - begin);
-      H5L_info_t link{};
-      if (H5Lget_info(file, prefix.c_str(), &link, H5P_DEFAULT) < 0) return;
-      if (link.type == H5L_TYPE_SOFT) {
-        if (depth >= kMaxSoftLinks) {
-          throw RecordingError(error_kind::kWrongType, file_path,
-                               shown + " goes through more than " +
-                                   std::to_string(kMaxSoftLinks) +
-                                   " soft links (a link cycle?); refused");
-        }
-        std::string target(link.u.val_size + 1, '\0');
-        if (H5Lget_val(file, prefix.c_str(), target.data(), target.size(), H5P_DEFAULT) < 0) {
-          return;
-        }
-        target.resize(std::strlen(target.c_str()));
-        if (target.empty() || target[0] != '/') {
-          target = prefix.substr(0, prefix.rfind('/') + 1) + target;
-        }
-        CheckPathStaysInFile(root, target, shown, depth + 1);
-      } else if (link.type != H5L_TYPE_HARD) {
-        throw RecordingError(error_kind::kExternalData, file_path,
-                             shown + " is reached through an external link (" + prefix +
-                                 "); fogpipe reads only the input file itself (refused: copy "
-                                 "the data into the recording)");
-      }
-    }
-    begin = end + 1;
+                          const std::string& shown) {
+  const hdf5::LinkTrace trace = root.TraceLinks(path);
+  if (trace.end == hdf5::LinkTrace::End::kTooManySoftLinks) {
+    throw RecordingError(error_kind::kWrongType, root.file_path(),
+                         shown + " goes through more than " +
+                             std::to_string(hdf5::LinkTrace::kMaxSoftLinks) +
+                             " soft links (a link cycle?); refused");
+  }
+  if (trace.end == hdf5::LinkTrace::End::kLeavesFile) {
+    throw RecordingError(error_kind::kExternalData, root.file_path(),
+                         shown + " is reached through an external link (" + trace.link +
+                             "); fogpipe reads only the input file itself (refused: copy "
+                             "the data into the recording)");
   }
 }
 
@@ -122,9 +98,10 @@ void CheckStorage(const hdf5::Dataset& dataset, unsigned long long values,
   H5Pclose(plist);
   if (layout == H5D_VIRTUAL) {
     throw RecordingError(error_kind::kExternalData, path,
-                         dataset.path() + " is a virtual dataset (its samples live in other "
-                                          "files); fogpipe reads only the input file itself "
-                                          "(refused: copy the data into the recording)");
+                         dataset.path() +
+                             " is a virtual dataset (its samples live in other "
+                             "files); fogpipe reads only the input file itself "
+                             "(refused: copy the data into the recording)");
   }
   if (external > 0) {
     throw RecordingError(error_kind::kExternalData, path,
@@ -244,9 +221,9 @@ void CheckReadable(const std::string& path, long long* size_bytes) {
                        : fs::is_block_file(status)     ? "a block device"
                        : fs::is_socket(status)         ? "a socket"
                                                        : "not a regular file";
-    throw RecordingError(error_kind::kNotRegularFile, path,
-                         std::string("is ") + what +
-                             ", not a regular file; refused without opening it");
+    throw RecordingError(
+        error_kind::kNotRegularFile, path,
+        std::string("is ") + what + ", not a regular file; refused without opening it");
   }
   if (::access(path.c_str(), R_OK) != 0) {
     throw RecordingError(error_kind::kUnreadableFile, path, "cannot be read (permission denied)");
@@ -293,8 +270,7 @@ void CheckRateShape(const std::string& path, const std::vector<hsize_t>& dims) {
   if (dims.size() == 2 && axes > dims[0]) {
     throw RecordingError(error_kind::kWrongShape, path,
                          "/rate has shape " + ShapeText(dims) + ": more axes (" +
-                             std::to_string(axes) + ") than samples (" +
-                             std::to_string(dims[0]) +
+                             std::to_string(axes) + ") than samples (" + std::to_string(dims[0]) +
                              "). A transposed matrix? (MATLAB and other column-major writers "
                              "store an N x A matrix as [A, N].) Contract v1 wants [N, A], one row "
                              "per sample; transpose it when writing");
@@ -618,12 +594,6 @@ hdf5::File OpenHdf5ReadOnly(const std::string& path) {
   long long size_bytes = 0;
   CheckReadable(path, &size_bytes);
   return OpenChecked(path);
-}
-
-RecordingInfo InspectRecording(const std::string& path) {
-  auto lock = hdf5::LockHdf5();
-  RecordingReader reader(path);
-  return reader.info();
 }
 
 Eigen::VectorXd ReadAxisRadPerSecond(const std::string& path, const std::string& axis,

@@ -116,8 +116,6 @@ class RecordingReader {
 /// corrupt_file. Caller holds LockHdf5().
 hdf5::File OpenHdf5ReadOnly(const std::string& path);
 
-/// Metadata only (takes the HDF5 lock).
-RecordingInfo InspectRecording(const std::string& path);
 /// One axis in rad/s (takes the HDF5 lock). `axis` is a name or a decimal index.
 Eigen::VectorXd ReadAxisRadPerSecond(const std::string& path, const std::string& axis,
                                      const ReadOptions& options = {}, ReadReport* report = nullptr);

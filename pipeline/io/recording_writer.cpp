@@ -8,6 +8,7 @@
 #include "algorithms/simulation/navigation_grade.h"
 #include "pipeline/hdf5/atomic_output_file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/text_output_file.h"
 
 namespace fogpipe::io {
 namespace {
@@ -116,23 +117,7 @@ std::string TruthSidecarPath(const std::string& recording_path) {
 }
 
 void WriteJsonFile(const std::string& path, const nlohmann::json& json) {
-  // Same temporary naming as the HDF5 outputs, so a rerun recognises leftovers after SIGKILL.
-  const fs::path temporary = hdf5::MakeAtomicTempPath(path);
-  std::error_code ec;
-  {
-    std::ofstream out(temporary, std::ios::trunc);
-    out << json.dump(2) << '\n';
-    out.close();
-    if (!out) {
-      fs::remove(temporary, ec);
-      throw std::runtime_error(path + ": cannot write the JSON file");
-    }
-  }
-  fs::rename(temporary, path, ec);  // same folder: atomic on POSIX
-  if (ec) {
-    fs::remove(temporary, ec);
-    throw std::runtime_error(path + ": cannot rename the temporary file into place");
-  }
+  WriteTextFileAtomically(path, json.dump(2) + "\n");
 }
 
 nlohmann::json SimulationTruthToJson(const std::vector<sim::SimulationTruth>& axes,

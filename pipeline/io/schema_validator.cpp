@@ -478,7 +478,8 @@ class Validator {
       CheckUnits(dataset, rule->units_required, rule->units_allowed);
     }
     if (!rule->same_length_as.empty() && !dims.empty()) {
-      if (root_.KindOf(rule->same_length_as) == ObjectKind::kDataset) {
+      if (root_.TraceLinks(rule->same_length_as).end == hdf5::LinkTrace::End::kInFile &&
+          root_.KindOf(rule->same_length_as) == ObjectKind::kDataset) {
         const std::vector<hsize_t> other = root_.OpenDataset(rule->same_length_as).dims();
         if (!other.empty() && other[0] != dims[0]) {
           Problem(dataset.path(), "has " + std::to_string(dims[0]) + " rows but " +
@@ -521,8 +522,38 @@ class Validator {
     for (const DatasetRule& d : rule->datasets) check_count(d, "dataset");
   }
 
+  /// The rule of `rule` whose name matches `child`, of either kind, exact names first.
+  static const ObjectRule* RuleNamed(const GroupRule* rule, const std::string& child) {
+    if (!rule) return nullptr;
+    for (bool patterns : {false, true}) {
+      for (const GroupRule& g : rule->groups) {
+        if (g.name.is_pattern == patterns && g.name.Matches(child)) return &g;
+      }
+      for (const DatasetRule& d : rule->datasets) {
+        if (d.name.is_pattern == patterns && d.name.Matches(child)) return &d;
+      }
+    }
+    return nullptr;
+  }
+
   void CheckChild(const hdf5::Group& group, const std::string& child, const std::string& path,
                   const GroupRule* rule, std::map<const ObjectRule*, long long>* counts) {
+    // Looking an object up through an external link opens the file it names: a validator of one
+    // file reads nothing else, so such a link is reported, never followed.
+    // The tags are the reader's error kinds for the same links (recording_error.h).
+    const hdf5::LinkTrace trace = root_.TraceLinks(path);
+    if (trace.end != hdf5::LinkTrace::End::kInFile) {
+      if (trace.end == hdf5::LinkTrace::End::kLeavesFile) {
+        Problem(path, "is reached through an external link (" + trace.link +
+                          "), to data outside the file; not followed [external_data]");
+      } else {
+        Problem(path, "goes through more than " + std::to_string(hdf5::LinkTrace::kMaxSoftLinks) +
+                          " soft links (a link cycle?); not followed [wrong_type]");
+      }
+      // It still stands for the object of its name: that one is not also "missing".
+      if (const ObjectRule* named = RuleNamed(rule, child)) ++(*counts)[named];
+      return;
+    }
     const ObjectKind kind = group.KindOf(child);
     const GroupRule* group_rule = nullptr;
     const DatasetRule* dataset_rule = nullptr;

@@ -10,6 +10,7 @@
 #include <iostream>
 #include <set>
 
+#include "pipeline/io/recording_check.h"
 #include "pipeline/io/recording_reader.h"
 #include "tests/pipeline/io/test_recording_files.h"
 

@@ -3,12 +3,13 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <atomic>
+#include <cmath>
 #include <filesystem>
 #include <thread>
 
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/recording_check.h"
 #include "tests/pipeline/io/test_recording_files.h"
 
 namespace fogpipe::io {

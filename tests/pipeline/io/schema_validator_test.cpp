@@ -4,12 +4,15 @@
 
 #include <H5Lpublic.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <fstream>
 
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/file_validation.h"
+#include "pipeline/io/isolated_reader.h"
+#include "pipeline/io/recording_check.h"
 #include "tests/pipeline/io/test_recording_files.h"
 
 namespace fogpipe::io {
@@ -60,6 +63,7 @@ TEST(RecordingSchema, AcceptsEveryKindOfContractRecording) {
       EXPECT_TRUE(v.valid()) << path << "\n" << Lines(v.problems) << v.usage_error;
       EXPECT_EQ(v.schema, "recording-v1");
       EXPECT_EQ(v.samples_checked, 1000 * spec.axes + (spec.temperature ? 1000 : 0));
+      EXPECT_NO_THROW(InspectRecording(path)) << path;
     }
   }
 }
@@ -110,6 +114,39 @@ TEST(RecordingSchema, ASoftLinkCycleIsNotFollowed) {
   EXPECT_TRUE(v.valid()) << Lines(v.problems) << v.usage_error;
 }
 
+// An external link is reported, not followed, even where the layout ignores unknown objects:
+// following it would open another file. Its target here is a FIFO, on which opening blocks, so a
+// validator that followed it would hang until the child's time limit.
+TEST(RecordingSchema, ReportsAnExternalLinkWithoutOpeningItsTarget) {
+  TempDir dir;
+  const std::string fifo = dir.File("target.h5");
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  const std::string path = dir.File("elink.h5");
+  {
+    RawFile f(path);
+    RateOk(f);
+    f.DoubleAttribute("/", "sample_rate_hz", 10.0);
+    ASSERT_GE(H5Lcreate_external(fifo.c_str(), "/rate", f.id(), "hidden", H5P_DEFAULT, H5P_DEFAULT),
+              0);
+  }
+  FileValidationOptions options;
+  options.schemas_dir = kSchemasDir;
+  IsolationLimits limits;
+  limits.seconds = 5.0;
+  const FileValidation v = ValidateFileIsolated(path, options, limits);
+  EXPECT_FALSE(v.valid());
+  EXPECT_NE(Lines(v.problems).find("/hidden: is reached through an external link"),
+            std::string::npos)
+      << Lines(v.problems);
+  EXPECT_EQ(Lines(v.problems).find("reader_timeout"), std::string::npos) << Lines(v.problems);
+  try {
+    InspectRecordingIsolated(path, limits);
+    ADD_FAILURE() << "the reading commands accept a file with an external link";
+  } catch (const RecordingError& e) {
+    EXPECT_EQ(e.kind(), error_kind::kLayoutViolation) << e.what();
+  }
+}
+
 TEST_P(RecordingSchemaRejects, WithAMessageNamingTheObjectAndTheProblem) {
   TempDir dir;
   const std::string path = dir.File(GetParam().name + ".h5");
@@ -123,6 +160,27 @@ TEST_P(RecordingSchemaRejects, WithAMessageNamingTheObjectAndTheProblem) {
   EXPECT_NE(Lines(v.problems).find(GetParam().expected), std::string::npos)
       << "report:\n"
       << Lines(v.problems) << "expected a line containing: " << GetParam().expected;
+}
+
+// `validate` and the commands that analyse recordings give one verdict: what the first refuses,
+// the reader refuses too, at inspection (the metadata) or when the axes are read (the samples).
+TEST_P(RecordingSchemaRejects, AndTheAnalysingCommandsRefuseItToo) {
+  TempDir dir;
+  const std::string path = dir.File(GetParam().name + ".h5");
+  {
+    RawFile file(path);
+    GetParam().make(file);
+  }
+  try {
+    const RecordingInfo info = InspectRecording(path);
+    for (int axis = 0; axis < info.axis_count; ++axis) {
+      ReadAxisRadPerSecond(path, std::to_string(axis));
+    }
+    ADD_FAILURE() << GetParam().name << ": validate refuses it, the reader accepts it";
+  } catch (const RecordingError& e) {
+    EXPECT_FALSE(e.kind().empty());
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(
