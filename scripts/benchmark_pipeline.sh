@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks of `fogpipe run` against the targets of the pipeline issue (medians of REPS runs; wall
+# Benchmarks of `fogpipe run` against its performance targets (medians of REPS runs; wall
 # time and peak RSS from /usr/bin/time -v):
 #   1. one 24-hour recording at 100 Hz (8.64e6 samples), full method, 2 threads (target <= 25 s);
 #   2. a campaign of 16 one-hour recordings at 100 Hz, 1 thread and 2 threads (target >= 1.8x);

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks of issue 5 (medians of REPS runs, wall time):
+# Benchmarks of `fogpipe sweep` and of the job-array overhead (medians of REPS runs, wall time):
 #  1. `fogpipe sweep` of 11 AR orders x 3 q scales x 3 R scales on a 1 h 100 Hz recording against
 #     one `fogpipe run` of the same recording (target: sweep <= 2x run, since the EMD is reused);
 #  2. job-array overhead per recording: `fogpipe plan` of a campaign, the start of every shard

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Picture report of `fogpipe compare` (issue 4), from a RESULTS file's /compare history.
+"""Picture report of `fogpipe compare`, from a RESULTS file's /compare history.
 
     /usr/bin/python3 scripts/report.py RESULTS.h5 -o DIR [--step N]
 

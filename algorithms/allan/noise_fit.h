@@ -1,5 +1,6 @@
 // The five IEEE Std 952-1997 noise terms from an Allan table, fitted together, and the classic
-// slope read-offs as a cross-check (IEEE 952 Annex C; method.md's table).
+// slope read-offs as a cross-check (IEEE 952 Annex C; docs/method.md, "Allan variance of the noise
+// terms").
 //
 // Fit: sigma^2(tau) = 3Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2 + K^2 tau/3 + R^2 tau^2/2 is linear in
 // theta = (Q^2, N^2, B^2, K^2, R^2) >= 0. It is solved by generalised non-negative least squares
@@ -11,8 +12,8 @@
 // (weighting by the measured value favours points that fluctuated low and biases the fit down).
 // Cov(theta) = (A_F^T C^-1 A_F)^-1 on the terms left positive; chi2 = r^T C^-1 r on
 // points - positive terms degrees of freedom, with its chi-square p-value. Why GLS and not the
-// diagonal weights: with independent-point weights the standard errors were 2-4x too small and
-// absent terms came out "significant" in a third of white-noise records (docs/allan-noise-fit.md).
+// diagonal weights: with independent-point weights the standard errors are too small and absent
+// terms come out "significant" too often (measured in docs/allan-noise-fit.md, "Calibration").
 //
 // Significance is judged on the variance coefficient theta_j, which is linear in the data and
 // nearly Gaussian: z = theta_j / se(theta_j) > 2. The amplitude's standard error se(a) = se(a^2) /

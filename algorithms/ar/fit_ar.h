@@ -19,13 +19,9 @@
 //   With fixed_order > 0 the orders 1..fixed_order are still computed (bic is reported) and
 //   fixed_order is used.
 //
-// ML versus Burg, measured (tests/algorithms/ar/maximum_likelihood_test.cpp prints it), as the
-// largest |phi_ML - phi_Burg| over the coefficients, absolute and in standard errors:
-//   AR(2) (1.2, -0.6), N = 1e5:             1.3e-6, 5e-4 se   (2 Gauss-Newton iterations)
-//   AR(4) (0.6, -0.3, 0.2, 0.15), N = 1e6:  1.1e-6, 9e-4 se   (2 iterations)
-//   paper imf6 AR(4), N = 1e6:              8.5e-6, 8e-3 se   (2 iterations)
-// i.e. O(1/N) in phi, far inside the sampling error: for fogpipe's record lengths ML and Burg are
-// interchangeable, and Burg (no extra passes) stays the default.
+// ML and Burg differ by O(1/N) in phi, far inside the sampling error, so for fogpipe's record
+// lengths they are interchangeable and Burg (no extra passes) stays the default. The measured
+// differences are in algorithms/ar/README.md (printed by maximum_likelihood_test.cpp).
 #pragma once
 
 #include <Eigen/Core>

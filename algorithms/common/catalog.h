@@ -1,5 +1,6 @@
 // The catalog of gyro error terms. The names are fixed and shared by the CLI, configuration files,
-// JSON and HDF5 (issue 4): measured rate = bias + deterministic effects + stochastic terms.
+// JSON and HDF5, so that a file written by one command is read the same way by every other:
+// measured rate = bias + deterministic effects + stochastic terms.
 // One list for the whole project: the simulator (algorithms/simulation) and the model fitting
 // (algorithms/model) both use it. It holds names and kinds only, no estimation logic.
 #pragma once

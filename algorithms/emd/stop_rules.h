@@ -27,14 +27,10 @@
 // here) SD and Rilling's fractions are averages, in which a local defect weighs 1/N. And S-number
 // and Rilling (through its count condition) ask that the extrema and zero crossings of the WHOLE
 // record agree, or stay unchanged for S sifts; on a long record some extremum appears or vanishes
-// somewhere in almost every sift, so they run to the cap. Measured on white noise (IMFs 1-6,
-// max_sifts 100):
-//   S-number: sifts per IMF 45 21 12 11 12 7 at N = 2^12, 100 for all at N = 2^18; the period
-//             ratio between IMFs drops from ~1.9 to ~1.7.
-//   Rilling:  28 13 15 15 10 13 at N = 2^12, 100 for all at N = 2^18 (same drift).
-//   Cauchy:   2 sifts for every IMF at any N (SD <= 0.2 is met at once): under-sifted, ratio ~2.4.
-// A fixed count gives the same filter bank for any N (Wu & Huang 2004: ratio 2), costs a known
-// time, and is what tests/algorithms/emd/emd_test.cpp checks against the dyadic law.
+// somewhere in almost every sift, so they run to the cap (sift counts measured on white noise:
+// docs/method.md, "Step 1"). A fixed count gives the same filter bank for any N (Wu & Huang 2004:
+// ratio 2), costs a known time, and is what tests/algorithms/emd/emd_test.cpp checks against the
+// dyadic law.
 #pragma once
 
 #include <string>

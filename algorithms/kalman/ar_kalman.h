@@ -1,4 +1,5 @@
-// The paper's Kalman filter on an AR(p) model (Liu, Liu & Shen 2018, method.md eqs. 5-11).
+// The paper's Kalman filter on an AR(p) model (Liu, Liu & Shen 2018, eqs. 5-11; docs/method.md,
+// "Step 3").
 //
 //   X(k) = A X(k-1) + W(k),  Z(k) = H X(k) + V(k),  X = [x(k) ... x(k-p+1)]',  A = companion(phi),
 //   H = [1 0 ... 0],  Q = diag(q, 0, ..., 0),  R = r,  X(0|0) = 0,  P(0|0) = P0.
@@ -39,22 +40,11 @@
 // forgotten at radius^k, see the tests), and otherwise freezes the last time-varying gain if that
 // gain gives a stable closed loop (an approximation, flagged as GainSwitch::kFrozen).
 //
-// Choice of the default (kSampleVariance, the paper's start), measured:
-//  - 1 h at 100 Hz, paper profile with a moving true rate (step, ramp, sinusoid), 15 IMFs +
-//    residue, `fogpipe sweep` over AR orders 2..12 x q = {0.1, 1, 10} sigma_e^2 x R = {0.1, 1, 10}
-//    R_k: the best setting's RMS error against the true rate is 0.69 deg/h with the paper's start
-//    and 2.66 deg/h with the steady-state start; on the 30 min 10 Hz record of
-//    the sweep test, 5.9e-6 vs 1.2e-5 rad/s. The slow IMFs have closed-loop radii of 0.999..
-//    0.99999 at small q/R, so the steady-state start's transient (trusting X(0|0) = 0 for
-//    ~1 / (1 - radius) samples) spans much of the record, while the paper's diffuse start locks on
-//    within its first few hundred samples.
-//  - where the closed loop is well damped the two agree to 1e-9 after at most 7409 samples (radii
-//    up to 0.9973), as the radius^k law predicts, and the steady-state start was as accurate.
-//  - speed: the steady-state start has no O(p^2) phase at all; the paper's start costs up to
-//    max_time_varying_steps such steps per filter (measured on that sweep with ArFilterBank:
-//    3.3 s CPU instead of 2.7 s, against 1.06 s for one `run`; 1 thread, medians of 3).
-// Accuracy against the truth decides: the paper's start is the default, the steady-state start is
-// the fast option (fogpipe sweep --kalman-start steady).
+// Choice of the default: accuracy against the truth. The steady-state start trusts X(0|0) = 0
+// for ~1 / (1 - radius) samples, which on slow IMFs (radii 0.999..0.99999 at small q/R) spans
+// much of the record, while the paper's diffuse start locks on within a few hundred samples; so
+// the paper's start is the default and the steady-state start the fast option (fogpipe sweep
+// --kalman-start steady). Measurements: docs/filtering.md, "Per-component Kalman filters".
 //
 // Optionally the fixed-interval Rauch-Tung-Striebel smoother is run (rts_smoother.h).
 #pragma once
@@ -101,7 +91,7 @@ struct ArKalmanOptions {
   /// The AR model's mean (ArModel::mean): removed from z before filtering, added back after.
   double mean = 0.0;
   /// P(0|0): the paper's sample-variance start (default) or the steady-state start. Why the
-  /// default: see "Choice of the default" above.
+  /// default: see "Choice of the default" in the file comment.
   InitialCovariance initial_covariance = InitialCovariance::kSampleVariance;
   /// With kSampleVariance: P(0|0) = initial_variance * I. < 0: the sample variance of z.
   double initial_variance = -1.0;
@@ -114,12 +104,9 @@ struct ArKalmanOptions {
   /// the rounding floor of its own recursion before reaching gain_tolerance. It then switches once
   /// the gain distance has not reached a new minimum for as many steps as it took to reach it, if
   /// that minimum and the current distance are both within stall_tolerance. 0 disables this.
-  /// Measured on the paper's Table 2 models at q/R = 1e-6, 1e-8, 1e-10 (60000 samples, no cap):
-  /// 6 of 27 cases stall and switch, the output moving by 5e-14 .. 6e-10 relative in five; in
-  /// imf6 at 1e-10 the gain wanders between 1e-9 and 1.5e-8 from G_inf at its floor: 3.5e-9, the
-  /// same whether it switches at a distance of 9e-10 or of 1.5e-8, i.e. the time-varying
-  /// reference's own rounding noise. Models whose gain stays above the tolerance (imf7, imf9 and
-  /// the residue at 1e-10) run time-varying to the cap.
+  /// Such a switch moved the output by at most 3.5e-9 relative on the paper's Table 2 models, the
+  /// time-varying reference's own rounding noise (docs/filtering.md, "Per-component Kalman
+  /// filters").
   double stall_tolerance = 1e-9;
   /// At most this many time-varying steps (O(p^2) each) before the switch (see above); 0: no cap.
   /// 2^16 steps bound the time-varying cost to ~1 % of a 24 h record at 100 Hz and to a few ms per

@@ -1,4 +1,5 @@
-// Covariance algebra of the AR(p) companion state-space model (method.md eqs. 5-10), in O(p^2).
+// Covariance algebra of the AR(p) companion state-space model (the paper's eqs. 5-10,
+// docs/method.md), in O(p^2).
 //
 // State X(k) = [x(k), x(k-1), ..., x(k-p+1)]', transition A = companion(phi) (first row phi',
 // ones on the subdiagonal), process noise Q = diag(q, 0, ..., 0), measurement H = [1 0 ... 0].

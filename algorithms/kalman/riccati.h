@@ -3,7 +3,7 @@
 //   P = A P A' - A P H' (H P H' + R)^-1 H P A' + Q                       (DARE)
 //
 // for the companion A = companion(phi), H = [1 0 ... 0], Q = diag(q, 0, ..., 0) and scalar R > 0.
-// P is the steady a-priori covariance P(k|k-1) of eqs. 8-10 (method.md).
+// P is the steady a-priori covariance P(k|k-1) of the paper's eqs. 8-10 (docs/method.md).
 //
 // Solver: the structure-preserving doubling algorithm (SDA) of Chu, Fan, Lin & Wang (2004),
 // "Structure-preserving algorithms for periodic discrete-time algebraic Riccati equations",

@@ -1,5 +1,5 @@
 // One component (an IMF, the residue, or the raw signal for method 2): AR model + Kalman filter
-// on it (Liu, Liu & Shen 2018, steps 2 and 3; method.md eqs. 2-11).
+// on it (Liu, Liu & Shen 2018, steps 2 and 3, eqs. 2-11; docs/method.md).
 #pragma once
 
 #include <Eigen/Core>
@@ -60,10 +60,8 @@ void ApplyFilterNoise(const FilterNoise& noise, kalman::ArKalmanOptions* kalman)
 /// component estimates it with a variance below the component's own (var(x^) = var(x) - P <=
 /// var(z)), so an estimate whose mean square about the model mean exceeds kDivergedRmsRatio^2
 /// times the component's variance (units of x^2 both) is numerical breakdown, not filtering.
-/// Measured: AR(10)-AR(12) on the slowest IMF of a 1 h, 100 Hz record (constant gains whose loop
-/// grows in floating point although the DARE solver's stability test passed) gave 11x-7e9x, with
-/// RMS errors against the truth of up to 1e9 deg/h; a working filter stays at or below 1x (tested
-/// on AR(2) in noise at three signal-to-noise ratios, component_test.cpp). Fills *message.
+/// A working filter stays at or below 1x (component_test.cpp), broken-down ones were measured far
+/// above 10x (docs/filtering.md, "Models that can run"). Fills *message.
 bool FilterDiverged(double estimate_mean_square, double component_variance, std::string* message,
                     double rms_ratio = kDivergedRmsRatio);
 

@@ -1,4 +1,4 @@
-// The paper's whole method on one axis (Liu, Liu & Shen 2018; method.md steps 1-4), as plain
+// The paper's whole method on one axis (Liu, Liu & Shen 2018; docs/method.md, steps 1-4), as plain
 // functions without threads. The flow graph (pipeline/graph) runs the same stages in its nodes,
 // the per-component stage in parallel; RunMethod() chains them serially (tests, small tools).
 //

@@ -1,7 +1,7 @@
-// Preprocessing before EMD, as the paper did it (Liu, Liu & Shen 2018, section 2; method.md "The
-// data the paper used"): the start-up transient is dropped, gross errors (outliers) are replaced,
-// the mean is removed, and windowed mean and variance are computed for the stationarity check
-// (their Fig. 2). Missing samples (NaN) are bridged by the recording reader
+// Preprocessing before EMD, as the paper did it (Liu, Liu & Shen 2018, section 2; docs/method.md,
+// "The paper's data and preprocessing"): the start-up transient is dropped, gross errors (outliers)
+// are replaced, the mean is removed, and windowed mean and variance are computed for the
+// stationarity check (their Fig. 2). Missing samples (NaN) are bridged by the recording reader
 // (pipeline/io/missing_samples.h) before this step; here a non-finite sample is an error.
 #pragma once
 

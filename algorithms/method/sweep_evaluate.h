@@ -1,4 +1,4 @@
-// A parameter sweep on one axis (fogpipe sweep; issue 5): the EMD runs once, then every setting
+// A parameter sweep on one axis (fogpipe sweep): the EMD runs once, then every setting
 // of the grid (AR order x q scale x R scale) models and filters every component and is scored.
 //
 //   x --Preprocess + EMD (once)--> components c_1..c_K (IMFs and residue)

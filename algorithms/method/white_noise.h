@@ -22,13 +22,12 @@
 //     its filter follows it.
 //
 //  3. The share is band-passed noise, not white: EMD makes it predictable, so an IMF's AR
-//     innovation variance sigma_e^2 is usually far below its share (measured on the real ADIS16405
-//     record: imf3 sigma_e^2 = 1.5e-8 vs share 3.6e-6 (rad/s)^2, imf10 1e-27 vs 1.4e-8). Handing
-//     the share itself to the filter as white R leaves no room for process noise: the moment
-//     match of kalman/noise_defaults.h, H P H' + R = sigma_e^2, then clamps q to 0, the gain decays
-//     to zero and the output is the AR model running free (fogpipe < 0.2; on that record method 1
-//     raised the Allan deviation instead of lowering it, N 110 deg/sqrt(h) against raw 2.1). So R
-//     is the white FRACTION of the component's one-step prediction error instead:
+//     innovation variance sigma_e^2 is usually far below its share. Handing the share itself to
+//     the filter as white R leaves no room for process noise: the moment match of
+//     kalman/noise_defaults.h, H P H' + R = sigma_e^2, then clamps q to 0, the gain decays to zero
+//     and the output is the AR model running free, which can raise the Allan deviation instead of
+//     lowering it. So R is the white FRACTION of the component's one-step prediction error
+//     instead:
 //        R_k = (share_k / var_k) sigma_e,k^2,   q_k from H P H' + R_k = sigma_e,k^2
 //        (noise_defaults.h)
 //     A component that is mostly signal (share << variance) gets R << sigma_e^2 and is followed;
@@ -37,14 +36,12 @@
 //     neither frozen nor left unfiltered. A component whose share reaches its variance (the cap of
 //     step 2) is judged pure noise: q = 0 and P(0|0) = 0, so its filter outputs its mean instead
 //     of extrapolating its AR model from a fitted initial state.
-//     Evidence (fogpipe sweep, RMS error against the true rate, simulated moving-rate records,
-//     AR orders 2-8): this rule's RMS error is 2.11-2.17, 59.6-60.1 and 0.411-0.416 deg/h on three
-//     records (raw: 9.5, ~300, ~1.9), nearly independent of the AR order; R = share with q by the
-//     moment match gave 4.9-238, 11-4460 and 2.1-1259. See schemas/results-v1.md.
+//     Measurements (a real record; sweeps on simulated moving-rate records): docs/filtering.md,
+//     "Per-component Kalman filters". The stored fields: schemas/results-v1.md.
 //
 // Why not R = u + 2v (the whole white level) on every IMF or Q = innovation variance with R = u +
 // 2v: the AR innovation variance of a noisy component already contains its share of the measurement
-// noise (method.md, "What to keep in mind"); the whole level as R on every IMF would count the
+// noise (docs/method.md, "Cautions"); the whole level as R on every IMF would count the
 // white noise once per IMF, and R = u + 2v with Q = innovation variance would count it twice.
 #pragma once
 

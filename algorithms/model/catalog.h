@@ -1,5 +1,6 @@
-// The catalog of gyro-model terms (issue 4): fixed names shared by the CLI, model files, JSON and
-// HDF5. measured rate = bias + deterministic effects + stochastic terms.
+// The catalog of gyro-model terms of `fogpipe compare`: fixed names shared by the CLI, model files,
+// JSON and HDF5, so that a term means the same thing wherever it is written or read.
+// Measured rate = bias + deterministic effects + stochastic terms.
 //
 // Stochastic terms are fitted on the Allan variance of what the deterministic part leaves (IEEE Std
 // 952-1997 Annex C). Deterministic terms are fitted jointly by least squares on the rate.

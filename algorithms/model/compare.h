@@ -1,6 +1,6 @@
-// Model against measurement (issue 4): fit a gyro model, compare it with the recording in five
-// views, report one dimensionless error, the failures, and a ranked list of the catalog terms
-// that would fix the misfit.
+// Model against measurement (`fogpipe compare`): fit a gyro model, compare it with the recording
+// in five views, report one dimensionless error, the failures, and a ranked list of the catalog
+// terms that would fix the misfit.
 //
 //   EvaluateModel: deterministic least squares (deterministic_fit.h) -> Allan variance of the
 //   residual -> stochastic NNLS fit (stochastic_fit.h) -> views, error, failures (views.h).

@@ -1,6 +1,6 @@
-// Compensation of the deterministic effects of a fitted gyro model (issue 4: `fogpipe run --model
-// FILE` removes them before the EMD, AR and Kalman stages, so adding an effect to the model also
-// improves the filtered output and its Allan tables).
+// Compensation of the deterministic effects of a fitted gyro model. `fogpipe run --model FILE`
+// removes them before the EMD, AR and Kalman stages, so that an effect added to the model in
+// `fogpipe compare` also improves the filtered output and its Allan tables.
 //
 // The effects are re-evaluated on the recording being compensated (deterministic_fit.h,
 // EvaluateDeterministic): temperature terms use that recording's aux temperature (smoothed and

@@ -1,5 +1,5 @@
-// The IMF view of model against measurement (issue 4): which intrinsic mode functions of the
-// residual carry the misfit. This ties the model loop to the paper's decomposition.
+// The IMF view of model against measurement (`fogpipe compare`): which intrinsic mode functions
+// of the residual carry the misfit. This ties the model loop to the paper's decomposition.
 //
 // The residual of the deterministic fit is decimated by block means to at most `max_samples`
 // (block means keep the Allan variance at tau = m / fs exactly, so the fitted stochastic model

@@ -1,4 +1,4 @@
-// Targeted tests of the model comparison (issue 4): tests of the fitted model against one
+// Targeted tests of the model comparison (`fogpipe compare`): tests of the fitted model against one
 // specific alternative each, with a reference scale that the alternative cannot inflate.
 //
 // Why. The default model's rate_random_walk and rate_ramp are fitted on the Allan curve of the

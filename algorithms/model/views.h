@@ -1,4 +1,4 @@
-// The five views of model against measurement (issue 4) and the dimensionless `error`.
+// The five views of model against measurement (`fogpipe compare`) and the dimensionless `error`.
 //
 // Every view reduces to standardized statistics z that are ~N(0, 1) when the model is right:
 //   - Allan (domain "tau"): at octave taus, r = s2_meas / s2_model ~ chi2(nu)/nu with nu the

@@ -1,4 +1,5 @@
-// Random navigation-grade gyro settings per seed (issue 4's hidden-effect proofs, issue 3's demo).
+// Random navigation-grade gyro settings per seed: the `paper` and `nav` profiles of `fogpipe
+// simulate` (the demo's recordings) and the hidden-effect tests of `fogpipe compare`.
 //
 // Draw rules (U = uniform, logU = log-uniform; every draw from its own stream of the seed, so the
 // base levels of a seed do not change when effects are added):
@@ -49,12 +50,12 @@ GyroSimulatorOptions PaperOptions(std::uint64_t seed);
 ///   K / N  U(350, 411) per hour     (Table 5: 5.7777e-5 / 1.4071e-7 = 410.6,
 ///                                              6.2401e-5 / 1.7826e-7 = 350.1)
 ///   B / N  U(4.99, 7.07) per sqrt(h) (9.9451e-7 / 1.4071e-7 = 7.07, 8.8903e-7 / 1.7826e-7 = 4.99)
-/// Table 5's absolute values are not physical (method.md), but read with N in deg/sqrt(h) and K in
-/// deg/h/sqrt(h) its raw rows describe a sensible Allan curve: white noise at short tau, a
-/// minimum near tau = sqrt(3) N / K = 15 s, rate random walk rising above it, so K is measurable
-/// in 1 h. R = 0: the paper's fitted R crosses K at 2 K^2 / (3 R^2) = 48 s, i.e. a ramp of about
-/// 50 white-noise sigmas over the hour, which would give a raw one-step AR fit near 90 % (above
-/// even the printed 74.66 %); in one hour a fitted R is not separable from the rise of K.
+/// Table 5's absolute values are not physical (docs/method.md, "Cautions"), but read with N in
+/// deg/sqrt(h) and K in deg/h/sqrt(h) its raw rows describe a sensible Allan curve: white noise at
+/// short tau, a minimum near tau = sqrt(3) N / K = 15 s, rate random walk rising above it, so K is
+/// measurable in 1 h. R = 0: the paper's fitted R crosses K at 2 K^2 / (3 R^2) = 48 s, i.e. a ramp
+/// of about 50 white-noise sigmas over the hour, which would give a raw one-step AR fit near 90 %
+/// (above even the printed 74.66 %); in one hour a fitted R is not separable from the rise of K.
 /// The level of N is PaperOptions' (the method is scale-free; only the ratios shape Tables 3, 5).
 GyroSimulatorOptions PaperDriftOptions(std::uint64_t seed);
 

@@ -1,6 +1,6 @@
 // Rate-table input profiles: the true input rate a perfect gyro would read, for tests in which the
-// truth moves (filter sweeps, issue 5). A profile is a sum of components, so steps, ramps and
-// sinusoids compose freely. Values are the instantaneous rate at t (SI, rad/s).
+// truth moves (filter sweeps judged against the true rate). A profile is a sum of components, so
+// steps, ramps and sinusoids compose freely. Values are the instantaneous rate at t (SI, rad/s).
 #pragma once
 
 #include <Eigen/Core>

@@ -6,9 +6,10 @@
 //   g = tanh(s sin theta) / tanh(s)   (s > 0),   g = sin theta   (s = 0),
 // where the sharpness s flattens the plateaus (s = 0: a sine; s = 2: ramps joined by rounded
 // plateaus; s -> inf: a square wave). g spans exactly [-1, 1], so the peak-to-peak is exact.
-// The temperature channel exists whether or not a thermal effect is simulated (issue 4). Thermal
-// effects use the true (noise-free) temperature and its analytic derivative; only the recorded
-// channel carries the sensor noise.
+// The temperature channel exists whether or not a thermal effect is simulated, so that `fogpipe
+// compare` meets the same aux channels on effect-free recordings (its false alarms are measured
+// there) as on thermal ones. Thermal effects use the true (noise-free) temperature and its
+// analytic derivative; only the recorded channel carries the sensor noise.
 #pragma once
 
 #include <Eigen/Core>

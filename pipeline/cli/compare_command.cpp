@@ -1,4 +1,5 @@
-// fogpipe compare: the model loop of issue 4.
+// fogpipe compare: the model loop (fit a gyro model, compare it with a recording, add the missing
+// effect the comparison suggests, repeat).
 //
 //   fogpipe compare RECORDING [--model FILE | --terms a,b,c] [--add TERM ...] [--axis A] [--json]
 //                   [-o RESULTS] [--save-model FILE]
@@ -174,8 +175,8 @@ int Run(const CompareArguments& a) {
 
 void AddCompareCommand(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<CompareArguments>();
-  auto* cmd = app.add_subcommand(
-      "compare", "Compare a gyro model with a recording; name the missing effect (issue 4)");
+  auto* cmd = app.add_subcommand("compare",
+                                 "Compare a gyro model with a recording; name the missing effect");
   cmd->add_option("recording", args->recording, "Contract-v1 recording (HDF5)");
   auto* model = cmd->add_option("--model", args->model_file, "Model file (JSON) to start from");
   cmd->add_option("--terms", args->terms, "Comma-separated catalog terms (bias is implicit)")

@@ -196,7 +196,8 @@ json CompareJson(const model::CompareResult& r) {
     failures.push_back(o);
   }
   json model = ModelJson(r.base);
-  // The IMF view lives inside "model" (the top level keeps exactly the five keys).
+  // The IMF view lives inside "model": the top level keeps exactly the five documented keys of
+  // `compare --json` (error, consistent, failures, suggestions, model), which scripts rely on.
   model["imf"] = ImfJson(r.base.imf);
   json suggestions = json::array();
   for (const auto& s : r.suggestions)

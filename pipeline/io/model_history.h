@@ -1,7 +1,7 @@
-// Files of the model loop (issue 4): the model file (JSON, `fogpipe compare --save-model FILE`,
-// read by `compare --model FILE` and `run --model FILE`) and the model history in a RESULTS HDF5
-// file (`compare -o RESULTS` appends a step; `compare --history RESULTS` prints it). Layouts:
-// schemas/model-file.md and schemas/model-history.md.
+// Files of the model loop of `fogpipe compare`: the model file (JSON, `fogpipe compare
+// --save-model FILE`, read by `compare --model FILE` and `run --model FILE`) and the model history
+// in a RESULTS HDF5 file (`compare -o RESULTS` appends a step; `compare --history RESULTS` prints
+// it). Layouts: schemas/model-file.md and schemas/model-history.md.
 #pragma once
 
 #include <nlohmann/json.hpp>

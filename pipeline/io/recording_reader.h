@@ -1,4 +1,5 @@
-// Reader of gyro recordings, input contract v1 (/work/shared/docs/input-v1.md, schemas/README.md).
+// Reader of gyro recordings, input contract v1 (schemas/README.md, "Recording contract v1";
+// schemas/recording-v1.json).
 //
 // Accepts every file that follows the contract: /rate [N] or [N, A], float32 or float64, any
 // chunking or compression HDF5 can decode, `units` deg/h, deg/s or rad/s, optional `axes`,

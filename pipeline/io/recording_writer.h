@@ -1,5 +1,6 @@
-// Writes gyro recordings in the input contract v1 (docs/input-v1.md) and the simulator's truth
-// sidecar. Used by `fogpipe simulate`; any tool that produces recordings may use it.
+// Writes gyro recordings in the input contract v1 (schemas/README.md, "Recording contract v1") and
+// the simulator's truth sidecar. Used by `fogpipe simulate`; any tool that produces recordings may
+// use it.
 //
 // Files are written atomically through pipeline/hdf5 (AtomicOutputFile: "<name>.tmp-<pid>-<n>" in
 // the target folder, then renamed), so a reader never sees a partial recording. HDF5 errors become

@@ -1,4 +1,4 @@
-# Speed of the model comparison (issue 4 targets: 6 h at 10 Hz <= 2 s; 24 h at 100 Hz <= 30 s
+# Speed of the model comparison (targets: 6 h at 10 Hz <= 2 s; 24 h at 100 Hz <= 30 s
 # with 2 threads). BM_Compare is single-threaded; BM_CompareTwoThreads runs the trial fits on two
 # threads like the CLI does on oneTBB.
 find_package(Threads REQUIRED)

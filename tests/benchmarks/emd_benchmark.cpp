@@ -1,4 +1,4 @@
-// EMD speed. Target (issue 2): 10 fixed sifts of 1e6 white-noise samples in at most 1.5 s on one
+// EMD speed. Target: 10 fixed sifts of 1e6 white-noise samples in at most 1.5 s on one
 // thread (libeemd 4.5 s, PyEMD 11.8 s on this machine class); and the pipeline's two-thread EMD
 // at 1e6 and 8.64e6 samples (24 h at 100 Hz) when TBB is installed. Run with
 //   emd_benchmark --benchmark_repetitions=5 --benchmark_report_aggregates_only=true

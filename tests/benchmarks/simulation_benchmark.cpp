@@ -25,9 +25,9 @@ void BM_SimulateNavigationGrade(benchmark::State& state) {
 }
 BENCHMARK(BM_SimulateNavigationGrade)
     ->Args({3600, 1})         // the paper's setting
-    ->Args({6 * 3600, 10})    // issue 4's hidden-effect records
-    ->Args({3600, 100})       // issue 5's sweep record
-    ->Args({24 * 3600, 100})  // issue 3's 24 h benchmark record
+    ->Args({6 * 3600, 10})    // the hidden-effect records of the compare tests
+    ->Args({3600, 100})       // the sweep benchmark's record
+    ->Args({24 * 3600, 100})  // the 24 h record of the pipeline benchmark
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

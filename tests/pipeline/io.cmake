@@ -15,6 +15,6 @@ fogpipe_add_test(NAME cli_validate_command_test
 target_compile_definitions(cli_validate_command_test PRIVATE FOGPIPE_BINARY="$<TARGET_FILE:fogpipe>")
 add_dependencies(cli_validate_command_test fogpipe)
 
-# The noise-term fit on the real recordings of /work/shared (skips when absent).
+# The noise-term fit on real recordings that are not in the repository (skips when absent).
 fogpipe_add_test(NAME io_noise_fit_real_data_test
   SOURCES ${CMAKE_CURRENT_LIST_DIR}/io/noise_fit_real_data_test.cpp LIBS fogpipe::pipeline)

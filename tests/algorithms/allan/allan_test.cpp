@@ -60,8 +60,9 @@ AllanTable Compute(const OctaveCase& c, NoiseIdRule rule = NoiseIdRule::kStable3
 }
 
 // Stable32 (1.53/1.60) computes its Min/Max Sigma from Greenhall's EDF for the noise type in its
-// Alpha column and an approximate inverse chi-square (allantools issue #101: differences at the
-// 1e-3 level); we use the exact quantile. Requirement: bounds within 2 % of Stable32's.
+// Alpha column and an approximate inverse chi-square (A. Wallin, "Fun with chi-squared", 2020,
+// and github.com/aewallin/allantools/issues/101: differences at the 1e-3 level); we use the exact
+// quantile. Requirement: bounds within 2 % of Stable32's.
 // The OCXO octave reports were run on f / f_mean rather than f / 1e7 - 1, which moves Sigma by up
 // to 5e-4 relative against the all-tau reports (checked to 1e-4 in deviation_test): inside 2 %.
 //

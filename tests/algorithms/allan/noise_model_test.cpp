@@ -1,5 +1,6 @@
 // Tests of algorithms/allan/noise_model.{h,cpp}: the closed forms against their published
-// landmarks (method.md table, IEEE 952 Annex C) and against the engine on exact signals.
+// landmarks (docs/method.md, "Allan variance of the noise terms"; IEEE 952 Annex C) and against
+// the engine on exact signals.
 #include "algorithms/allan/noise_model.h"
 
 #include <gtest/gtest.h>
@@ -21,7 +22,7 @@ std::pair<double, double> Peak(Term term, const TermParams& p, double lo, double
   return {best_tau, best};
 }
 
-// method.md: Gauss-Markov peak ~0.62 sigma near tau ~1.89 Tc (2 digits published: +-0.005,
+// docs/method.md: Gauss-Markov peak ~0.62 sigma near tau ~1.89 Tc (2 digits published: +-0.005,
 // +-0.005 Tc), for any sigma and Tc.
 TEST(TermAllanVariance, GaussMarkovPeaksAt062SigmaNear189Tc) {
   for (double tc : {0.5, 10.0, 300.0}) {
@@ -53,7 +54,7 @@ TEST(TermAllanVariance, GaussMarkovApproachesRateRandomWalkAndArwAsymptotes) {
   EXPECT_NEAR(below / above, 1.0, 1e-8);
 }
 
-// method.md: sinusoid peak ~0.725 W at tau ~0.371 / f0; zeros at tau = k / f0.
+// docs/method.md: sinusoid peak ~0.725 W at tau ~0.371 / f0; zeros at tau = k / f0.
 TEST(TermAllanVariance, SinusoidPeaksAt0725WNear0371OverF0) {
   TermParams p;
   p.amplitude = 1.0;
@@ -64,7 +65,7 @@ TEST(TermAllanVariance, SinusoidPeaksAt0725WNear0371OverF0) {
   EXPECT_NEAR(TermAllanVariance(Term::kSinusoid, p, 5.0), 0.0, 1e-30);
 }
 
-// The read-off landmarks of method.md's table: sigma(1 s) = N, sigma(3 s) = K,
+// The read-off landmarks of docs/method.md's table: sigma(1 s) = N, sigma(3 s) = K,
 // sigma(sqrt 3 s) = Q, sigma(sqrt 2 s) = R, floor = 0.6643 B.
 TEST(TermAllanVariance, IeeeTermsPassThroughTheirReadoffPoints) {
   TermParams p;

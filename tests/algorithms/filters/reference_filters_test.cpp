@@ -73,7 +73,7 @@ TEST(ReferenceFilters, RtsSmootherIsNoWorseThanItsFilterOnEveryRecord) {
 }
 
 // GCV estimates the prediction risk without the truth and is asymptotically optimal for it (Li
-// 1987); the tolerance is the factor the issue allows a truth-free method against the best
+// 1987); the tolerance is the factor allowed to a truth-free method against the best
 // reference (1.25x the RMS of the cutoff or window an oracle with the truth picks on a fine grid).
 constexpr double kOracleFactor = 1.25;
 

@@ -32,7 +32,7 @@ ArKalmanOptions Explicit(double q, double r) {
   return o;
 }
 
-// The paper's start, P(0|0) = var(z) I (method.md eq. 7), the default.
+// The paper's start, P(0|0) = var(z) I (docs/method.md, eq. 7), the default.
 ArKalmanOptions PaperStart(double q, double r) {
   ArKalmanOptions o = Explicit(q, r);
   o.initial_covariance = InitialCovariance::kSampleVariance;

@@ -1,6 +1,6 @@
-// Test support: the AR models of Liu, Liu & Shen (2018), Table 2 (method.md), converted from
-// MATLAB's A(q) convention to recursion coefficients, phi_i = -a_i. imf8 is left out: its printed
-// a3 has a sign typo (method.md, "sic").
+// Test support: the AR models of Liu, Liu & Shen (2018), Table 2 (docs/method.md, "Step 2"),
+// converted from MATLAB's A(q) convention to recursion coefficients, phi_i = -a_i. imf8 is left
+// out: its printed a3 has a sign typo (docs/method.md, "The imf8 sign typo").
 #pragma once
 
 #include <Eigen/Core>

@@ -1,6 +1,6 @@
 // Tests algorithms/method/band_limit.cpp: the split keeps the sum, removes each component's content
 // below its band (measured by a direct DFT, independent of the filter), and makes method 1 keep the
-// long-tau Allan deviation of static records (the issue's S2 statement), on test seeds apart from
+// long-tau Allan deviation of static records (statement S2 below), on test seeds apart from
 // the design seeds the ratio was chosen on (docs/filtering.md).
 #include "algorithms/method/band_limit.h"
 
@@ -90,11 +90,11 @@ TEST(BandLimit, LeavesEachComponentLittleOfItsEnergyBelowItsBand) {
   EXPECT_GT(sum_before, 3.0 * sum_after);
 }
 
-// Issue statement S2: on static records, OADEV(method 1) <= 1.05 OADEV(raw) at every tau up to a
-// quarter of the record in at least 95 % of seeds, for the paper's profile (1 h at 1 Hz) and the
-// navigation profile (6 h at 10 Hz), 20 seeds each (test seeds 301-320; the ratio was chosen on
-// seeds 5000+ and 7000+). The EMD's own IMFs (cutoff_ratio 0) are run too and must fail it, or
-// the test would not show what the split does.
+// Statement S2 (docs/filtering.md): on static records, OADEV(method 1) <= 1.05 OADEV(raw) at every
+// tau up to a quarter of the record in at least 95 % of seeds, for the paper's profile (1 h at 1
+// Hz) and the navigation profile (6 h at 10 Hz), 20 seeds each (test seeds 301-320; the ratio was
+// chosen on seeds 5000+ and 7000+). The EMD's own IMFs (cutoff_ratio 0) are run too and must fail
+// it, or the test would not show what the split does.
 TEST(BandLimit, MethodOneKeepsTheLongTauAllanDeviationOfStaticRecords) {
   struct Profile {
     const char* name;

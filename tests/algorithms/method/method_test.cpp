@@ -48,7 +48,7 @@ const MethodResult& PaperDriftResult(std::uint64_t seed) {
         simulation::SimulateGyro(simulation::PaperDriftOptions(seed));
     EXPECT_EQ(rec.summary.termination, Termination::kSuccess) << rec.summary.message;
     MethodOptions options;
-    options.direct_ar_order = 6;  // the paper's direct AR(6) (method.md, Table 3)
+    options.direct_ar_order = 6;  // the paper's direct AR(6) (docs/method.md, Table 3)
     it = cache.emplace(seed, RunMethod(rec.rate_rad_s, 1.0, options)).first;
   }
   return it->second;
@@ -136,7 +136,7 @@ TEST(Method, ReverseOrderScheduleGivesIdenticalNumbers) {
 }
 
 // The shape of the paper's Table 5 (method 1 lowers N and K by >= 10x against raw, and more
-// than method 2). It does NOT hold, and is kept disabled as the record of that (issue 3 asks for
+// than method 2). It does NOT hold, and is kept disabled as the record of that (the paper claims
 // it; an honest negative beats a tuned positive). It runs on the faithful setting:
 // PaperDriftOptions (Table 5's raw K/N and B/N, so raw K is measurable in 1 h) with the paper's
 // AR(6) for method 2. Measured with the default noise rule of white_noise.h (seeds 1, 2, 3;
@@ -147,7 +147,7 @@ TEST(Method, ReverseOrderScheduleGivesIdenticalNumbers) {
 // so N falls below what the fit resolves) but keeps the rate random walk, which its filters
 // follow because it is signal to their AR models; method 2 (one AR(6) whose q the moment match
 // makes small) lowers K further by narrowing the bandwidth, i.e. by over-smoothing
-// (method.md, "What to keep in mind"), which a record with a moving true rate exposes
+// (docs/method.md, "Cautions"), which a record with a moving true rate exposes
 // (DefaultFiltersLowerTheErrorAgainstTheTrueRateAtEveryArOrder, and `fogpipe sweep`). On
 // PaperOptions (navigation grade, nearly white; raw fit ~1 %) raw K is 0 in 1 h, so a 10x drop of
 // K is not measurable there; method 1 lowers N there 70-140x (3.15e-3 -> 2.3e-5 on seed 1).
@@ -192,7 +192,7 @@ TEST(Method, EveryComponentGetsProcessNoiseUnlessItIsJudgedPureNoise) {
   EXPECT_GT(with_q, 0);
 }
 
-// A rate-table record with a known true rate (issue 5): a step of 20 deg/h at 300 s, a ramp of
+// A rate-table record with a known true rate: a step of 20 deg/h at 300 s, a ramp of
 // 0.05 deg/h/s from 900 to 1200 s and a 10 deg/h sine at 5 mHz, under white noise
 // N = 0.05 deg/sqrt(h) and a bias-instability floor B = 0.05 deg/h, 30 min at 10 Hz. Filtering
 // is judged by the RMS error of the method-1 output against the true rate, where over-smoothing

@@ -1,4 +1,4 @@
-// The moving-truth scenario grid that filters are judged by (method.md, "What to keep in mind": a
+// The moving-truth scenario grid that filters are judged by (docs/method.md, "Cautions": a
 // filter that narrows the bandwidth looks better on static data whatever it does to the signal):
 // 1 h records at 10 Hz whose true rate moves (steps, ramps, sines), white angle random walk
 // N = 0.01 / 0.05 / 0.2 deg/sqrt(h), any number of seeds; and the RMS error of an estimate

@@ -1,5 +1,5 @@
-// The hidden-effect proof of issue 4 on simulated navigation-grade recordings (6 h at 10 Hz,
-// aux temperature cycling 6-12 degC with a 1-2 h period in every file). Effect sizes:
+// The hidden-effect proof of `fogpipe compare` on simulated navigation-grade recordings (6 h at
+// 10 Hz, aux temperature cycling 6-12 degC with a 1-2 h period in every file). Effect sizes:
 // hidden_effects.h. Seeds: 101-103 for each effect, 201-220 for the control, 301-302 for two
 // effects, 401-418 for thermal innocence. The development runs that chose the design used seeds
 // 1-20 (each effect) and 500-539 (effect-free: 2 of 40 inconsistent, none with a suggestion).
@@ -118,7 +118,7 @@ bool FailuresPointAt(sim::Term effect, const sim::SimulatedRecording& rec,
   return found;
 }
 
-// Every criterion of issue 4's hidden-effect proof on one recording.
+// Every criterion of the hidden-effect proof on one recording.
 struct ProofScore {
   bool default_inconsistent = false;
   bool first_is_hidden = false;

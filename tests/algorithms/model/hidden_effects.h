@@ -1,8 +1,8 @@
-// Recordings with hidden effects for the proofs of algorithms/model (issue 4), made by
+// Recordings with hidden effects for the proofs of algorithms/model (`fogpipe compare`), made by
 // fogpipe::simulation. The truth is read here only to build the recording and, in the tests, to
 // score; the analysis (fogpipe::model) sees the rate and the aux temperature only.
 //
-// Effect sizes. The issue asks for "each effect a few times the bias-instability floor at the tau
+// Effect sizes. The requirement is "each effect a few times the bias-instability floor at the tau
 // where it shows". We measure exactly that (PeakAllanSignature, asserted in compare_test.cpp): the
 // effect's own overlapping Allan deviation (the effect simulated alone, no noise, through
 // fogpipe::allan; for the stochastic gauss_markov its closed-form expected ADEV, IEEE Std 952
@@ -26,7 +26,7 @@
 //   gauss_markov      0.62 sigma = k sigma_noise(1.89 Tc), k in [6, 10]      8.3-14.1 / 10.5-15.2
 //
 // Why these sizes: the seed study (compare_test.cpp, HiddenEffectStudy) rescales each effect to
-// a fixed signature ratio on design seeds 1-20 and scores every criterion of the issue. Pass
+// a fixed signature ratio on design seeds 1-20 and scores every criterion of the proof. Pass
 // counts out of 20 (inconsistent before / first suggestion / parameters / failures point at it /
 // error falls 3x / consistent after):
 //   sinusoid          1x: 20 20 18 20 20 19;  1.25x, 1.5x, design 1.5-2.2 (and the previous

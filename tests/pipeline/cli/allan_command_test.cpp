@@ -280,7 +280,7 @@ TEST(AllanCommand, AgreesWithAllantoolsOnTheRealAdis16405RecordingToItsPrintedDi
     ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lld,%lf", &tau, &m, &sigma), 3) << line;
     ASSERT_LT(row, expected.size());
     // allantools printed 6 significant digits: a value v is known to +-0.5 in its 6th digit,
-    // i.e. to 5e-6 relative at worst; 1e-5 relative (the bound) covers that.
+    // i.e. to 5e-6 relative at worst; 1e-5 relative (the README's stated agreement) covers that.
     EXPECT_NEAR(tau, expected[row].first, 1e-5 * expected[row].first) << "row " << row;
     EXPECT_NEAR(sigma, expected[row].second, 1e-5 * expected[row].second) << "tau " << tau;
     ++row;

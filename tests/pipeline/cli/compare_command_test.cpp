@@ -45,7 +45,7 @@ TEST(CompareCommand, FindsAHiddenThermalEffectAndRecordsTheHistory) {
   const nlohmann::json j =
       nlohmann::json::parse(RunFogpipe("compare --json -o " + results + " " + rec, &code));
   ASSERT_EQ(code, 0);
-  // Exactly the five keys of the issue.
+  // Exactly the five documented keys (README, `compare --json`).
   std::vector<std::string> keys;
   for (auto it = j.begin(); it != j.end(); ++it) keys.push_back(it.key());
   EXPECT_EQ(keys,

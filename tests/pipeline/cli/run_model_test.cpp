@@ -1,5 +1,6 @@
-// `fogpipe run --model FILE` end to end, through the real binary (issue 4: "Adding an effect
-// therefore also improves the filtered output and its Allan tables"):
+// `fogpipe run --model FILE` end to end, through the real binary: an effect added to the model in
+// `fogpipe compare` must also improve the filtered output and its Allan tables, because `run`
+// subtracts it before the EMD (algorithms/model/compensate.h):
 //   fogpipe simulate (hidden thermal effect) -> compare --add temperature --save-model m.json ->
 //   run without and with --model -> the raw and method-1 Allan deviations at the tau where the
 //   thermal effect shows fall; provenance records the model; `fogpipe validate` passes.

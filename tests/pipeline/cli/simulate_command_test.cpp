@@ -1,6 +1,7 @@
 // Runs the real `fogpipe simulate` binary and checks what it wrote with the HDF5 C++ API and
 // nlohmann::json, against the simulator library called directly (the CLI adds nothing numerical
-// but the unit conversion) and against the rules.
+// but the unit conversion) and against the documented rules of the profiles, options and truth
+// sidecar (pipeline/cli/simulate_command.cpp, algorithms/simulation/navigation_grade.h).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 

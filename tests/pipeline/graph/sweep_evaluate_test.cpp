@@ -86,7 +86,7 @@ TEST(SweepEvaluate, OneBurgRecursionGivesEveryLowerOrderModel) {
   }
 }
 
-// The acceptance test: on a recording whose true rate moves (a step, a ramp and a
+// The sweep's acceptance test: on a recording whose true rate moves (a step, a ramp and a
 // sinusoid of the rate table) the best setting of the sweep has a lower RMS error against the
 // truth than `fogpipe run`'s rule (at every order) and than the hardest filtering (the smallest
 // q / R, at every order): over-smoothing costs, so the optimum is a real trade-off.

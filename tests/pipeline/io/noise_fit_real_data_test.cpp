@@ -1,10 +1,10 @@
-// The noise-term fit (allan/noise_fit.h) on real recordings (/work/shared/data: ADIS16405 MEMS
-// IMU, PSINS ring-laser gyro; skipped when absent): every term reported as significant and
-// reliable must be consistent with bounds computed here directly from the Allan table, and what
-// is not must carry a reason. The bounds are the IEEE 952 read-off facts, independent of the fit:
-// each term's Allan variance a^2 b(tau) cannot exceed the measured sigma^2(tau) (at the upper end
-// of its 99.7 % interval from the table's EDF) at any tau: for B this is min sigma / 0.664, for N
-// sigma(tau) sqrt(tau) at long tau.
+// The noise-term fit (allan/noise_fit.h) on real recordings (ADIS16405 MEMS IMU, PSINS ring-laser
+// gyro; not in the repository: located at run time below, skipped when absent): every term reported
+// as significant and reliable must be consistent with bounds computed here directly from the Allan
+// table, and what is not must carry a reason. The bounds are the IEEE 952 read-off facts,
+// independent of the fit: each term's Allan variance a^2 b(tau) cannot exceed the measured
+// sigma^2(tau) (at the upper end of its 99.7 % interval from the table's EDF) at any tau: for B
+// this is min sigma / 0.664, for N sigma(tau) sqrt(tau) at long tau.
 #include <gtest/gtest.h>
 
 #include <cmath>
