@@ -323,7 +323,9 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
             0,
             skip ? FileStatus::kSkipped : FileStatus::kFailed,
             Seconds(start),
-            skip ? "output is valid, with the same configuration and input content" : done.reason};
+            skip && done.reason.empty()
+                ? "output is valid, with the same configuration and input content"
+                : done.reason};
         runner.Record(outcome, i);
         continue;
       }

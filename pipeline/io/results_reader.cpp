@@ -197,7 +197,13 @@ CompletedResults CheckCompletedResults(const std::string& output_path,
   const auto size = std::filesystem::file_size(input_path, ec);
   const auto sha = ec ? std::nullopt : Sha256FileHex(input_path, &error);
   if (sha && static_cast<long long>(size) == recorded_size && *sha == recorded_sha) {
+    // Identical bytes give identical numbers: a moved or copied archive is not analysed again,
+    // but the status line says where the results came from.
     out.verdict = Verdict::kDone;
+    if (!SamePath(recorded_path, input_path)) {
+      out.reason = "output is valid, with the same configuration and the same input content, "
+                   "recorded from " + recorded_path;
+    }
     return out;
   }
   if (SamePath(recorded_path, input_path)) {

@@ -41,7 +41,8 @@ std::optional<std::string> ReadConfigHash(const std::string& path);
 struct CompletedResults {
   enum class Verdict {
     kAbsent,     ///< no results file: analyse
-    kDone,       ///< valid, same configuration, same input content: skip
+    kDone,       ///< valid, same configuration, same input content: skip (`reason` names
+                 ///< the recorded input when it was at another path)
     kRerun,      ///< analyse again; `reason` says why ("" for a changed configuration)
     kCollision,  ///< the file holds the results of another input with the same output name
   };

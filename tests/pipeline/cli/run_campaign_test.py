@@ -237,6 +237,14 @@ def case_identity(tmp):
     check(r.returncode == 0 and status_lines(out)[-1]["status"] == "ok", "identity: A analysed")
     r = run(["run", a, "-o", out])
     check(status_lines(out)[-1]["status"] == "skipped", "identity: A again is skipped")
+    c = os.path.join(tmp, "idC")
+    os.makedirs(c)
+    shutil.copyfile(os.path.join(a, "rec.h5"), os.path.join(c, "rec.h5"))
+    run(["run", c, "-o", out])
+    last = status_lines(out)[-1]
+    check(last["status"] == "skipped" and "recorded from" in last["message"] and
+          "idA" in last["message"],
+          f"identity: a byte-identical copy is skipped, naming the recorded input ({last['message']})")
     r = run(["run", b, "-o", out])
     last = status_lines(out)[-1]
     check(last["status"] == "failed" and "already holds the results of another input" in
