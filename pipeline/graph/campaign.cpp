@@ -317,15 +317,14 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
       using Verdict = io::CompletedResults::Verdict;
       if (done.verdict == Verdict::kDone || done.verdict == Verdict::kCollision) {
         const bool skip = done.verdict == Verdict::kDone;
-        FileOutcome outcome{
-            input.path,
-            skip ? output : "",
-            0,
-            skip ? FileStatus::kSkipped : FileStatus::kFailed,
-            Seconds(start),
-            skip && done.reason.empty()
-                ? "output is valid, with the same configuration and input content"
-                : done.reason};
+        FileOutcome outcome{input.path,
+                            skip ? output : "",
+                            0,
+                            skip ? FileStatus::kSkipped : FileStatus::kFailed,
+                            Seconds(start),
+                            skip && done.reason.empty()
+                                ? "output is valid, with the same configuration and input content"
+                                : done.reason};
         runner.Record(outcome, i);
         continue;
       }

@@ -201,8 +201,10 @@ CompletedResults CheckCompletedResults(const std::string& output_path,
     // but the status line says where the results came from.
     out.verdict = Verdict::kDone;
     if (!SamePath(recorded_path, input_path)) {
-      out.reason = "output is valid, with the same configuration and the same input content, "
-                   "recorded from " + recorded_path;
+      out.reason =
+          "output is valid, with the same configuration and the same input content, "
+          "recorded from " +
+          recorded_path;
     }
     return out;
   }

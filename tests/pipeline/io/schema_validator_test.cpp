@@ -98,9 +98,16 @@ FileValidation ValidateMade(const std::string& name, const std::function<void(Ra
 // An integer sample rate is read as the same rate by `run` (recording_reader.h); `validate`
 // agrees, so the two commands give one verdict on the same file.
 TEST(RecordingSchema, AcceptsAnIntegerSampleRateAsRunReadsIt) {
-  const FileValidation v = ValidateMade(
-      "integer_rate.h5", [](RawFile& f) { f.IntAttribute("/", "sample_rate_hz", 100); });
+  TempDir dir;
+  const std::string path = dir.File("integer_rate.h5");
+  {
+    RawFile f(path);
+    RateOk(f);
+    f.IntAttribute("/", "sample_rate_hz", 100);
+  }
+  const FileValidation v = ValidateRecording(path);
   EXPECT_TRUE(v.valid()) << Lines(v.problems) << v.usage_error;
+  EXPECT_EQ(InspectRecording(path).sample_rate_hz, 100.0);
 }
 
 // A soft-link cycle (/g/loop -> /g) is harmless to `run`, which never looks there; the validator
@@ -289,6 +296,14 @@ INSTANTIATE_TEST_SUITE_P(
                      f.DoubleAttribute("/", "sample_rate_hz", 1.0);
                    },
                    "/rate: /rate axis 'axis0' has a run of 30 missing (NaN) samples"},
+        // The contract sets no minimum length; the analysis does, and validate uses its limit.
+        LayoutCase{"63_samples",
+                   [](RawFile& f) {
+                     f.Dataset("/rate", {63}, Signal(63));
+                     f.StringAttribute("/rate", "units", "rad/s");
+                     f.DoubleAttribute("/", "sample_rate_hz", 1.0);
+                   },
+                   "[too_few_samples]"},
         LayoutCase{"constant",
                    [](RawFile& f) {
                      f.Dataset("/rate", {100}, std::vector<double>(100, 1.5));

@@ -47,7 +47,7 @@ def campaign(tmp):
     valid = [os.path.join(folder, f"valid_{i}.h5") for i in range(3)]
     for i, p in enumerate(valid):
         hostile_corpus.write_valid(p, 200 + i)
-    fifo = bad.pop(os.path.join(folder, "fifo.h5"))  # given by name below, not listed by a folder
+    fifo = bad[os.path.join(folder, "fifo.h5")]  # listed by the folder, and given by name below
     for attempt in ("first run", "rerun"):
         outdir = os.path.join(tmp, "out")
         r = run(["run", folder, "-o", outdir, "--threads", "2"])
