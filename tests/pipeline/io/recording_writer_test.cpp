@@ -1,3 +1,5 @@
+// Tests of pipeline/io/recording_writer: contract-v1 recordings and truth sidecars as `simulate`
+// writes them.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,7 +8,7 @@
 #include "algorithms/common/units.h"
 #include "algorithms/simulation/navigation_grade.h"
 #include "pipeline/io/recording_writer.h"
-#include "simulate_test_support.h"
+#include "tests/pipeline/cli/simulate_test_support.h"
 
 namespace fogpipe::io {
 namespace {
