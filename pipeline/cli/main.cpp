@@ -6,7 +6,7 @@
 #include <string>
 
 #include "pipeline/cli/commands.h"
-#include "pipeline/cli/version.h"
+#include "pipeline/io/version.h"
 #include "pipeline/hdf5/file.h"
 
 #ifdef __GLIBC__

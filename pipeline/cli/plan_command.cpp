@@ -12,7 +12,7 @@
 #include <memory>
 
 #include "pipeline/cli/commands.h"
-#include "pipeline/graph/inputs.h"
+#include "pipeline/io/inputs.h"
 #include "pipeline/io/campaign_manifest.h"
 
 namespace fogpipe::cli {
@@ -34,7 +34,7 @@ int RunPlan(const PlanConfig& config) {
     return 2;
   }
   std::vector<std::string> errors;
-  auto inputs = graph::ListInputs(config.inputs, config.manifest, &errors);
+  auto inputs = io::ListInputs(config.inputs, config.manifest, &errors);
   for (const std::string& e : errors) std::cerr << "fogpipe plan: " << e << "\n";
   if (inputs.empty()) {
     std::cerr << "fogpipe plan: no recording found\n";

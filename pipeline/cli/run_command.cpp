@@ -47,7 +47,7 @@ int RunCampaignCommand(CLI::App* cmd, graph::RunConfig* config) {
   // Every shard lists the same sorted inputs and keeps its own part (io::SelectShard), so the
   // shards of an array job are disjoint and together cover the campaign.
   const auto inputs =
-      io::SelectShard(graph::ListInputs(config->inputs, config->manifest, &input_errors),
+      io::SelectShard(io::ListInputs(config->inputs, config->manifest, &input_errors),
                       config->shard, config->num_shards, shard_by);
   for (const std::string& e : input_errors) std::cerr << "fogpipe run: " << e << "\n";
   if (inputs.empty()) {

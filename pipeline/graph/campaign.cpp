@@ -14,7 +14,6 @@
 
 #include "algorithms/method/tables.h"
 #include "algorithms/model/compensate.h"
-#include "pipeline/cli/version.h"
 #include "pipeline/graph/interrupt.h"
 #include "pipeline/graph/memory_budget.h"
 #include "pipeline/graph/output_space.h"
@@ -25,6 +24,7 @@
 #include "pipeline/io/isolated_reader.h"
 #include "pipeline/io/results_reader.h"
 #include "pipeline/io/sha256.h"
+#include "pipeline/io/version.h"
 
 namespace fogpipe::graph {
 namespace fs = std::filesystem;
@@ -45,7 +45,7 @@ double Seconds(Clock::time_point since) {
 /// One admitted recording.
 struct FileJob {
   std::size_t outcome_index = 0;  ///< into CampaignReport::outcomes
-  InputFile input;
+  io::InputFile input;
   io::RecordingInfo info;
   // Written by the reader before it sends the first axis (the message passing orders it before
   // the writer's reads).
@@ -280,7 +280,8 @@ int RemoveStaleTempFiles(const std::string& output_dir, const std::string& outpu
   return removed;
 }
 
-CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignOptions& options) {
+CampaignReport RunCampaign(const std::vector<io::InputFile>& inputs,
+                           const CampaignOptions& options) {
   CampaignReport report;
   report.outcomes.resize(inputs.size());
   std::error_code ec;
@@ -306,7 +307,7 @@ CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignO
   const std::uint64_t for_recordings =
       BytesForRecordings(options.memory_budget_bytes, options.threads);
   for (std::size_t i = 0; i < inputs.size(); ++i) {
-    const InputFile& input = inputs[i];
+    const io::InputFile& input = inputs[i];
     const auto start = Clock::now();
     const std::string output = (fs::path(options.output_dir) / input.output_name).string();
     if (!options.dry_run) RemoveStaleTempFiles(options.output_dir, input.output_name);

@@ -30,8 +30,8 @@
 
 #include "algorithms/method/method.h"
 #include "algorithms/model/deterministic_fit.h"
-#include "pipeline/graph/inputs.h"
 #include "pipeline/graph/status_log.h"
+#include "pipeline/io/inputs.h"
 #include "pipeline/io/recording_reader.h"
 #include "pipeline/io/results_writer.h"
 
@@ -89,7 +89,8 @@ struct CampaignReport {
 /// 138 MB for 3.6e5).
 ///
 /// Throws std::runtime_error when OUTDIR cannot be created or status.jsonl cannot be opened.
-CampaignReport RunCampaign(const std::vector<InputFile>& inputs, const CampaignOptions& options);
+CampaignReport RunCampaign(const std::vector<io::InputFile>& inputs,
+                           const CampaignOptions& options);
 
 /// Removes temporary files that a killed run left for `output_name` in `output_dir`
 /// (hdf5::IsAtomicTempName), never one that another run is still writing

@@ -29,7 +29,7 @@ bool ParseShardBy(const std::string& text, ShardBy* by) {
   return true;
 }
 
-std::string FormatManifest(const std::vector<graph::InputFile>& inputs) {
+std::string FormatManifest(const std::vector<InputFile>& inputs) {
   std::uintmax_t total = 0;
   for (const auto& input : inputs) total += input.size_bytes;
   std::ostringstream out;
@@ -39,13 +39,12 @@ std::string FormatManifest(const std::vector<graph::InputFile>& inputs) {
     std::error_code ec;
     fs::path path = fs::absolute(input.path, ec);
     if (ec) path = input.path;
-    out << graph::QuoteManifestPath(path.lexically_normal().string()) << " " << input.size_bytes
-        << "\n";
+    out << QuoteManifestPath(path.lexically_normal().string()) << " " << input.size_bytes << "\n";
   }
   return out.str();
 }
 
-bool WriteManifest(const std::string& path, const std::vector<graph::InputFile>& inputs,
+bool WriteManifest(const std::string& path, const std::vector<InputFile>& inputs,
                    std::string* error) {
   try {
     WriteTextFileAtomically(path, FormatManifest(inputs));
@@ -56,10 +55,16 @@ bool WriteManifest(const std::string& path, const std::vector<graph::InputFile>&
   return true;
 }
 
-std::vector<graph::InputFile> SelectShard(const std::vector<graph::InputFile>& inputs, int shard,
-                                          int num_shards, ShardBy by) {
-  if (by == ShardBy::kStride || num_shards <= 1) {
-    return graph::SelectShard(inputs, shard, num_shards);
+std::vector<InputFile> SelectShard(const std::vector<InputFile>& inputs, int shard, int num_shards,
+                                   ShardBy by) {
+  if (num_shards <= 1) return inputs;
+  if (by == ShardBy::kStride) {
+    std::vector<InputFile> selected;
+    for (std::size_t i = static_cast<std::size_t>(shard); i < inputs.size();
+         i += static_cast<std::size_t>(num_shards)) {
+      selected.push_back(inputs[i]);
+    }
+    return selected;
   }
   std::vector<std::size_t> order(inputs.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
@@ -74,7 +79,7 @@ std::vector<graph::InputFile> SelectShard(const std::vector<graph::InputFile>& i
     load[static_cast<std::size_t>(lightest)] += inputs[i].size_bytes;
     mine[i] = lightest == shard;
   }
-  std::vector<graph::InputFile> selected;
+  std::vector<InputFile> selected;
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     if (mine[i]) selected.push_back(inputs[i]);
   }

@@ -13,7 +13,7 @@
 #include <sstream>
 
 #include "algorithms/common/units.h"
-#include "pipeline/graph/inputs.h"
+#include "pipeline/io/inputs.h"
 #include "pipeline/hdf5/atomic_output_file.h"
 #include "pipeline/hdf5/file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
@@ -246,7 +246,7 @@ CampaignTable CollectCampaign(const std::string& outdir, const std::string& mani
   }
   if (!manifest.empty()) {
     std::vector<std::string> errors;
-    for (const graph::InputFile& input : graph::ListInputs({}, manifest, &errors)) {
+    for (const InputFile& input : ListInputs({}, manifest, &errors)) {
       const std::string key = Normal(input.path);
       if (rows.count(key) != 0) continue;
       CampaignRow row = EmptyRow(key);

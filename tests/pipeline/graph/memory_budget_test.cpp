@@ -3,6 +3,10 @@
 #include "pipeline/graph/memory_budget.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <string>
 
 namespace fogpipe::graph {
 namespace {
@@ -27,6 +31,36 @@ TEST(MemoryBudget, AHundredHertzHourFitsOnceIn384MiBWithTwoThreads) {
   EXPECT_EQ(per_axis, 100ull * 360000 * 8);
   EXPECT_EQ(AxesInFlight(BytesForRecordings(384 * kMiB, 2), per_axis), 1);
   EXPECT_EQ(AxesInFlight(BytesForRecordings(2048 * kMiB, 2), per_axis), 7);
+}
+
+TEST(MemoryBudget, ParsesBinaryMultiplesAndRejectsNonsense) {
+  EXPECT_EQ(ParseByteSize("2G"), 2ull << 30);
+  EXPECT_EQ(ParseByteSize("512M"), 512ull << 20);
+  EXPECT_EQ(ParseByteSize("512MiB"), 512ull << 20);
+  EXPECT_EQ(ParseByteSize("1.5k"), 1536u);
+  EXPECT_EQ(ParseByteSize("1000"), 1000u);
+  EXPECT_FALSE(ParseByteSize("12X"));
+  EXPECT_FALSE(ParseByteSize("-1G"));
+  EXPECT_FALSE(ParseByteSize("G"));
+}
+
+TEST(MemoryBudget, AutoIsEightyPercentOfASlurmJobsMemoryElseHalfThePhysicalMemory) {
+  const char* saved = std::getenv("SLURM_MEM_PER_NODE");
+  const std::string restore = saved ? saved : "";
+  setenv("SLURM_MEM_PER_NODE", "1000", 1);
+  EXPECT_EQ(AutoMemoryBudgetBytes(), static_cast<std::uint64_t>(0.8 * 1000 * 1048576.0));
+  unsetenv("SLURM_MEM_PER_NODE");
+  const std::uint64_t physical = static_cast<std::uint64_t>(sysconf(_SC_PHYS_PAGES)) *
+                                 static_cast<std::uint64_t>(sysconf(_SC_PAGE_SIZE));
+  EXPECT_EQ(AutoMemoryBudgetBytes(), physical / 2);
+  if (saved) setenv("SLURM_MEM_PER_NODE", restore.c_str(), 1);
+}
+
+TEST(MemoryBudget, AllowsAtLeastOneAxisAndFloorOfBudgetOverEstimate) {
+  // N = 3600: ceil(log2 3600) = 12, +1 residue = 13, doubled = 26 series, + 8 work series.
+  EXPECT_EQ(BytesPerAxis(3600, 0), (26u + 8u + 52u) * 3600u * 8u);
+  EXPECT_EQ(AxesInFlight(10 * BytesPerAxis(3600, 0) + 1, BytesPerAxis(3600, 0)), 10);
+  EXPECT_EQ(AxesInFlight(1, BytesPerAxis(3600, 0)), 1);
 }
 
 }  // namespace

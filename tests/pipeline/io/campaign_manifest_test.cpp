@@ -12,8 +12,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<graph::InputFile> Inputs(const std::vector<std::uintmax_t>& sizes) {
-  std::vector<graph::InputFile> inputs;
+std::vector<io::InputFile> Inputs(const std::vector<std::uintmax_t>& sizes) {
+  std::vector<io::InputFile> inputs;
   for (std::size_t i = 0; i < sizes.size(); ++i) {
     char name[48];
     std::snprintf(name, sizeof(name), "/data/run%03zu.h5", i);
@@ -71,23 +71,23 @@ TEST(CampaignManifest, SizeShardsAreWithinGrahamsBound) {
   }
 }
 
-// The manifest `fogpipe plan` writes is read back by graph::ListInputs (what `fogpipe run
+// The manifest `fogpipe plan` writes is read back by io::ListInputs (what `fogpipe run
 // --manifest` uses) with the same sorted paths, and survives an empty-size fallback.
 TEST(CampaignManifest, WrittenManifestReadsBackThroughListInputs) {
   const fs::path dir =
       fs::temp_directory_path() / ("fogpipe_manifest_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  std::vector<graph::InputFile> inputs;
+  std::vector<io::InputFile> inputs;
   for (const char* name : {"b.h5", "a.h5", "c.h5"}) {
     std::ofstream(dir / name) << std::string(std::string(name) == "b.h5" ? 100 : 10, 'x');
   }
   std::vector<std::string> errors;
-  inputs = graph::ListInputs({dir.string()}, "", &errors);
+  inputs = io::ListInputs({dir.string()}, "", &errors);
   ASSERT_TRUE(errors.empty());
   std::string error;
   const std::string manifest = (dir / "manifest.txt").string();
   ASSERT_TRUE(WriteManifest(manifest, inputs, &error)) << error;
-  const auto back = graph::ListInputs({}, manifest, &errors);
+  const auto back = io::ListInputs({}, manifest, &errors);
   ASSERT_TRUE(errors.empty()) << errors.front();
   ASSERT_EQ(back.size(), 3u);
   for (std::size_t i = 0; i < 3; ++i) {

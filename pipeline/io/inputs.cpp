@@ -1,4 +1,4 @@
-#include "pipeline/graph/inputs.h"
+#include "pipeline/io/inputs.h"
 
 #include <glob.h>
 
@@ -11,7 +11,7 @@
 
 #include "pipeline/io/sha256.h"
 
-namespace fogpipe::graph {
+namespace fogpipe::io {
 namespace fs = std::filesystem;
 namespace {
 
@@ -192,20 +192,9 @@ void AssignOutputNames(std::vector<InputFile>* inputs) {
   for (InputFile& input : *inputs) {
     const std::string stem = fs::path(input.path).stem().string();
     input.output_name = stem_count[stem] > 1
-                            ? stem + "-" + io::Sha256Hex(input.path).substr(0, 8) + ".fogpipe.h5"
+                            ? stem + "-" + Sha256Hex(input.path).substr(0, 8) + ".fogpipe.h5"
                             : stem + ".fogpipe.h5";
   }
 }
 
-std::vector<InputFile> SelectShard(const std::vector<InputFile>& inputs, int shard,
-                                   int num_shards) {
-  if (num_shards <= 1) return inputs;
-  std::vector<InputFile> selected;
-  for (std::size_t i = static_cast<std::size_t>(shard); i < inputs.size();
-       i += static_cast<std::size_t>(num_shards)) {
-    selected.push_back(inputs[i]);
-  }
-  return selected;
-}
-
-}  // namespace fogpipe::graph
+}  // namespace fogpipe::io

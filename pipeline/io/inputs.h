@@ -1,15 +1,15 @@
 // The campaign's input list: what `fogpipe run INPUT... [--manifest FILE]` processes.
 //
 // The list is built once, sorted and de-duplicated, before anything is read, so that every process
-// of a sharded campaign (`--shard I --num-shards N`, see SelectShard) sees the same list and the
-// same output names.
+// of a sharded campaign (`--shard I --num-shards N`, see SelectShard in campaign_manifest.h) sees
+// the same list and the same output names.
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
-namespace fogpipe::graph {
+namespace fogpipe::io {
 
 struct InputFile {
   /// Path as given (files, manifest entries) or as found (folders, globs), made lexically normal.
@@ -55,8 +55,4 @@ ManifestLine ParseManifestLine(const std::string& line);
 /// .fogpipe.h5", which depends only on that input's path, so it is stable across reruns and shards.
 void AssignOutputNames(std::vector<InputFile>* inputs);
 
-/// The inputs of shard `shard` (0-based) out of `num_shards`: every num_shards-th input of the
-/// sorted list, starting at `shard`. num_shards <= 1 returns everything.
-std::vector<InputFile> SelectShard(const std::vector<InputFile>& inputs, int shard, int num_shards);
-
-}  // namespace fogpipe::graph
+}  // namespace fogpipe::io

@@ -1,4 +1,4 @@
-#include "pipeline/cli/version.h"
+#include "pipeline/io/version.h"
 
 namespace fogpipe {
 const char* Version() { return FOGPIPE_VERSION; }

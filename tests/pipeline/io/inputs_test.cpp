@@ -1,5 +1,6 @@
-// Tests pipeline/graph/inputs.cpp and memory_budget.cpp.
-#include "pipeline/graph/inputs.h"
+// Tests of pipeline/io/inputs: the campaign input list (files, folders, globs, manifests) and
+// its output names.
+#include "pipeline/io/inputs.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -8,10 +9,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "pipeline/graph/memory_budget.h"
 #include "pipeline/io/campaign_manifest.h"
 
-namespace fogpipe::graph {
+namespace fogpipe::io {
 namespace {
 namespace fs = std::filesystem;
 
@@ -114,47 +114,5 @@ TEST_F(InputsTest, ReportsPatternsAndFoldersThatMatchNothing) {
   EXPECT_NE(errors[0].find("empty"), std::string::npos);
 }
 
-TEST(Shards, PartitionTheListWithoutOverlapOrLoss) {
-  std::vector<InputFile> inputs(10);
-  for (int i = 0; i < 10; ++i) inputs[i].path = std::to_string(i);
-  std::vector<std::string> seen;
-  for (int shard = 0; shard < 3; ++shard) {
-    for (const auto& f : SelectShard(inputs, shard, 3)) seen.push_back(f.path);
-  }
-  std::sort(seen.begin(), seen.end());
-  EXPECT_EQ(seen.size(), 10u);
-  EXPECT_EQ(std::unique(seen.begin(), seen.end()), seen.end());
-}
-
-TEST(MemoryBudget, ParsesBinaryMultiplesAndRejectsNonsense) {
-  EXPECT_EQ(ParseByteSize("2G"), 2ull << 30);
-  EXPECT_EQ(ParseByteSize("512M"), 512ull << 20);
-  EXPECT_EQ(ParseByteSize("512MiB"), 512ull << 20);
-  EXPECT_EQ(ParseByteSize("1.5k"), 1536u);
-  EXPECT_EQ(ParseByteSize("1000"), 1000u);
-  EXPECT_FALSE(ParseByteSize("12X"));
-  EXPECT_FALSE(ParseByteSize("-1G"));
-  EXPECT_FALSE(ParseByteSize("G"));
-}
-
-TEST(MemoryBudget, AutoIsEightyPercentOfASlurmJobsMemoryElseHalfThePhysicalMemory) {
-  const char* saved = std::getenv("SLURM_MEM_PER_NODE");
-  const std::string restore = saved ? saved : "";
-  setenv("SLURM_MEM_PER_NODE", "1000", 1);
-  EXPECT_EQ(AutoMemoryBudgetBytes(), static_cast<std::uint64_t>(0.8 * 1000 * 1048576.0));
-  unsetenv("SLURM_MEM_PER_NODE");
-  const std::uint64_t physical = static_cast<std::uint64_t>(sysconf(_SC_PHYS_PAGES)) *
-                                 static_cast<std::uint64_t>(sysconf(_SC_PAGE_SIZE));
-  EXPECT_EQ(AutoMemoryBudgetBytes(), physical / 2);
-  if (saved) setenv("SLURM_MEM_PER_NODE", restore.c_str(), 1);
-}
-
-TEST(MemoryBudget, AllowsAtLeastOneAxisAndFloorOfBudgetOverEstimate) {
-  // N = 3600: ceil(log2 3600) = 12, +1 residue = 13, doubled = 26 series, + 8 work series.
-  EXPECT_EQ(BytesPerAxis(3600, 0), (26u + 8u + 52u) * 3600u * 8u);
-  EXPECT_EQ(AxesInFlight(10 * BytesPerAxis(3600, 0) + 1, BytesPerAxis(3600, 0)), 10);
-  EXPECT_EQ(AxesInFlight(1, BytesPerAxis(3600, 0)), 1);
-}
-
 }  // namespace
-}  // namespace fogpipe::graph
+}  // namespace fogpipe::io
