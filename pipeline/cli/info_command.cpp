@@ -19,7 +19,7 @@ void AddInfoCommand(CLI::App& app, int* exit_code) {
     *exit_code = 0;
     for (const std::string& path : *paths) {
       try {
-        std::cout << io::FormatSummary(io::ReadResultsSummary(path)) << "\n";
+        std::cout << io::FormatResultsSummaryIsolated(path) << "\n" << std::flush;
       } catch (const std::exception& e) {
         std::cerr << "fogpipe info: " << e.what() << "\n";
         *exit_code = 1;

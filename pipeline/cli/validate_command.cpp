@@ -47,6 +47,9 @@ int RunValidate(const ValidateArgs& args) {
         if (v.samples_checked > 0) std::cout << ", " << v.samples_checked << " values read";
         std::cout << ")\n";
       }
+      for (const io::SchemaProblem& w : v.warnings) {
+        std::cout << "  " << file << ": warning: " << w.object << ": " << w.message << "\n";
+      }
       continue;
     }
     exit_code = 1;
@@ -71,7 +74,9 @@ void AddValidateCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("FILE", args->files, "HDF5 recording(s) or fogpipe results file(s)");
   cmd->add_option("--schemas", args->options.schemas_dir,
                   "Folder of schema files (default: $FOGPIPE_SCHEMAS_DIR, <prefix>/share/fogpipe/"
-                  "schemas, then the source tree's schemas/)");
+                  "schemas, then the source tree's schemas/). Recordings are held to the "
+                  "recording-v1 layout built into fogpipe, the one `run` uses, unless --schemas "
+                  "or --schema is given");
   cmd->add_option("--schema", args->options.schema,
                   "Use this schema (name such as recording-v1, or a .json path) instead of "
                   "detecting it from the root attribute fogpipe_format");

@@ -323,9 +323,8 @@ CampaignReport RunCampaign(const std::vector<io::InputFile>& inputs,
                             0,
                             skip ? FileStatus::kSkipped : FileStatus::kFailed,
                             Seconds(start),
-                            skip && done.reason.empty()
-                                ? "output is valid, with the same configuration and input content"
-                                : done.reason};
+                            skip ? "output is valid, with the same configuration and input content"
+                                 : done.reason};
         runner.Record(outcome, i);
         continue;
       }

@@ -1,8 +1,10 @@
 #include "pipeline/io/file_validation.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <new>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "pipeline/hdf5/hdf5_lock.h"
@@ -12,7 +14,6 @@
 namespace fogpipe::io {
 namespace {
 
-constexpr const char* kRecordingSchema = "recording-v1";
 
 /// The `fogpipe_format` tag of an open file ("" when absent or not a string).
 std::string FormatTag(const hdf5::File& file) {
@@ -37,11 +38,14 @@ void CheckRecordingData(const FileValidationOptions& options, FileValidation* re
       result->problems.push_back({"/rate", e.problem() + " [" + e.kind() + "]"});
     }
   }
+  // An aux channel is read by `run` only when --model needs it: its problems are warnings, so
+  // that validate's verdict is run's.
   for (const AuxChannelInfo& aux : reader.info().aux) {
     try {
       result->samples_checked += reader.ReadAux(aux.name, read).size();
     } catch (const RecordingError& e) {
-      result->problems.push_back({"/aux/" + aux.name, e.problem() + " [" + e.kind() + "]"});
+      result->warnings.push_back({"/aux/" + aux.name, e.problem() + " [" + e.kind() +
+                                                          "]; `run --model` needing it fails"});
     }
   }
 }
@@ -49,10 +53,57 @@ void CheckRecordingData(const FileValidationOptions& options, FileValidation* re
 }  // namespace
 
 std::string SchemaNameForFormat(const std::string& format_tag) {
-  if (format_tag.empty()) return kRecordingSchema;
+  if (format_tag.empty()) return kRecordingSchemaName;
   const std::string prefix = "fogpipe-";
   return format_tag.rfind(prefix, 0) == 0 ? format_tag.substr(prefix.size()) : format_tag;
 }
+
+namespace {
+
+/// A plain schema name ("results-v1"): what a file's own `fogpipe_format` may select. Anything
+/// else (a path, "..") is the file's problem: a file never chooses what else is read.
+bool IsPlainSchemaName(const std::string& name) {
+  if (name.empty() || name.size() > 64) return false;
+  for (char c : name) {
+    if (!(std::islower(static_cast<unsigned char>(c)) || std::isdigit(static_cast<unsigned char>(c)) ||
+          c == '-' || c == '_')) {
+      return false;
+    }
+  }
+  return true;
+}
+
+/// The schema the user asked for (--schema NAME or PATH, or NAME in --schemas DIR); nullopt with
+/// result->usage_error when it cannot be found or read.
+std::optional<Schema> UserSchema(const std::string& name, const FileValidationOptions& options,
+                                 FileValidation* result) {
+  const bool is_path = name.find('/') != std::string::npos || name.find(".json") != std::string::npos;
+  result->schema_path = is_path ? name : FindSchemaFile(name, options.schemas_dir);
+  if (result->schema_path.empty()) {
+    std::string folders;
+    for (const std::string& f : SchemaSearchPath(options.schemas_dir)) folders += "\n  " + f;
+    result->usage_error = "schema '" + name + ".json' not found; looked in:" + folders;
+    return std::nullopt;
+  }
+  return Schema::FromFile(result->schema_path);
+}
+
+/// The schema named by a fogpipe output's `fogpipe_format` tag, from the schema search path;
+/// nullopt with a problem of the file when the tag names no schema.
+std::optional<Schema> TaggedSchema(const std::string& tag, const FileValidationOptions& options,
+                                   FileValidation* result) {
+  const std::string name = SchemaNameForFormat(tag);
+  if (IsPlainSchemaName(name)) result->schema_path = FindSchemaFile(name, options.schemas_dir);
+  if (result->schema_path.empty()) {
+    result->problems.push_back(
+        {"/", "attribute 'fogpipe_format' is '" + tag +
+                  "', which names no fogpipe file format with a schema here (known: results-v1)"});
+    return std::nullopt;
+  }
+  return Schema::FromFile(result->schema_path);
+}
+
+}  // namespace
 
 FileValidation ValidateFile(const std::string& path, const FileValidationOptions& options) {
   FileValidation result;
@@ -68,18 +119,19 @@ FileValidation ValidateFile(const std::string& path, const FileValidationOptions
       return result;
     }
     result.detected = tag.empty() ? "recording" : tag;
-    result.schema = options.schema.empty() ? SchemaNameForFormat(tag) : options.schema;
-    const bool is_path = result.schema.find('/') != std::string::npos ||
-                         result.schema.find(".json") != std::string::npos;
-    result.schema_path =
-        is_path ? result.schema : FindSchemaFile(result.schema, options.schemas_dir);
-    if (result.schema_path.empty()) {
-      std::string folders;
-      for (const std::string& f : SchemaSearchPath(options.schemas_dir)) folders += "\n  " + f;
-      result.usage_error = "schema '" + result.schema + ".json' not found; looked in:" + folders;
-      return result;
+    // A recording is held to the layout built into the binary, the one every reading command
+    // uses, unless the user names another (--schema, or a --schemas folder).
+    const bool built_in = tag.empty() && options.schema.empty() && options.schemas_dir.empty();
+    std::optional<Schema> chosen;
+    if (!built_in) {
+      chosen = !options.schema.empty() ? UserSchema(options.schema, options, &result)
+               : tag.empty()           ? UserSchema(kRecordingSchemaName, options, &result)
+                                       : TaggedSchema(tag, options, &result);
+      if (!chosen) return result;
+    } else {
+      result.schema_path = "(built in)";
     }
-    const Schema schema = Schema::FromFile(result.schema_path);
+    const Schema& schema = chosen ? *chosen : RecordingSchema();
     result.schema = schema.name();
     if (tag.empty()) {
       // A recording: the checks every reading command makes (recording_check.h).
@@ -114,6 +166,7 @@ std::string ToWire(const FileValidation& v) {
   j["samples_per_column"] = v.samples_per_column;
   j["usage_error"] = v.usage_error;
   for (const SchemaProblem& p : v.problems) j["problems"].push_back({p.object, p.message});
+  for (const SchemaProblem& p : v.warnings) j["warnings"].push_back({p.object, p.message});
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
@@ -130,6 +183,9 @@ FileValidation FromWire(const std::string& path, const std::string& wire) {
   v.usage_error = j.at("usage_error").get<std::string>();
   if (j.contains("problems")) {
     for (const auto& p : j["problems"]) v.problems.push_back({p[0], p[1]});
+  }
+  if (j.contains("warnings")) {
+    for (const auto& p : j["warnings"]) v.warnings.push_back({p[0], p[1]});
   }
   return v;
 }

@@ -17,9 +17,12 @@ namespace fogpipe::io {
 inline constexpr const char* kFormatAttribute = "fogpipe_format";
 
 struct FileValidationOptions {
-  /// Folder with the schema files ("" = the default search path, see SchemaSearchPath()).
+  /// Folder with the schema files ("" = the default search path, see SchemaSearchPath()). A
+  /// recording is held to the built-in recording-v1 layout (recording_check.h) unless this or
+  /// `schema` is given.
   std::string schemas_dir;
-  /// Force a schema by name ("recording-v1") or path ("x/y.json"); "" = detect from the file.
+  /// Force a schema by name ("recording-v1") or path ("x/y.json"); "" = detect from the file
+  /// (a fogpipe output's `fogpipe_format` tag may name a schema, never a path).
   std::string schema;
   /// Read every axis and aux channel of a recording and run the reader's checks.
   bool check_data = true;
@@ -36,6 +39,8 @@ struct FileValidation {
   std::string schema;    ///< schema name used, e.g. "recording-v1"
   std::string schema_path;
   std::vector<SchemaProblem> problems;  ///< empty when valid
+  /// Found but not making the file invalid: an aux channel `run` reads only for --model.
+  std::vector<SchemaProblem> warnings;
   long long objects_checked = 0;
   long long samples_checked = 0;     ///< values read by the semantic checks
   long long samples_per_column = 0;  ///< N of a recording whose metadata were admitted

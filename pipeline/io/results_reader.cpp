@@ -9,6 +9,7 @@
 #include "pipeline/hdf5/file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/file_validation.h"
+#include "pipeline/io/isolated_call.h"
 #include "pipeline/io/results_layout.h"
 #include "pipeline/io/sha256.h"
 
@@ -193,29 +194,24 @@ CompletedResults CheckCompletedResults(const std::string& output_path,
     out.verdict = Verdict::kRerun;
     return out;
   }
+  // The recorded input is this input: the same path (the identity "done" is defined by) and the
+  // same bytes. Another input with the same output name, even a byte-identical copy, is a
+  // collision: its results would carry the other file's provenance.
+  if (!SamePath(recorded_path, input_path)) {
+    out.verdict = Verdict::kCollision;
+    out.reason = output_path + " already holds the results of another input, " + recorded_path +
+                 " (same output name; give the inputs distinct names or another output folder)";
+    return out;
+  }
   std::string error;
   const auto size = std::filesystem::file_size(input_path, ec);
   const auto sha = ec ? std::nullopt : Sha256FileHex(input_path, &error);
   if (sha && static_cast<long long>(size) == recorded_size && *sha == recorded_sha) {
-    // Identical bytes give identical numbers: a moved or copied archive is not analysed again,
-    // but the status line says where the results came from.
     out.verdict = Verdict::kDone;
-    if (!SamePath(recorded_path, input_path)) {
-      out.reason =
-          "output is valid, with the same configuration and the same input content, "
-          "recorded from " +
-          recorded_path;
-    }
     return out;
   }
-  if (SamePath(recorded_path, input_path)) {
-    out.verdict = Verdict::kRerun;
-    out.reason = "input changed since its results were written";
-    return out;
-  }
-  out.verdict = Verdict::kCollision;
-  out.reason = output_path + " already holds the results of another input, " + recorded_path +
-               " (same output name; give the inputs distinct names or another output folder)";
+  out.verdict = Verdict::kRerun;
+  out.reason = "input changed since its results were written";
   return out;
 }
 
@@ -244,6 +240,37 @@ std::string FormatSummary(const ResultsSummary& summary) {
         << method::FormatTable5(axis.table5);
   }
   return out.str();
+}
+
+std::string FormatResultsSummaryIsolated(const std::string& path) {
+  constexpr int kReadError = 1;
+  const IsolationLimits limits;
+  IsolatedOutcome outcome;
+  {
+    // Held across the fork so that the child finds HDF5 idle (isolated_call.h); the child
+    // releases its copy before ReadResultsSummary takes the lock again.
+    auto lock = hdf5::LockHdf5();
+    outcome = RunIsolated(
+        [&](std::string* out) {
+          lock.unlock();
+          try {
+            *out = FormatSummary(ReadResultsSummary(path));
+            return 0;
+          } catch (const std::exception& e) {
+            *out = e.what();
+            return kReadError;
+          }
+        },
+        limits);
+  }
+  using End = IsolatedOutcome::End;
+  if (outcome.end == End::kExited && outcome.exit_code == 0) return outcome.output;
+  if (outcome.end == End::kExited && outcome.exit_code == kReadError) {
+    throw std::runtime_error(outcome.output);
+  }
+  throw std::runtime_error(path + ": reading it, the HDF5 library " + outcome.Describe(limits) +
+                           " (damaged HDF5 metadata); the failure was contained in a child "
+                           "process");
 }
 
 }  // namespace fogpipe::io

@@ -41,8 +41,7 @@ std::optional<std::string> ReadConfigHash(const std::string& path);
 struct CompletedResults {
   enum class Verdict {
     kAbsent,     ///< no results file: analyse
-    kDone,       ///< valid, same configuration, same input content: skip (`reason` names
-                 ///< the recorded input when it was at another path)
+    kDone,       ///< valid, same configuration, same input path and content: skip
     kRerun,      ///< analyse again; `reason` says why ("" for a changed configuration)
     kCollision,  ///< the file holds the results of another input with the same output name
   };
@@ -52,15 +51,20 @@ struct CompletedResults {
 
 /// "Done" means: the results file at `output_path` passes its layout schema (checked in a child
 /// process, so a damaged file cannot take the campaign down), its configuration hash equals
-/// `config_sha256`, and its recorded input size and SHA-256 equal those of `input_path` now.
-/// Hashing the input reads it once. When the content differs, the same recorded path means the
-/// input changed (rerun); another path means two inputs share the output name (collision).
-/// Never throws.
+/// `config_sha256`, and its recorded input path, size and SHA-256 are those of `input_path` now.
+/// Hashing the input reads it once. The same path with other content means the input changed
+/// (rerun); another path means two inputs share the output name (collision), even when their
+/// bytes are equal. Never throws.
 CompletedResults CheckCompletedResults(const std::string& output_path,
                                        const std::string& input_path,
                                        const std::string& config_sha256);
 
 /// Human-readable summary: provenance, then per axis Table 3 and Table 5 with units.
 std::string FormatSummary(const ResultsSummary& summary);
+
+/// FormatSummary(ReadResultsSummary(path)) in a child process (isolated_call.h): a damaged
+/// results file that crashes or hangs the HDF5 library is reported by name, and the caller goes
+/// on. Throws std::runtime_error naming the file. Take no lock around it.
+std::string FormatResultsSummaryIsolated(const std::string& path);
 
 }  // namespace fogpipe::io

@@ -242,9 +242,9 @@ def case_identity(tmp):
     shutil.copyfile(os.path.join(a, "rec.h5"), os.path.join(c, "rec.h5"))
     run(["run", c, "-o", out])
     last = status_lines(out)[-1]
-    check(last["status"] == "skipped" and "recorded from" in last["message"] and
-          "idA" in last["message"],
-          f"identity: a byte-identical copy is skipped, naming the recorded input ({last['message']})")
+    check(last["status"] == "failed" and "already holds the results of another input" in
+          last["message"] and "idA" in last["message"],
+          f"identity: a byte-identical copy at another path fails, naming A ({last['message']})")
     r = run(["run", b, "-o", out])
     last = status_lines(out)[-1]
     check(last["status"] == "failed" and "already holds the results of another input" in

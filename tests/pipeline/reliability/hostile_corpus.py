@@ -8,6 +8,7 @@ h5py + numpy (seeded) into a folder, so the corpus is generated, never stored.
 Imported by hostile_inputs_test.py and scripts/fuzz_campaign.py.
 """
 import os
+import struct
 import stat
 import sys
 
@@ -41,6 +42,25 @@ def corrupt_units_heap(path, offset=26, value=0xFF):
         data[at + offset] = value
         f.seek(0)
         f.write(data)
+
+
+def heap_objects(data):
+    """(index, offset) of every object of the first global heap collection ("GCOL"): each object
+    header is index (2 bytes), reference count (2), reserved (4), size (8), then the data padded to
+    8 bytes; the collection's own size is at GCOL + 8."""
+    at = data.find(b"GCOL")
+    if at < 0:
+        return []
+    end = at + struct.unpack("<Q", data[at + 8:at + 16])[0]
+    objects, p = [], at + 16
+    while p + 16 <= end:
+        index = struct.unpack("<H", data[p:p + 2])[0]
+        size = struct.unpack("<Q", data[p + 8:p + 16])[0]
+        if index == 0:
+            break
+        objects.append((index, p))
+        p += 16 + (size + 7) // 8 * 8
+    return objects
 
 
 def write_corpus(folder):

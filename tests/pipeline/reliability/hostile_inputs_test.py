@@ -186,6 +186,34 @@ def full_disk(tmp):
     check(parsed == len(lines), f"full disk: every status line is whole ({parsed} of {len(lines)})")
 
 
+def damaged_results(tmp):
+    """`info` on results files with one size byte of a global-heap object set to 0xFF (the byte
+    that crashes HDF5 1.10's attribute reader): never a crash, each damaged file named, and the
+    files beside it still summarised."""
+    src = os.path.join(tmp, "res.h5")
+    hostile_corpus.write_valid(src, 302)
+    outdir = os.path.join(tmp, "out_res")
+    r = run(["run", src, "-o", outdir])
+    check(r.returncode == 0, f"a results file to damage ({r.returncode})")
+    good = os.path.join(outdir, "res.fogpipe.h5")
+    data = open(good, "rb").read()
+    objects = hostile_corpus.heap_objects(data)
+    check(len(objects) >= 3, f"the results file has global-heap strings ({len(objects)})")
+    crashed, named = 0, 0
+    for index, offset in objects:
+        bad = os.path.join(tmp, f"res_heap{index}.fogpipe.h5")
+        damaged = bytearray(data)
+        damaged[offset + 10] = 0xFF
+        open(bad, "wb").write(damaged)
+        r = run(["info", good, bad, good], timeout=120)
+        crashed += r.returncode < 0 or r.returncode > 1
+        named += r.returncode == 0 or bad in r.stderr
+        check(r.stdout.count(good + "\n  input ") == 2,
+              f"info still summarises the good files beside heap object {index}")
+    check(crashed == 0, f"info on {len(objects)} damaged results files: {crashed} crashes")
+    check(named == len(objects), f"every failing damaged file is named ({named} of {len(objects)})")
+
+
 def planted_symlink(tmp):
     src = os.path.join(tmp, "s.h5")
     hostile_corpus.write_valid(src, 301)
@@ -240,6 +268,7 @@ with tempfile.TemporaryDirectory() as tmp:
     campaign(tmp)
     write_error(tmp)
     full_disk(tmp)
+    damaged_results(tmp)
     planted_symlink(tmp)
     overlapping(tmp)
 print(f"{len(failures)} failure(s)")
