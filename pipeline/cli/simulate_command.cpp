@@ -29,6 +29,8 @@
 #include "algorithms/simulation/gyro_simulator.h"
 #include "algorithms/simulation/navigation_grade.h"
 #include "pipeline/cli/commands.h"
+#include "pipeline/graph/output_space.h"
+#include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/recording_writer.h"
 
 namespace fogpipe::cli {
@@ -195,8 +197,10 @@ std::string FileName(const SimulateArguments& a, int index) {
 }
 
 // Simulates and writes one file; returns false (after printing why) on failure.
+/// Writes one recording and its truth sidecar, both or neither; *write_error is set when a
+/// write failed (not for a simulation that could not run).
 bool WriteOne(const SimulateArguments& a, const sim::GyroSimulatorOptions& base,
-              const std::string& path) {
+              const std::string& path, std::string* write_error) {
   static const char* kAxisNames[] = {"x", "y", "z"};
   io::RecordingData data;
   data.sample_rate_hz = base.sample_rate_hz;
@@ -228,16 +232,26 @@ bool WriteOne(const SimulateArguments& a, const sim::GyroSimulatorOptions& base,
   io::RecordingWriterOptions writer;
   writer.rate_unit = *units::ParseRateUnit(a.units);
   writer.sample_type = a.dtype == "float32" ? io::SampleType::kFloat32 : io::SampleType::kFloat64;
+  // The truth first, the recording last: a recording never appears without its truth, and a
+  // truth whose recording could not be written is removed.
+  const std::string truth_path = io::TruthSidecarPath(path);
+  bool truth_written = false;
   try {
-    io::WriteRecording(path, data, writer);
     nlohmann::json truth = io::SimulationTruthToJson(truths, names);
     truth["recording"] = fs::path(path).filename().string();
     truth["profile"] = a.profile;
     truth["rate_units"] = a.units;
     truth["dtype"] = a.dtype;
-    io::WriteJsonFile(io::TruthSidecarPath(path), truth);
+    io::WriteJsonFile(truth_path, truth);
+    truth_written = true;
+    io::WriteRecording(path, data, writer);
   } catch (const std::exception& e) {
+    if (truth_written) {
+      std::error_code ec;
+      fs::remove(truth_path, ec);
+    }
     std::cerr << "fogpipe simulate: " << e.what() << "\n";
+    *write_error = e.what();
     return false;
   }
   return true;
@@ -261,15 +275,28 @@ int Run(const SimulateArguments& a) {
       return 1;
     }
   }
+  hdf5::SilenceHdf5ErrorPrinter();
   int failures = 0;
   for (int i = 0; i < count; ++i) {
     const std::string path =
         directory_mode ? (fs::path(a.output) / FileName(a, i)).string() : a.output;
-    if (WriteOne(a, options[i], path)) {
+    std::string write_error;
+    if (WriteOne(a, options[i], path, &write_error)) {
       std::cerr << "fogpipe simulate: wrote " << path << " (" << options[i].NumSamples()
                 << " samples x " << a.axes << " axes, seed " << options[i].seed << ")\n";
-    } else {
-      ++failures;
+      continue;
+    }
+    ++failures;
+    // A full or read-only device fails every later file too: stop, and name them.
+    const std::string folder = fs::absolute(path).parent_path().string();
+    const std::string exhausted =
+        write_error.empty() ? "" : graph::OutputExhaustedReason(folder, write_error);
+    if (!exhausted.empty() && i + 1 < count) {
+      std::cerr << "fogpipe simulate: " << exhausted << "; " << count - i - 1
+                << " more file(s) not written, from "
+                << (fs::path(a.output) / FileName(a, i + 1)).string() << "\n";
+      failures += count - i - 1;
+      break;
     }
   }
   return failures == 0 ? 0 : 1;

@@ -293,8 +293,10 @@ CampaignReport RunCampaign(const std::vector<io::InputFile>& inputs,
     }
   }
   const std::string status_path = (fs::path(options.output_dir) / "status.jsonl").string();
-  StatusLog log(options.dry_run ? std::string("/dev/null") : status_path);
-  if (!log.ok()) throw std::runtime_error(status_path + ": cannot open for appending");
+  StatusLog log(options.dry_run ? std::string() : status_path);
+  if (!log.ok()) {
+    throw std::runtime_error(status_path + ": cannot open for appending: " + log.problem());
+  }
   Progress progress(static_cast<int>(inputs.size()), options.progress_stream,
                     options.redraw_progress);
   CampaignReport* report_ptr = &report;
@@ -318,13 +320,13 @@ CampaignReport RunCampaign(const std::vector<io::InputFile>& inputs,
       using Verdict = io::CompletedResults::Verdict;
       if (done.verdict == Verdict::kDone || done.verdict == Verdict::kCollision) {
         const bool skip = done.verdict == Verdict::kDone;
-        FileOutcome outcome{input.path,
-                            skip ? output : "",
-                            0,
-                            skip ? FileStatus::kSkipped : FileStatus::kFailed,
-                            Seconds(start),
-                            skip ? "output is valid, with the same configuration and input content"
-                                 : done.reason};
+        FileOutcome outcome{
+            input.path,
+            skip ? output : "",
+            0,
+            skip ? FileStatus::kSkipped : FileStatus::kFailed,
+            Seconds(start),
+            skip ? "output is valid, with the same configuration and input content" : done.reason};
         runner.Record(outcome, i);
         continue;
       }

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "pipeline/graph/memory_budget.h"
+#include "pipeline/io/inputs.h"
 #include "pipeline/io/model_history.h"
 #include "pipeline/io/results_layout.h"
 #include "pipeline/io/sha256.h"
@@ -40,6 +41,10 @@ std::string Quoted(const std::string& text) {
 bool ReadModelCompensation(const std::string& path, CampaignOptions* o, std::string* error) {
   ModelCompensationOptions m;
   m.path = path;
+  if (const std::string problem = io::RegularFileProblem(path); !problem.empty()) {
+    *error = "--model " + path + ": needs a model file, but " + problem;
+    return false;
+  }
   try {
     const io::ModelFile file = io::ReadModelFile(path);
     m.deterministic = file.deterministic;
@@ -141,12 +146,8 @@ void AddRunOptions(CLI::App* cmd, RunConfig* c) {
 }
 
 bool ApplyConfigFile(CLI::App* cmd, const std::string& path, std::string* error) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    *error = path + ": --config needs a TOML file" +
-             (std::filesystem::is_directory(path, ec) ? ", not a folder"
-              : std::filesystem::exists(path, ec)     ? ", not a special file"
-                                                      : ", and there is no such file");
+  if (const std::string problem = io::RegularFileProblem(path); !problem.empty()) {
+    *error = path + ": --config needs a TOML file, but " + problem;
     return false;
   }
   try {

@@ -2,9 +2,11 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstring>
 #include <nlohmann/json.hpp>
 
 namespace fogpipe::graph {
@@ -33,8 +35,35 @@ std::string ToJsonLine(const FileOutcome& outcome) {
   return line.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
-StatusLog::StatusLog(const std::string& path)
-    : fd_(::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644)) {}
+StatusLog::StatusLog(const std::string& path) {
+  if (path.empty()) {
+    discard_ = true;
+    return;
+  }
+  // O_NONBLOCK: a FIFO planted at the log's name would otherwise block the open until a reader
+  // comes; it, a device or a second hard link to some other file is refused like a symlink.
+  const int fd = ::open(path.c_str(),
+                        O_WRONLY | O_APPEND | O_CREAT | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK, 0644);
+  if (fd < 0) {
+    problem_ = errno == ELOOP   ? "it is a symbolic link; refused"
+               : errno == ENXIO ? "it is a FIFO; refused"
+                                : std::strerror(errno);
+    return;
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    problem_ = "it is not a regular file; refused";
+  } else if (st.st_nlink > 1) {
+    problem_ = "it has another hard link, to a file elsewhere; refused";
+  } else if (::fcntl(fd, F_SETFL, O_WRONLY | O_APPEND) != 0) {
+    problem_ = std::strerror(errno);
+  }
+  if (!problem_.empty()) {
+    ::close(fd);
+    return;
+  }
+  fd_ = fd;
+}
 
 StatusLog::~StatusLog() {
   if (fd_ >= 0) ::close(fd_);
@@ -43,6 +72,7 @@ StatusLog::~StatusLog() {
 int StatusLog::Append(const FileOutcome& outcome) {
   const std::string line = ToJsonLine(outcome) + "\n";
   std::lock_guard<std::mutex> lock(mutex_);
+  if (discard_) return 0;
   if (fd_ < 0) return EBADF;
   // With O_APPEND the kernel places one write at the end at once. An exclusive flock across the
   // write keeps the line whole also where one write(2) is cut short (a signal, a filesystem that

@@ -1,8 +1,8 @@
 // OUTDIR/status.jsonl: one JSON object per line and per input file, each line written under an
 // exclusive flock on a descriptor opened with O_APPEND, so that a run killed at any point leaves
 // only complete lines and concurrent runs appending to one log never interleave within a line,
-// whatever its length. The log is opened with O_NOFOLLOW: a symlink planted in its place is
-// refused, never written through.
+// whatever its length. A symlink, FIFO, device or hard link planted in its place is refused,
+// never written through.
 //   {"file": "...", "output": "...", "axes": 3, "status": "ok", "seconds": 12.5, "message": ""}
 // status is "ok", "failed" or "skipped" (output present with the same configuration hash).
 #pragma once
@@ -26,13 +26,16 @@ struct FileOutcome {
 
 class StatusLog {
  public:
-  /// Opens `path` for appending (creates it). Check ok() before use.
+  /// Opens `path` for appending (creates it); "" gives a log that discards every line (a dry
+  /// run). Check ok() before use.
   explicit StatusLog(const std::string& path);
   ~StatusLog();
   StatusLog(const StatusLog&) = delete;
   StatusLog& operator=(const StatusLog&) = delete;
 
-  bool ok() const { return fd_ >= 0; }
+  bool ok() const { return fd_ >= 0 || discard_; }
+  /// Why it could not be opened ("" when ok()).
+  const std::string& problem() const { return problem_; }
   /// Appends one line under an exclusive flock (fsync is not needed for a killed process; the
   /// kernel keeps written data). Thread-safe, and safe between processes. Returns 0, or the
   /// errno of a failed write (ENOSPC, say), after which the log holds no part of the line.
@@ -41,6 +44,8 @@ class StatusLog {
  private:
   std::mutex mutex_;
   int fd_ = -1;
+  bool discard_ = false;
+  std::string problem_;
 };
 
 /// The JSON line for one outcome (no trailing newline).

@@ -4,8 +4,8 @@
 #include <cctype>
 #include <cstdint>
 #include <new>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/recording_check.h"
@@ -13,7 +13,6 @@
 
 namespace fogpipe::io {
 namespace {
-
 
 /// The `fogpipe_format` tag of an open file ("" when absent or not a string).
 std::string FormatTag(const hdf5::File& file) {
@@ -60,13 +59,15 @@ std::string SchemaNameForFormat(const std::string& format_tag) {
 
 namespace {
 
+constexpr const char* kResultsSchemaName = "results-v1";
+
 /// A plain schema name ("results-v1"): what a file's own `fogpipe_format` may select. Anything
 /// else (a path, "..") is the file's problem: a file never chooses what else is read.
 bool IsPlainSchemaName(const std::string& name) {
   if (name.empty() || name.size() > 64) return false;
   for (char c : name) {
-    if (!(std::islower(static_cast<unsigned char>(c)) || std::isdigit(static_cast<unsigned char>(c)) ||
-          c == '-' || c == '_')) {
+    if (!(std::islower(static_cast<unsigned char>(c)) ||
+          std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '_')) {
       return false;
     }
   }
@@ -77,7 +78,8 @@ bool IsPlainSchemaName(const std::string& name) {
 /// result->usage_error when it cannot be found or read.
 std::optional<Schema> UserSchema(const std::string& name, const FileValidationOptions& options,
                                  FileValidation* result) {
-  const bool is_path = name.find('/') != std::string::npos || name.find(".json") != std::string::npos;
+  const bool is_path =
+      name.find('/') != std::string::npos || name.find(".json") != std::string::npos;
   result->schema_path = is_path ? name : FindSchemaFile(name, options.schemas_dir);
   if (result->schema_path.empty()) {
     std::string folders;
@@ -93,6 +95,8 @@ std::optional<Schema> UserSchema(const std::string& name, const FileValidationOp
 std::optional<Schema> TaggedSchema(const std::string& tag, const FileValidationOptions& options,
                                    FileValidation* result) {
   const std::string name = SchemaNameForFormat(tag);
+  // The results layout ships with fogpipe: not finding it is an installation problem.
+  if (name == kResultsSchemaName) return UserSchema(name, options, result);
   if (IsPlainSchemaName(name)) result->schema_path = FindSchemaFile(name, options.schemas_dir);
   if (result->schema_path.empty()) {
     result->problems.push_back(
@@ -222,6 +226,11 @@ FileValidation ValidateInChild(const std::string& path, const FileValidationOpti
   }
   FileValidation v;
   v.file = path;
+  if (outcome.Interrupted()) {
+    v.problems.push_back({"/", "validation interrupted (" + outcome.Describe(limits) + ") [" +
+                                   std::string(error_kind::kInterrupted) + "]"});
+    return v;
+  }
   const char* kind =
       outcome.end == IsolatedOutcome::End::kSignalled  ? error_kind::kReaderCrashed
       : outcome.end == IsolatedOutcome::End::kTimedOut ? error_kind::kReaderTimeout

@@ -67,7 +67,11 @@ bool NextField(const std::string& line, std::size_t* pos, std::string* field, st
   field->clear();
   if (line[i] == '"') {
     for (++i; i < line.size() && line[i] != '"'; ++i) {
-      if (line[i] == '\\' && i + 1 < line.size()) ++i;
+      if (line[i] == '\\' && i + 1 < line.size()) {
+        ++i;
+        *field += line[i] == 'n' ? '\n' : line[i] == 'r' ? '\r' : line[i];
+        continue;
+      }
       *field += line[i];
     }
     if (i >= line.size()) {
@@ -89,6 +93,10 @@ bool NextField(const std::string& line, std::size_t* pos, std::string* field, st
 
 void AddManifest(const std::string& manifest, std::vector<InputFile>* out,
                  std::vector<std::string>* errors) {
+  if (const std::string problem = RegularFileProblem(manifest); !problem.empty()) {
+    errors->push_back(manifest + ": --manifest needs a manifest file, but " + problem);
+    return;
+  }
   std::ifstream in(manifest);
   if (!in) {
     errors->push_back(manifest + ": cannot read manifest");
@@ -121,12 +129,28 @@ void AddManifest(const std::string& manifest, std::vector<InputFile>* out,
 
 }  // namespace
 
+std::string RegularFileProblem(const std::string& path) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (ec || !fs::exists(status)) return "there is no such file";
+  if (fs::is_directory(status)) return "it is a folder";
+  if (!fs::is_regular_file(status)) return "it is a FIFO, device or socket";
+  return "";
+}
+
 std::string QuoteManifestPath(const std::string& path) {
   if (path.find_first_of(" \t\r\n#\"\\") == std::string::npos && !path.empty()) return path;
+  // A line break in a name is written as \n (and \r), so that one path stays one line.
   std::string quoted = "\"";
   for (char c : path) {
-    if (c == '"' || c == '\\') quoted += '\\';
-    quoted += c;
+    if (c == '\n') {
+      quoted += "\\n";
+    } else if (c == '\r') {
+      quoted += "\\r";
+    } else {
+      if (c == '"' || c == '\\') quoted += '\\';
+      quoted += c;
+    }
   }
   return quoted + "\"";
 }

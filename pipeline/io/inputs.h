@@ -35,8 +35,14 @@ struct InputFile {
 std::vector<InputFile> ListInputs(const std::vector<std::string>& arguments,
                                   const std::string& manifest, std::vector<std::string>* errors);
 
+/// Why `path`, a file an option names (--config, --manifest, --model), cannot be read as one:
+/// "there is no such file", "it is a folder", "it is a FIFO, device or socket" (opening one can
+/// block for ever); "" for a regular file (also through a symlink).
+std::string RegularFileProblem(const std::string& path);
+
 /// A path as a manifest spells it: as is when it holds no whitespace, '#', '"' or '\'; otherwise
-/// in double quotes, with '"' and '\' preceded by '\'.
+/// in double quotes, with '"' and '\' preceded by '\', and line feeds and carriage returns written
+/// as \n and \r.
 std::string QuoteManifestPath(const std::string& path);
 
 /// One manifest line: `PATH [SIZE] [# comment]`. PATH is quoted as QuoteManifestPath writes it

@@ -77,8 +77,8 @@ std::string IsolatedOutcome::Describe(const IsolationLimits& limits) const {
       out << "ended with exit code " << exit_code;
       break;
     case End::kSignalled:
-      out << "crashed with signal " << signal << " (SIG" << (sigabbrev_np(signal) ? sigabbrev_np(signal) : "?")
-          << ")";
+      out << "crashed with signal " << signal << " (SIG"
+          << (sigabbrev_np(signal) ? sigabbrev_np(signal) : "?") << ")";
       break;
     case End::kTimedOut:
       out << "did not finish within " << limits.seconds << " s";
@@ -156,6 +156,11 @@ IsolatedOutcome RunIsolated(const std::function<int(std::string* output)>& body,
     outcome.exit_code = WEXITSTATUS(status);
   }
   return outcome;
+}
+
+bool IsolatedOutcome::Interrupted() const {
+  return end == End::kStopped ||
+         (end == End::kSignalled && (signal == SIGINT || signal == SIGTERM || signal == SIGHUP));
 }
 
 }  // namespace fogpipe::io

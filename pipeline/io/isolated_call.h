@@ -31,14 +31,17 @@ struct IsolationLimits {
 struct IsolatedOutcome {
   enum class End { kExited, kSignalled, kTimedOut, kStopped, kNotStarted };
   End end = End::kNotStarted;
-  int exit_code = 0;    ///< kExited: the body's return value
-  int signal = 0;       ///< kSignalled: the signal that ended the child
-  std::string output;   ///< bytes the body wrote to *output (binary-safe)
-  std::string error;    ///< kNotStarted: why (fork or pipe failed)
-  double seconds = 0.0; ///< wall time the child ran
+  int exit_code = 0;     ///< kExited: the body's return value
+  int signal = 0;        ///< kSignalled: the signal that ended the child
+  std::string output;    ///< bytes the body wrote to *output (binary-safe)
+  std::string error;     ///< kNotStarted: why (fork or pipe failed)
+  double seconds = 0.0;  ///< wall time the child ran
 
   /// "crashed with signal 11 (SIGSEGV)", "did not finish within 60 s", ... (not for kExited 0).
   std::string Describe(const IsolationLimits& limits) const;
+  /// Stopped on request, or ended by SIGINT, SIGTERM or SIGHUP: a terminal's Ctrl-C reaches the
+  /// whole process group, the child included. Never the file's fault.
+  bool Interrupted() const;
 };
 
 /// Runs `body(&output)` in a child process and returns how it ended and what it wrote. The

@@ -62,6 +62,9 @@ void RunReaderChild(const std::string& path, const std::string& what,
                              std::to_string(limits.extra_memory_bytes >> 20) +
                              " MiB allowed (a damaged or implausible file); not analysed");
   }
+  if (outcome.Interrupted()) {
+    throw RecordingError(error_kind::kInterrupted, path, what + " interrupted by a stop request");
+  }
   if (outcome.end == End::kSignalled) {
     throw RecordingError(error_kind::kReaderCrashed, path,
                          "the HDF5 library " + outcome.Describe(limits) + " while " + what +
@@ -72,9 +75,6 @@ void RunReaderChild(const std::string& path, const std::string& what,
     throw RecordingError(error_kind::kReaderTimeout, path,
                          what + " " + outcome.Describe(limits) +
                              " (damaged metadata that loops, or a file that blocks); stopped");
-  }
-  if (outcome.end == End::kStopped) {
-    throw RecordingError(error_kind::kInterrupted, path, what + " interrupted by a stop request");
   }
   throw RecordingError(error_kind::kUnreadableFile, path, what + " " + outcome.Describe(limits));
 }

@@ -39,7 +39,8 @@ inline constexpr const char* kExternalData = "external_data";
 inline constexpr const char* kUnwrittenDataset = "unwritten_dataset";  ///< declared, never written
 /// Declared dims the file cannot hold, or beyond what fogpipe accepts (recording_limits.h).
 inline constexpr const char* kImplausibleShape = "implausible_shape";
-inline constexpr const char* kExtremeMagnitude = "extreme_magnitude";  ///< |x| beyond 1e+-100
+inline constexpr const char* kExtremeMagnitude =
+    "extreme_magnitude";  ///< |x| beyond 1e+-60 (recording_limits.h)
 /// Passed the reader's checks but not the recording-v1 layout (schemas/recording-v1.json).
 inline constexpr const char* kLayoutViolation = "layout_violation";
 /// The isolated inspection or read (isolated_call.h) crashed, hung or ran out of memory.

@@ -26,11 +26,14 @@ inline constexpr double kMaxExpansion = 1032.0;
 inline constexpr double kMinSampleRateHz = 1e-6;
 inline constexpr double kMaxSampleRateHz = 1e9;
 
-/// Sample magnitudes (in the file's own unit) outside [1e-100, 1e100], zero aside, are refused:
-/// the analysis squares and sums samples (variances, Allan, AR recursions); 1e100^2 and
-/// (1e-100)^2 are still normal doubles, while 1e300 overflows and subnormal values (~1e-310)
-/// lose all precision and make the EMD's extrema search degenerate.
-inline constexpr double kMaxMagnitude = 1e100;
-inline constexpr double kMinMagnitude = 1e-100;
+/// Sample magnitudes (in the file's own unit) outside [1e-60, 1e60], zero aside, are refused.
+/// The Kalman filters' Riccati equations multiply two variances (a sample's fourth power), and
+/// sums over up to 1e10 samples add ten orders: x^4 * 1e10 stays below the largest double
+/// (1.8e308) for |x| < 1e74, and (1e-60)^4 = 1e-240 stays a normal double (not subnormal,
+/// ~1e-308, where precision is lost and the EMD's extrema search degenerates). The margin of 14
+/// orders covers the unit conversion (deg/h to rad/s is 5e-6) and the noise rules' scale factors.
+/// Samples at 1e90, inside a looser bound, made the Riccati solver fail without naming the cause.
+inline constexpr double kMaxMagnitude = 1e60;
+inline constexpr double kMinMagnitude = 1e-60;
 
 }  // namespace fogpipe::io::limits

@@ -85,6 +85,32 @@ void CheckPathStaysInFile(const hdf5::Group& root, const std::string& path,
   }
 }
 
+/// How many chunks a chunked dataset has when every one is written; 0 for other layouts.
+long long ExpectedChunks(const hdf5::Dataset& dataset) {
+  const hid_t plist = H5Dget_create_plist(dataset.id());
+  if (plist < 0) return 0;
+  long long count = 0;
+  if (H5Pget_layout(plist) == H5D_CHUNKED) {
+    const std::vector<hsize_t> dims = dataset.dims();
+    std::vector<hsize_t> chunk(dims.size(), 0);
+    if (!dims.empty() && H5Pget_chunk(plist, static_cast<int>(chunk.size()), chunk.data()) ==
+                             static_cast<int>(dims.size())) {
+      count = 1;
+      for (std::size_t d = 0; d < dims.size() && count > 0; ++d) {
+        if (chunk[d] == 0) {
+          count = 0;
+          break;
+        }
+        const hsize_t per_dim = (dims[d] + chunk[d] - 1) / chunk[d];
+        // Declared sizes are bounded before this is called (no overflow of the product).
+        count *= static_cast<long long>(per_dim);
+      }
+    }
+  }
+  H5Pclose(plist);
+  return count;
+}
+
 /// Refuses datasets whose samples live outside the file (virtual datasets, external raw
 /// storage: a FIFO, a device or any other file could stand there), and datasets declared but
 /// never written. `values` is the declared element count, `element_bytes` the stored size.
@@ -110,11 +136,12 @@ void CheckStorage(const hdf5::Dataset& dataset, unsigned long long values,
                              "(refused: copy the data into the recording)");
   }
   H5D_space_status_t status = H5D_SPACE_STATUS_ERROR;
-  if (values > 0 && H5Dget_space_status(dataset.id(), &status) >= 0 &&
-      status == H5D_SPACE_STATUS_NOT_ALLOCATED) {
-    throw RecordingError(error_kind::kUnwrittenDataset, path,
-                         dataset.path() + " is declared with " + std::to_string(values) +
-                             " values but none was ever written (no storage allocated)");
+  if (values > 0 && H5Dget_space_status(dataset.id(), &status) >= 0) {
+    if (status == H5D_SPACE_STATUS_NOT_ALLOCATED) {
+      throw RecordingError(error_kind::kUnwrittenDataset, path,
+                           dataset.path() + " is declared with " + std::to_string(values) +
+                               " values but none was ever written (no storage allocated)");
+    }
   }
   unsigned long long declared = 0;
   if (__builtin_mul_overflow(values, static_cast<unsigned long long>(element_bytes), &declared) ||
@@ -125,6 +152,20 @@ void CheckStorage(const hdf5::Dataset& dataset, unsigned long long values,
                              std::to_string(element_bytes) + " bytes, more than a " +
                              std::to_string(file_size_bytes) +
                              "-byte file can hold even compressed (1032:1, deflate's limit)");
+  }
+  // Chunks never written read as the fill value (zeros), which would be analysed as samples.
+  // Counted, not judged by the space status, which reports a compressed dataset as partly
+  // allocated even when every chunk was written.
+  const long long expected = ExpectedChunks(dataset);
+  hsize_t written = 0;
+  if (expected > 0 && H5Dget_num_chunks(dataset.id(), H5S_ALL, &written) >= 0 &&
+      static_cast<long long>(written) < expected) {
+    throw RecordingError(error_kind::kUnwrittenDataset, path,
+                         dataset.path() + " is declared with " + std::to_string(values) +
+                             " values but only " + std::to_string(written) + " of its " +
+                             std::to_string(expected) +
+                             " chunks were ever written (a recording cut short?); the others "
+                             "would read as fill values");
   }
 }
 

@@ -268,6 +268,7 @@ std::string FormatResultsSummaryIsolated(const std::string& path) {
   if (outcome.end == End::kExited && outcome.exit_code == kReadError) {
     throw std::runtime_error(outcome.output);
   }
+  if (outcome.Interrupted()) throw std::runtime_error(path + ": interrupted");
   throw std::runtime_error(path + ": reading it, the HDF5 library " + outcome.Describe(limits) +
                            " (damaged HDF5 metadata); the failure was contained in a child "
                            "process");

@@ -3,6 +3,8 @@
 #include "pipeline/graph/run_config.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -13,6 +15,7 @@
 #include <vector>
 
 #include "pipeline/graph/memory_budget.h"
+#include "pipeline/io/inputs.h"
 
 namespace fogpipe::graph {
 namespace {
@@ -183,10 +186,32 @@ TEST(RunConfig, AConfigFileThatIsAFolderIsRefused) {
   AddRunOptions(&app, &config);
   std::string error;
   EXPECT_FALSE(ApplyConfigFile(&app, "/tmp", &error));
-  EXPECT_NE(error.find("not a folder"), std::string::npos) << error;
+  EXPECT_NE(error.find("it is a folder"), std::string::npos) << error;
   error.clear();
   EXPECT_FALSE(ApplyConfigFile(&app, "/nonexistent/fogpipe.toml", &error));
   EXPECT_NE(error.find("no such file"), std::string::npos) << error;
+}
+
+// --manifest and --model name files too: a folder, a FIFO (whose open blocks until a writer
+// comes) or /dev/null is refused by name before it is opened, never read as an empty list.
+TEST(RunConfig, ManifestAndModelFilesMustBeRegularFiles) {
+  const std::string fifo = "/tmp/fogpipe-run-config-test-" + std::to_string(getpid()) + ".fifo";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string path : {std::string("/tmp"), fifo, std::string("/dev/null")}) {
+    std::vector<std::string> errors;
+    const auto inputs = io::ListInputs({}, path, &errors);
+    EXPECT_TRUE(inputs.empty());
+    ASSERT_EQ(errors.size(), 1u) << path;
+    EXPECT_NE(errors[0].find("--manifest needs a manifest file"), std::string::npos) << errors[0];
+    RunConfig config;
+    config.output_dir = "out";
+    config.model = path;
+    CampaignOptions options;
+    std::string error;
+    EXPECT_FALSE(ToCampaignOptions(config, &options, &error)) << path;
+    EXPECT_NE(error.find("needs a model file"), std::string::npos) << error;
+  }
+  unlink(fifo.c_str());
 }
 
 }  // namespace

@@ -72,13 +72,14 @@ TEST_F(InputsTest, ReadsAManifestWithCommentsSizesAndRelativePaths) {
 
 // Paths with spaces, '#', quotes and backslashes survive `fogpipe plan`'s manifest and
 // `run --manifest`: FormatManifest quotes them and ListInputs reads them back unchanged.
-TEST_F(InputsTest, ManifestPathsWithSpacesHashesAndQuotesRoundTrip) {
-  for (const char* f : {"b/run 2.h5", "b/run#3.h5", "b/q\"uo\\te.h5", "b/plain.h5"})
+TEST_F(InputsTest, ManifestPathsWithSpacesHashesQuotesAndLineBreaksRoundTrip) {
+  for (const char* f : {"b/run 2.h5", "b/run#3.h5", "b/q\"uo\\te.h5", "b/plain.h5",
+                        "b/line\nbreak.h5", "b/cr\rname.h5"})
     std::ofstream(root_ / f) << "0123456789";
   std::vector<std::string> errors;
   const auto listed = ListInputs({P("b")}, "", &errors);
   ASSERT_TRUE(errors.empty());
-  ASSERT_EQ(listed.size(), 6u);
+  ASSERT_EQ(listed.size(), 8u);
   std::ofstream(root_ / "plan.txt") << io::FormatManifest(listed);
   const auto read = ListInputs({}, P("plan.txt"), &errors);
   EXPECT_TRUE(errors.empty()) << errors.front();

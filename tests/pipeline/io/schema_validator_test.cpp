@@ -323,6 +323,26 @@ TEST(FileValidation, ReportsFilesThatAreNotHdf5AsInvalidNotAsUsageErrors) {
   EXPECT_NE(v.problems[0].message.find("[not_hdf5]"), std::string::npos);
 }
 
+// A file's own attribute may name a schema, never a path: a tag that names no known format is
+// that file's problem (the command goes on with the next file), and nothing it names is opened.
+TEST(FileValidation, AFormatTagThatNamesAPathOrNoFormatIsTheFilesProblem) {
+  TempDir dir;
+  for (const std::string tag : {"/etc/passwd", "../schemas/recording-v1.json", "foo"}) {
+    const std::string path = dir.File("tagged.h5");
+    {
+      RawFile f(path);
+      RateOk(f);
+      f.DoubleAttribute("/", "sample_rate_hz", 10.0);
+      f.StringAttribute("/", "fogpipe_format", tag);
+    }
+    const FileValidation v = ValidateRecording(path);
+    EXPECT_TRUE(v.usage_error.empty()) << tag << ": " << v.usage_error;
+    EXPECT_NE(Lines(v.problems).find("names no fogpipe file format"), std::string::npos)
+        << tag << ": " << Lines(v.problems);
+    EXPECT_TRUE(v.schema_path.empty()) << tag << ": " << v.schema_path;
+  }
+}
+
 TEST(FileValidation, PicksTheSchemaFromTheFormatTagAndFailsCleanlyWhenItIsMissing) {
   EXPECT_EQ(SchemaNameForFormat(""), "recording-v1");
   EXPECT_EQ(SchemaNameForFormat("fogpipe-results-v1"), "results-v1");

@@ -3,8 +3,9 @@
 #   1. its contents (dpkg-deb -c): the binary, every schema of schemas/, the user scripts, the licence;
 #   2. its Depends cover every shared library the binary links (objdump -p NEEDED -> dpkg -S);
 #   3. unpacked into a temporary root (dpkg-deb -x), the binary runs and `fogpipe validate` finds the
-#      installed schemas next to it (no $FOGPIPE_SCHEMAS_DIR, no source tree);
-#   4. a copy of the binary without schemas fails with exit code 2 and names the folders it tried.
+#      installed results schema next to it (no $FOGPIPE_SCHEMAS_DIR, no source tree);
+#   4. a copy of the binary without schemas still validates recordings (their layout is built in),
+#      and fails on a results file with exit code 2, naming the folders it tried.
 #   tests/pipeline/packaging/package_test.sh BUILD_DIR SOURCE_DIR
 # Exit 77 (a ctest skip) when dpkg-deb, dpkg or objdump is missing (not a Debian-like system).
 set -euo pipefail
@@ -59,14 +60,18 @@ done
 "$fogpipe" validate --help >"$work/help.txt" || fail "validate --help failed"
 grep -q -- "--schemas" "$work/help.txt" || fail "validate --help does not describe --schemas"
 "$fogpipe" simulate --profile paper --duration-s 600 --seed 3 -o "$work/rec.h5" >/dev/null
-(cd "$work" && env -u FOGPIPE_SCHEMAS_DIR "$fogpipe" validate "$work/rec.h5") ||
-  fail "the unpacked fogpipe did not validate a recording with its installed schemas"
+"$fogpipe" run "$work/rec.h5" -o "$work/out" >/dev/null 2>&1 || fail "the unpacked fogpipe run failed"
+results="$work/out/rec.fogpipe.h5"
+(cd "$work" && env -u FOGPIPE_SCHEMAS_DIR "$fogpipe" validate "$work/rec.h5" "$results") ||
+  fail "the unpacked fogpipe did not validate a recording and a results file with its installed schemas"
 
 # ---- 4. without installed schemas: exit 2 and the folders tried
 mkdir -p "$work/lonely/bin"
 cp "$fogpipe" "$work/lonely/bin/fogpipe"
+(cd "$work" && env -u FOGPIPE_SCHEMAS_DIR "$work/lonely/bin/fogpipe" validate "$work/rec.h5") ||
+  fail "a fogpipe without installed schemas did not validate a recording (built-in layout)"
 set +e
-(cd "$work" && env -u FOGPIPE_SCHEMAS_DIR "$work/lonely/bin/fogpipe" validate "$work/rec.h5") \
+(cd "$work" && env -u FOGPIPE_SCHEMAS_DIR "$work/lonely/bin/fogpipe" validate "$results") \
   >"$work/lonely.txt" 2>&1
 code=$?
 set -e

@@ -109,7 +109,8 @@ def write_corpus(folder):
     bad[p] = "implausible_shape"
 
     # 4. denormal and extreme magnitudes.
-    for label, scale in (("denormal", 1e-310), ("tiny", 1e-300), ("huge", 1e300)):
+    for label, scale in (("denormal", 1e-310), ("tiny", 1e-300), ("huge", 1e300),
+                         ("riccati_overflow", 1e90)):
         p = name(f"magnitude_{label}.h5")
         write_valid(p, 5)
         with h5py.File(p, "a") as f:
@@ -186,6 +187,15 @@ def write_corpus(folder):
         d = f.create_dataset("rate", data=np.random.default_rng(10).standard_normal((64, 2000)))
         d.attrs["units"] = "deg/h"
     bad[p] = "wrong_shape"
+    # A chunked /rate of which only the first chunk was written (a recording cut short): the
+    # rest would read as fill-value zeros.
+    p = name("partly_written.h5")
+    with h5py.File(p, "w") as f:
+        f.attrs["sample_rate_hz"] = 100.0
+        d = f.create_dataset("rate", shape=(2000,), dtype="f8", chunks=(100,))
+        d[:100] = np.random.default_rng(11).standard_normal(100)
+        d.attrs["units"] = "deg/h"
+    bad[p] = "unwritten_dataset"
     return bad
 
 

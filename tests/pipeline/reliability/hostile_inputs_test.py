@@ -16,6 +16,8 @@ import subprocess
 import sys
 import tempfile
 
+import h5py
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import hostile_corpus  # noqa: E402
 
@@ -47,6 +49,10 @@ def campaign(tmp):
     valid = [os.path.join(folder, f"valid_{i}.h5") for i in range(3)]
     for i, p in enumerate(valid):
         hostile_corpus.write_valid(p, 200 + i)
+    # Inside the magnitude limits at both ends: analysed like any other record.
+    for p, scale in ((valid[1], 1e55), (valid[2], 1e-55)):
+        with h5py.File(p, "a") as f:
+            f["rate"][...] = f["rate"][...] * scale
     fifo = bad[os.path.join(folder, "fifo.h5")]  # listed by the folder, and given by name below
     for attempt in ("first run", "rerun"):
         outdir = os.path.join(tmp, "out")
@@ -119,6 +125,28 @@ def write_error(tmp):
     check("~" not in r.stderr, "merge's stderr has no destructor messages")
 
 
+def in_tmpfs(room_kib, outdir, report, command):
+    """Runs `command` with a tmpfs of `room_kib` KiB mounted at `outdir`, in a private mount
+    namespace (unshare(1)); its stdout, stderr, exit code, the folder's listing and copies of
+    its files land in `report`. False (and a skip message) where no namespace can be made."""
+    os.makedirs(outdir)
+    os.makedirs(report)
+    script = ('mount -t tmpfs -o size="$1"k tmpfs "$2" || exit 97; out="$2"; rep="$3"; '
+              'shift 3; "$@" >"$rep/stdout" 2>"$rep/stderr"; '
+              'echo $? >"$rep/rc"; ls -a "$out" >"$rep/listing"; '
+              'for f in "$out"/*; do [ -f "$f" ] && cp "$f" "$rep/"; done; exit 0')
+    try:
+        ns = subprocess.run(["unshare", "-rm", "sh", "-c", script, "sh", str(room_kib), outdir,
+                             report] + command, capture_output=True, text=True, timeout=600)
+    except FileNotFoundError:
+        ns = None
+    if ns is None or ns.returncode != 0:
+        print("skip full disk: no private mount namespace with a tmpfs here "
+              f"({ns.stderr.strip() if ns else 'no unshare'})", flush=True)
+        return False
+    return True
+
+
 def full_disk(tmp):
     """A real ENOSPC: the output folder is a tmpfs with room for about two results files, in a
     private mount namespace (unshare(1); skipped where the machine allows none). The campaign
@@ -135,22 +163,8 @@ def full_disk(tmp):
     room_kib = (5 * size // 2) // 1024 + 8
     outdir = os.path.join(tmp, "out_tmpfs")
     report = os.path.join(tmp, "full_report")
-    os.makedirs(outdir)
-    os.makedirs(report)
-    script = ('mount -t tmpfs -o size="$1"k tmpfs "$2" || exit 97; shift 2; out="$1"; rep="$2"; '
-              'shift 2; "$@" -o "$out" --threads 1 >"$rep/stdout" 2>"$rep/stderr"; '
-              'echo $? >"$rep/rc"; ls -a "$out" >"$rep/listing"; '
-              'cp "$out/status.jsonl" "$rep/" 2>/dev/null; '
-              'for f in "$out"/*.h5; do [ -e "$f" ] && cp "$f" "$rep/"; done; exit 0')
-    try:
-        ns = subprocess.run(["unshare", "-rm", "sh", "-c", script, "sh", str(room_kib), outdir,
-                             outdir, report, FOGPIPE, "run"] + srcs,
-                            capture_output=True, text=True, timeout=600)
-    except FileNotFoundError:
-        ns = None
-    if ns is None or ns.returncode != 0:
-        print("skip full disk: no private mount namespace with a tmpfs here "
-              f"({ns.stderr.strip() if ns else 'no unshare'})", flush=True)
+    if not in_tmpfs(room_kib, outdir, report, [FOGPIPE, "run"] + srcs +
+                    ["-o", outdir, "--threads", "1"]):
         return
     rc = int(open(os.path.join(report, "rc")).read())
     err = open(os.path.join(report, "stderr")).read()
@@ -164,7 +178,6 @@ def full_disk(tmp):
     temps = [n for n in names if ".tmp-" in n]
     check(temps == [], f"full disk: no temporary or partial output is left ({temps})")
     written = [n for n in names if n.endswith(".h5")]
-    import h5py
     whole = 0
     for n in written:
         try:
@@ -184,6 +197,31 @@ def full_disk(tmp):
         except ValueError:
             pass
     check(parsed == len(lines), f"full disk: every status line is whole ({parsed} of {len(lines)})")
+
+    # simulate: each recording with its truth or neither, and it stops at the full device.
+    probe = os.path.join(tmp, "sim_probe")
+    r = run(["simulate", "-o", probe, "--files", "1", "--profile", "paper", "--seed", "5"])
+    check(r.returncode == 0, f"a simulated recording to size the device ({r.returncode})")
+    size = sum(os.path.getsize(os.path.join(probe, n)) for n in os.listdir(probe))
+    outdir = os.path.join(tmp, "sim_tmpfs")
+    report = os.path.join(tmp, "sim_full_report")
+    if not in_tmpfs((3 * size // 2) // 1024 + 8, outdir, report,
+                    [FOGPIPE, "simulate", "-o", outdir, "--files", "6", "--profile", "paper",
+                     "--seed", "5"]):
+        return
+    rc = int(open(os.path.join(report, "rc")).read())
+    err = open(os.path.join(report, "stderr")).read()
+    names = open(os.path.join(report, "listing")).read().split()
+    recordings = sorted(n for n in names if n.endswith(".h5"))
+    truths = sorted(n[:-len(".truth.json")] for n in names if n.endswith(".truth.json"))
+    check(rc == 1 and "is full" in err and "more file(s) not written" in err,
+          f"full disk: simulate stops at the full device and says so (rc {rc})")
+    check(recordings == truths and len(recordings) >= 1,
+          f"full disk: every simulated recording has its truth and no truth is alone "
+          f"({recordings} / {truths})")
+    check(not any(".tmp-" in n for n in names), "full disk: simulate leaves no temporary file")
+    check(err.count("HDF5 error stack") <= 1,
+          f"full disk: simulate reports the write error once ({err.count('HDF5 error stack')})")
 
 
 def damaged_results(tmp):
@@ -227,6 +265,21 @@ def planted_symlink(tmp):
     check(r.returncode == 2, f"a planted status.jsonl symlink is refused (rc {r.returncode})")
     with open(target) as f:
         check(f.read() == "untouched\n", "the symlink's target is not written")
+    # A FIFO (whose open would block) and a hard link to a file elsewhere, planted at the log's
+    # name: refused at once, nothing written through.
+    for kind in ("fifo", "hardlink"):
+        out = os.path.join(tmp, f"out_planted_{kind}")
+        os.makedirs(out)
+        log = os.path.join(out, "status.jsonl")
+        if kind == "fifo":
+            os.mkfifo(log)
+        else:
+            os.link(target, log)
+        r = run(["run", src, "-o", out], timeout=60)
+        check(r.returncode == 2 and "status.jsonl" in r.stderr and "refused" in r.stderr,
+              f"a planted status.jsonl {kind} is refused (rc {r.returncode}: {r.stderr.strip()})")
+    with open(target) as f:
+        check(f.read() == "untouched\n", "the hard link's target is not written")
     # merge --csv: the table is written beside a planted link, never through or over it.
     done = os.path.join(tmp, "out_link_merge")
     r = run(["run", src, "-o", done])
