@@ -17,5 +17,6 @@ void AddCompareCommand(CLI::App& app, int* exit_code);   // compare_command.cpp 
 void AddSweepCommand(CLI::App& app, int* exit_code);     // sweep_command.cpp    (AR/Q/R grids)
 void AddPlanCommand(CLI::App& app, int* exit_code);      // plan_command.cpp     (Slurm manifests)
 void AddMergeCommand(CLI::App& app, int* exit_code);     // merge_command.cpp    (campaign table)
+void AddImportCommand(CLI::App& app, int* exit_code);    // import_command.cpp   (text, MATLAB)
 
 }  // namespace fogpipe::cli

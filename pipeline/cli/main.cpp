@@ -70,6 +70,7 @@ int main(int argc, char** argv) {
   fogpipe::cli::AddSweepCommand(app, &exit_code);
   fogpipe::cli::AddPlanCommand(app, &exit_code);
   fogpipe::cli::AddMergeCommand(app, &exit_code);
+  fogpipe::cli::AddImportCommand(app, &exit_code);
 
   try {
     app.parse(argc, argv);

@@ -240,11 +240,14 @@ bool IsConstant(const Eigen::VectorXd& x) {
   return true;
 }
 
-/// A valid axis name is usable as an HDF5 group name and in a CLI argument.
+}  // namespace
+
 bool IsValidAxisName(const std::string& name) {
   return !name.empty() && name != "." && name != ".." && name.find('/') == std::string::npos &&
          name.find('\0') == std::string::npos;
 }
+
+namespace {
 
 void CheckReadable(const std::string& path, long long* size_bytes) {
   std::error_code ec;

@@ -112,6 +112,10 @@ class RecordingReader {
   RecordingInfo info_;
 };
 
+/// A valid axis name (of the `axes` attribute) is usable as an HDF5 group name and in a CLI
+/// argument: not empty, not "." or "..", no '/' and no NUL.
+bool IsValidAxisName(const std::string& name);
+
 /// Opens any HDF5 file read-only after the checks every reader of fogpipe files needs, each with
 /// its RecordingError kind: missing_file, unreadable_file, empty_file, not_hdf5, truncated_file,
 /// corrupt_file. Caller holds LockHdf5().

@@ -1,5 +1,6 @@
 #include "pipeline/io/recording_writer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -16,20 +17,38 @@ namespace {
 namespace fs = std::filesystem;
 namespace sim = fogpipe::simulation;
 
+bool InOutputUnit(const RecordingData& data) { return data.rate_in_output_unit.size() > 0; }
+
+const Eigen::MatrixXd& RateMatrix(const RecordingData& data) {
+  return InOutputUnit(data) ? data.rate_in_output_unit : data.rate_rad_s;
+}
+
 void Validate(const RecordingData& data, const RecordingWriterOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument(error);
   if (!(data.sample_rate_hz > 0.0) || !std::isfinite(data.sample_rate_hz)) {
     throw std::invalid_argument("sample_rate_hz must be finite and > 0");
   }
-  if (data.rate_rad_s.rows() < 1 || data.rate_rad_s.cols() < 1) {
+  if (InOutputUnit(data) && data.rate_rad_s.size() > 0) {
+    throw std::invalid_argument("give the rate either in rad/s or in the output unit, not both");
+  }
+  const Eigen::MatrixXd& rate = RateMatrix(data);
+  if (rate.rows() < 1 || rate.cols() < 1) {
     throw std::invalid_argument("the rate needs at least one sample and one axis");
   }
-  if (!data.axes.empty() && data.axes.size() != static_cast<size_t>(data.rate_rad_s.cols())) {
+  if (!data.axes.empty() && data.axes.size() != static_cast<size_t>(rate.cols())) {
     throw std::invalid_argument("one axis name per rate column is needed");
   }
+  static const char* const kReserved[] = {"sample_rate_hz", "start_time_utc", "instrument",
+                                          "serial",         "latitude_deg",   "fogpipe_format"};
+  for (const auto& [name, value] : data.extra_root_attributes) {
+    if (name.empty() ||
+        std::find(std::begin(kReserved), std::end(kReserved), name) != std::end(kReserved)) {
+      throw std::invalid_argument("root attribute '" + name + "' cannot be set as an extra");
+    }
+  }
   for (const auto& [name, channel] : data.aux) {
-    if (channel.samples.size() != data.rate_rad_s.rows()) {
+    if (channel.samples.size() != rate.rows()) {
       throw std::invalid_argument("aux channel '" + name + "' must have as many samples as /rate");
     }
     if (name.empty() || name.find('/') != std::string::npos || channel.units.empty()) {
@@ -70,11 +89,13 @@ bool RecordingWriterOptions::IsValid(std::string* error) const {
 void WriteRecording(const std::string& path, const RecordingData& data,
                     const RecordingWriterOptions& options) {
   Validate(data, options);
-  const Eigen::Index n = data.rate_rad_s.rows();
-  const Eigen::Index axes = data.rate_rad_s.cols();
+  const Eigen::Index n = RateMatrix(data).rows();
+  const Eigen::Index axes = RateMatrix(data).cols();
   // Row-major [N, A] in the declared unit (HDF5 converts to float32 on writing when asked).
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const RowMajor rate = data.rate_rad_s / units::ToRadPerSecond(options.rate_unit);
+  const RowMajor rate = InOutputUnit(data)
+                            ? RowMajor(data.rate_in_output_unit)
+                            : RowMajor(data.rate_rad_s / units::ToRadPerSecond(options.rate_unit));
   const bool one_d = axes == 1 && options.squeeze_single_axis;
   std::vector<hsize_t> dims = {static_cast<hsize_t>(n)};
   if (!one_d) dims.push_back(static_cast<hsize_t>(axes));
@@ -92,6 +113,9 @@ void WriteRecording(const std::string& path, const RecordingData& data,
       if (!data.instrument.empty()) root.WriteStringAttribute("instrument", data.instrument);
       if (!data.serial.empty()) root.WriteStringAttribute("serial", data.serial);
       if (data.latitude_deg) root.WriteDoubleAttribute("latitude_deg", *data.latitude_deg);
+      for (const auto& [name, value] : data.extra_root_attributes) {
+        root.WriteStringAttribute(name, value);
+      }
       hdf5::Dataset dataset =
           root.WriteDataset("rate", rate.data(), dims, units::ToString(options.rate_unit),
                             Layout(options, options.sample_type));

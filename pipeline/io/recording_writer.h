@@ -41,6 +41,13 @@ struct RecordingData {
   std::string serial;          ///< omitted when empty
   std::optional<double> latitude_deg;
   std::map<std::string, AuxChannel> aux;  ///< written as /aux/<name>, float64
+  /// [N, A] already in RecordingWriterOptions::rate_unit, written as it is; used instead of
+  /// rate_rad_s when not empty. An importer keeps the source's numbers to the last bit this way,
+  /// where a round trip through rad/s would change the last bit of some of them.
+  Eigen::MatrixXd rate_in_output_unit;
+  /// Further string attributes of the root group (e.g. where an imported recording came from).
+  /// The contract's own root attributes and `fogpipe_format` cannot be set here.
+  std::map<std::string, std::string> extra_root_attributes;
 };
 
 struct RecordingWriterOptions {

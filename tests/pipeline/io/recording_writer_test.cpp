@@ -137,6 +137,39 @@ TEST(RecordingWriter, RejectsInconsistentData) {
   EXPECT_EQ(FilesIn(dir), 0u);
 }
 
+TEST(RecordingWriter, WritesARateGivenInTheOutputUnitAsItIsWithExtraRootAttributes) {
+  ScratchDir dir("writer6");
+  RecordingData data;
+  data.sample_rate_hz = 100.0;
+  data.rate_in_output_unit.resize(300, 2);
+  for (Eigen::Index k = 0; k < 300; ++k) {
+    // Values whose round trip through rad/s is not exact in the last bit.
+    data.rate_in_output_unit(k, 0) = 0.1 * k + 1.0 / 3.0;
+    data.rate_in_output_unit(k, 1) = -7.3e-3 * k;
+  }
+  data.extra_root_attributes["note"] = "made by hand";
+  RecordingWriterOptions options;
+  options.rate_unit = units::RateUnit::kDegPerSecond;
+  WriteRecording(dir / "f.h5", data, options);
+
+  H5::H5File file(dir / "f.h5", H5F_ACC_RDONLY);
+  H5::DataSet rate = file.openDataSet("rate");
+  EXPECT_EQ(ReadStringAttribute(rate, "units"), "deg/s");
+  const Eigen::VectorXd stored = ReadAll(rate);
+  for (Eigen::Index k = 0; k < 300; ++k) {
+    ASSERT_EQ(stored[2 * k], 0.1 * k + 1.0 / 3.0) << k;
+    ASSERT_EQ(stored[2 * k + 1], -7.3e-3 * k) << k;
+  }
+  EXPECT_EQ(ReadStringAttribute(file, "note"), "made by hand");
+
+  data.rate_rad_s = data.rate_in_output_unit;  // both: which one is meant?
+  EXPECT_THROW(WriteRecording(dir / "g.h5", data, options), std::invalid_argument);
+  data.rate_rad_s.resize(0, 0);
+  data.extra_root_attributes["sample_rate_hz"] = "7";  // the contract's own attribute
+  EXPECT_THROW(WriteRecording(dir / "g.h5", data, options), std::invalid_argument);
+  EXPECT_EQ(FilesIn(dir), 1u);
+}
+
 TEST(TruthJson, ListsEveryTermInEngineerAndSiUnits) {
   namespace sim = fogpipe::simulation;
   sim::GyroSimulatorOptions o = sim::NavigationGradeOptions(2);

@@ -39,8 +39,11 @@ TempDir::~TempDir() {
   std::filesystem::remove_all(path_, ignored);
 }
 
-RawFile::RawFile(const std::string& path) {
-  file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+RawFile::RawFile(const std::string& path, hsize_t user_block_bytes) {
+  hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
+  if (user_block_bytes > 0) Check(H5Pset_userblock(fcpl, user_block_bytes), "user block");
+  file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+  H5Pclose(fcpl);
   Check(file_, "create " + path);
 }
 

@@ -34,7 +34,9 @@ struct Layout {
 /// Raw-C-API file writer used by the tests. Every call aborts the test on failure (ASSERT).
 class RawFile {
  public:
-  explicit RawFile(const std::string& path);
+  /// `user_block_bytes` (0, or a power of two >= 512) reserves a user block before the HDF5
+  /// data, as MATLAB v7.3 MAT-files have (512 bytes).
+  explicit RawFile(const std::string& path, hsize_t user_block_bytes = 0);
   ~RawFile();
   hid_t id() const { return file_; }
   /// Dataset of doubles (row-major) converted by HDF5 to layout.file_type.
