@@ -158,8 +158,10 @@ void CheckStorage(const hdf5::Dataset& dataset, unsigned long long values,
   // allocated even when every chunk was written.
   const long long expected = ExpectedChunks(dataset);
   hsize_t written = 0;
-  if (expected > 0 && H5Dget_num_chunks(dataset.id(), H5S_ALL, &written) >= 0 &&
-      static_cast<long long>(written) < expected) {
+  const hid_t space = expected > 0 ? H5Dget_space(dataset.id()) : -1;
+  const bool counted = space >= 0 && H5Dget_num_chunks(dataset.id(), space, &written) >= 0;
+  if (space >= 0) H5Sclose(space);
+  if (counted && static_cast<long long>(written) < expected) {
     throw RecordingError(error_kind::kUnwrittenDataset, path,
                          dataset.path() + " is declared with " + std::to_string(values) +
                              " values but only " + std::to_string(written) + " of its " +
