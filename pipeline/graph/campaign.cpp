@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -173,13 +174,19 @@ class CampaignRunner {
     return exhausted_reason_;
   }
 
+  /// Tables 3 and 5 of every written recording, to options.tables_stream, after the graph.
+  void PrintTables() {
+    if (options_.tables_stream == nullptr || tables_text_.empty()) return;
+    std::fputs(tables_text_.c_str(), options_.tables_stream);
+    std::fflush(options_.tables_stream);
+  }
+
+ private:
   const CampaignOptions& options_;
   CampaignReport* report_;
   StatusLog* log_;
   Progress* progress_;
   std::string tables_text_;
-
- private:
   int status_log_error_ = 0;
   std::atomic<bool> output_exhausted_{false};
   std::mutex reason_mutex_;
@@ -280,31 +287,35 @@ int RemoveStaleTempFiles(const std::string& output_dir, const std::string& outpu
   return removed;
 }
 
-CampaignReport RunCampaign(const std::vector<io::InputFile>& inputs,
-                           const CampaignOptions& options) {
-  CampaignReport report;
-  report.outcomes.resize(inputs.size());
-  std::error_code ec;
-  if (!options.dry_run) {
-    fs::create_directories(options.output_dir, ec);
-    if (ec) {
-      throw std::runtime_error(options.output_dir +
-                               ": cannot create output folder: " + ec.message());
-    }
-  }
-  const std::string status_path = (fs::path(options.output_dir) / "status.jsonl").string();
-  StatusLog log(options.dry_run ? std::string() : status_path);
-  if (!log.ok()) {
-    throw std::runtime_error(status_path + ": cannot open for appending: " + log.problem());
-  }
-  Progress progress(static_cast<int>(inputs.size()), options.progress_stream,
-                    options.redraw_progress);
-  CampaignReport* report_ptr = &report;
-  CampaignRunner runner(options, report_ptr, &log, &progress);
-  hdf5::SilenceHdf5ErrorPrinter();
+namespace {
 
-  // Preflight (main thread): skip what is done, inspect the rest (metadata only).
-  std::vector<std::unique_ptr<FileJob>> jobs;
+using Jobs = std::vector<std::unique_ptr<FileJob>>;
+
+/// A finished preflight outcome for input `i` (skipped, collision, refused).
+void RecordEarly(CampaignRunner& runner, std::size_t i, const std::string& input,
+                 const std::string& output, int axes, FileStatus status, Clock::time_point start,
+                 const std::string& message) {
+  runner.Record(FileOutcome{input, output, axes, status, Seconds(start), message}, i);
+}
+
+/// What one recording needs in memory; saturates instead of overflowing (refused either way).
+std::uint64_t RecordingBytes(const io::RecordingInfo& info, const CampaignOptions& options) {
+  std::uint64_t need = 0;
+  if (__builtin_mul_overflow(static_cast<std::uint64_t>(std::max(info.axis_count, 1)),
+                             BytesPerAxis(static_cast<std::uint64_t>(std::max(info.samples, 0ll)),
+                                          options.method.emd.max_imfs),
+                             &need)) {
+    return UINT64_MAX;
+  }
+  return need;
+}
+
+/// Main thread, before the graph: skips what is done, inspects the rest (metadata only, in a
+/// child process) and refuses a recording that alone exceeds the budget. Returns the admitted
+/// recordings and sets report->bytes_per_file and files_in_flight.
+Jobs Preflight(const std::vector<io::InputFile>& inputs, const CampaignOptions& options,
+               CampaignRunner& runner, CampaignReport* report) {
+  Jobs jobs;
   std::uint64_t bytes_per_file = 0;
   const std::uint64_t for_recordings =
       BytesForRecordings(options.memory_budget_bytes, options.threads);
@@ -318,16 +329,13 @@ CampaignReport RunCampaign(const std::vector<io::InputFile>& inputs,
       const io::CompletedResults done =
           io::CheckCompletedResults(output, input.path, options.config_sha256);
       using Verdict = io::CompletedResults::Verdict;
-      if (done.verdict == Verdict::kDone || done.verdict == Verdict::kCollision) {
-        const bool skip = done.verdict == Verdict::kDone;
-        FileOutcome outcome{
-            input.path,
-            skip ? output : "",
-            0,
-            skip ? FileStatus::kSkipped : FileStatus::kFailed,
-            Seconds(start),
-            skip ? "output is valid, with the same configuration and input content" : done.reason};
-        runner.Record(outcome, i);
+      if (done.verdict == Verdict::kDone) {
+        RecordEarly(runner, i, input.path, output, 0, FileStatus::kSkipped, start,
+                    "output is valid, with the same configuration and input content");
+        continue;
+      }
+      if (done.verdict == Verdict::kCollision) {
+        RecordEarly(runner, i, input.path, "", 0, FileStatus::kFailed, start, done.reason);
         continue;
       }
       rerun_reason = done.reason;
@@ -339,52 +347,196 @@ CampaignReport RunCampaign(const std::vector<io::InputFile>& inputs,
     try {
       job->info = io::InspectRecordingIsolated(input.path, InspectionLimits());
     } catch (const std::exception& e) {
-      FileOutcome outcome{input.path, "", 0, FileStatus::kFailed, Seconds(start), e.what()};
-      runner.Record(outcome, i);
+      RecordEarly(runner, i, input.path, "", 0, FileStatus::kFailed, start, e.what());
       continue;
     }
-    // Overflow-free: a product that does not fit is as refused as one over the budget.
-    std::uint64_t need = 0;
-    const bool overflow = __builtin_mul_overflow(
-        static_cast<std::uint64_t>(std::max(job->info.axis_count, 1)),
-        BytesPerAxis(static_cast<std::uint64_t>(std::max(job->info.samples, 0ll)),
-                     options.method.emd.max_imfs),
-        &need);
-    if (overflow) need = UINT64_MAX;
+    const std::uint64_t need = RecordingBytes(job->info, options);
     if (need > for_recordings) {
       // Never run over the budget: a recording that alone needs more is refused before it is
       // read, with what it needs, and the campaign goes on.
-      FileOutcome outcome{input.path,           "",
-                          job->info.axis_count, FileStatus::kFailed,
-                          Seconds(start),       OverBudgetMessage(input.path, *job, need, options)};
-      runner.Record(outcome, i);
+      RecordEarly(runner, i, input.path, "", job->info.axis_count, FileStatus::kFailed, start,
+                  OverBudgetMessage(input.path, *job, need, options));
       continue;
     }
     bytes_per_file = std::max(bytes_per_file, need);
     jobs.push_back(std::move(job));
   }
-  report.bytes_per_file = bytes_per_file;
+  report->bytes_per_file = bytes_per_file;
   // Within the budget, at most 2 recordings per thread: every stage is parallel inside, so more
   // add no throughput, but they make many files finish together at the end, queued at the
-  // serial writer (measured, 16 x 1 h at 100 Hz on 2 threads: 11.6 s with 15 in flight, 10.3 s
-  // with 4).
-  report.files_in_flight =
+  // serial writer (README "Performance").
+  report->files_in_flight =
       std::min(AxesInFlight(for_recordings, bytes_per_file), 2 * std::max(1, options.threads));
-  if (options.dry_run) {
-    for (const auto& job : jobs) {
-      FileOutcome outcome{job->input.path,
-                          (fs::path(options.output_dir) / job->input.output_name).string(),
-                          job->info.axis_count,
-                          FileStatus::kOk,
-                          0.0,
-                          "dry run: would analyse"};
-      report.outcomes[job->outcome_index] = outcome;
-    }
-    return report;
-  }
+  return jobs;
+}
 
+/// --dry-run: what would be analysed, without a status line or an output.
+void ReportDryRun(const Jobs& jobs, const CampaignOptions& options, CampaignReport* report) {
+  for (const auto& job : jobs) {
+    report->outcomes[job->outcome_index] =
+        FileOutcome{job->input.path,
+                    (fs::path(options.output_dir) / job->input.output_name).string(),
+                    job->info.axis_count,
+                    FileStatus::kOk,
+                    0.0,
+                    "dry run: would analyse"};
+  }
+}
+
+/// --model: -(the model's effects) for this recording, in job->compensation_rad_s (or why not,
+/// in job->compensation_error); a thermal term reads the recording's /aux/temperature. Returns
+/// a failure of the whole recording ("" when none).
+std::string PrepareCompensation(FileJob* job, const CampaignOptions& options) {
+  if (!options.model) return "";
+  Eigen::VectorXd temperature_degc;
+  if (options.model->needs_temperature) {
+    bool has = false;
+    for (const auto& ch : job->info.aux) has = has || ch.name == "temperature";
+    if (!has) {
+      return job->input.path + ": --model " + options.model->path +
+             " compensates a thermal effect (" + options.model->terms +
+             ") but the recording has no /aux/temperature channel";
+    }
+    try {
+      io::ReadOptions aux_read = options.read;
+      aux_read.reject_constant = false;
+      temperature_degc =
+          io::ReadAuxIsolated(job->info, "temperature", aux_read, nullptr, ReadLimits());
+    } catch (const std::exception& e) {
+      return job->input.path + ": --model: reading /aux/temperature: " + e.what();
+    }
+  }
+  // The effects depend on time and temperature, not on the axis: Compensate of zeros, once.
+  model::Compensation c =
+      model::Compensate(Eigen::VectorXd::Zero(job->info.samples), job->info.sample_rate_hz,
+                        temperature_degc.size() ? &temperature_degc : nullptr,
+                        options.model->deterministic, model::CompensateOptions());
+  if (HasResult(c.summary.termination)) {
+    job->compensation_rad_s = std::move(c.rate_rad_s);
+  } else {
+    job->compensation_error = c.summary.message;
+  }
+  return "";
+}
+
+/// --model: rate - effects, as model::Compensate(rate) computes it (rate + (0 - effects) is the
+/// same IEEE operation, equal up to the sign of a zero sample). False with w->error set when the
+/// recording's compensation failed.
+bool ApplyCompensation(AxisWork* w, const CampaignOptions& options) {
+  if (!options.model) return true;
+  const FileJob& job = *w->job;
+  std::string error = job.compensation_error;
+  if (error.empty() && job.compensation_rad_s.size() != w->rate_rad_s.size()) {
+    error = "the compensation has " + std::to_string(job.compensation_rad_s.size()) +
+            " samples, the axis " + std::to_string(w->rate_rad_s.size());
+  }
+  if (!error.empty()) {
+    w->error = AxisError(job, w->axis, "--model " + options.model->path + ": " + error);
+    return false;
+  }
+  w->rate_rad_s += job.compensation_rad_s;
+  return true;
+}
+
+/// Reader node: SHA-256 of the file, the --model compensation, then one axis at a time, each
+/// sent on by `send` as soon as it is read.
+void ReadRecording(FileJob* job, const CampaignOptions& options,
+                   const std::function<void(AxisPtr)>& send) {
+  job->start = Clock::now();
+  job->start_time_utc = io::UtcNowIso8601();
+  hdf5::SilenceHdf5ErrorPrinter();
+  std::string file_error;
+  const auto hash_start = Clock::now();
+  try {
+    std::string error;
+    const auto digest = io::Sha256FileHex(job->input.path, &error);
+    if (!digest) file_error = error;
+    job->sha256 = digest.value_or("");
+  } catch (const std::exception& e) {
+    file_error = job->input.path + ": " + e.what();
+  }
+  const double hash_seconds = Seconds(hash_start);
+  if (file_error.empty()) file_error = PrepareCompensation(job, options);
+  for (int a = 0; a < job->info.axis_count; ++a) {
+    auto work = std::make_shared<AxisWork>();
+    work->job = job;
+    work->axis = a;
+    work->error = file_error;
+    if (a == 0) work->stage_seconds[kRead] += hash_seconds;
+    Guarded(*work, kRead, [&] {
+      work->rate_rad_s = io::ReadAxisRadPerSecondIsolated(job->info, std::to_string(a),
+                                                          options.read, nullptr, ReadLimits());
+    });
+    send(work);
+  }
+}
+
+/// Marks the axis failed when a method step reported no result.
+void NoteMethodFailure(AxisWork* w) {
+  if (!HasResult(w->result.summary.termination)) {
+    w->error = AxisError(*w->job, w->axis, w->result.summary.message);
+  }
+}
+
+/// Decompose node: the --model compensation, preprocessing and EMD (`options` with the TBB
+/// for_each for the sifts' envelope work).
+void Decompose(AxisWork* w, const CampaignOptions& options,
+               const method::MethodOptions& decompose_options) {
+  Guarded(*w, kDecompose, [&] {
+    if (!ApplyCompensation(w, options)) return;
+    method::PreprocessAndDecompose(w->rate_rad_s, w->job->info.sample_rate_hz, decompose_options,
+                                   &w->result);
+    w->rate_rad_s = Eigen::VectorXd();  // the preprocessed copy is what is kept
+    NoteMethodFailure(w);
+  });
+}
+
+/// Models node: per-component AR + Kalman, method 2, and the reference filters.
+void ModelAxis(AxisWork* w, const CampaignOptions& options) {
+  Guarded(*w, kModels, [&] {
+    method::ModelComponents(options.method, TbbForEach, &w->result);
+    method::RunReferenceFilters(w->job->info.sample_rate_hz, options.method, TbbForEach,
+                                &w->result);
+    NoteMethodFailure(w);
+  });
+}
+
+/// Allan node: the Allan tables and noise fits of every output.
+void AllanAxis(AxisWork* w, const CampaignOptions& options) {
+  Guarded(*w, kAllan, [&] {
+    method::EvaluateAllan(w->job->info.sample_rate_hz, options.method, TbbForEach, &w->result);
+    NoteMethodFailure(w);
+  });
+}
+
+/// Writer node: gathers a file's axes and writes its results once all have arrived.
+void GatherAndWrite(AxisPtr w, CampaignRunner& runner) {
+  FileJob* job = w->job;
+  try {
+    hdf5::SilenceHdf5ErrorPrinter();
+    job->arrived.push_back(std::move(w));
+    if (static_cast<int>(job->arrived.size()) < job->info.axis_count) return;
+    // Axes in column order, whatever order they finished in.
+    std::sort(job->arrived.begin(), job->arrived.end(),
+              [](const AxisPtr& a, const AxisPtr& b) { return a->axis < b->axis; });
+    runner.Finish(job);
+  } catch (...) {
+    // Finish() reports its own errors; this only guards the graph against the unexpected.
+  }
+}
+
+/// The flow graph of campaign.h over the admitted recordings. Returns how many were started.
+std::size_t RunGraph(const Jobs& jobs, const CampaignOptions& options, std::size_t files_in_flight,
+                     CampaignRunner& runner) {
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
                               static_cast<std::size_t>(std::max(1, options.threads)));
+  // The EMD's sifts run their envelope work through TBB too (bit-identical IMFs, emd.h): with
+  // few recordings in flight it is otherwise the one serial stage.
+  method::MethodOptions decompose_options = options.method;
+  decompose_options.emd.for_each = TbbForEach;
+  using ReaderNode = flow::multifunction_node<FileJob*, std::tuple<AxisPtr>>;
+  using AxisNode = flow::function_node<AxisPtr, AxisPtr>;
+  using WriterNode = flow::multifunction_node<AxisPtr, std::tuple<flow::continue_msg>>;
   flow::graph g;
   std::size_t next = 0;
   flow::input_node<FileJob*> source(g, [&](tbb::flow_control& control) -> FileJob* {
@@ -394,136 +546,26 @@ CampaignReport RunCampaign(const std::vector<io::InputFile>& inputs,
     }
     return jobs[next++].get();
   });
-  flow::limiter_node<FileJob*> limiter(g, static_cast<std::size_t>(report.files_in_flight));
-
-  using ReaderNode = flow::multifunction_node<FileJob*, std::tuple<AxisPtr>>;
+  flow::limiter_node<FileJob*> limiter(g, files_in_flight);
   ReaderNode reader(g, flow::serial, [&](FileJob* job, ReaderNode::output_ports_type& ports) {
-    job->start = Clock::now();
-    job->start_time_utc = io::UtcNowIso8601();
-    hdf5::SilenceHdf5ErrorPrinter();
-    std::string file_error;
-    const auto hash_start = Clock::now();
-    try {
-      std::string error;
-      const auto digest = io::Sha256FileHex(job->input.path, &error);
-      if (!digest) file_error = error;
-      job->sha256 = digest.value_or("");
-    } catch (const std::exception& e) {
-      file_error = job->input.path + ": " + e.what();
-    }
-    const double hash_seconds = Seconds(hash_start);
-    Eigen::VectorXd temperature_degc;  // --model with a thermal term: /aux/temperature
-    if (file_error.empty() && options.model && options.model->needs_temperature) {
-      // --model with a thermal term: this recording's own temperature drives the compensation.
-      try {
-        bool has = false;
-        for (const auto& ch : job->info.aux) has = has || ch.name == "temperature";
-        if (!has) {
-          file_error = job->input.path + ": --model " + options.model->path +
-                       " compensates a thermal effect (" + options.model->terms +
-                       ") but the recording has no /aux/temperature channel";
-        } else {
-          io::ReadOptions aux_read = options.read;
-          aux_read.reject_constant = false;
-          temperature_degc =
-              io::ReadAuxIsolated(job->info, "temperature", aux_read, nullptr, ReadLimits());
-        }
-      } catch (const std::exception& e) {
-        file_error = job->input.path + ": --model: reading /aux/temperature: " + e.what();
-      }
-    }
-    if (file_error.empty() && options.model) {
-      model::Compensation c =
-          model::Compensate(Eigen::VectorXd::Zero(job->info.samples), job->info.sample_rate_hz,
-                            temperature_degc.size() ? &temperature_degc : nullptr,
-                            options.model->deterministic, model::CompensateOptions());
-      if (HasResult(c.summary.termination)) {
-        job->compensation_rad_s = std::move(c.rate_rad_s);
-      } else {
-        job->compensation_error = c.summary.message;
-      }
-    }
-    for (int a = 0; a < job->info.axis_count; ++a) {
-      auto work = std::make_shared<AxisWork>();
-      work->job = job;
-      work->axis = a;
-      work->error = file_error;
-      if (a == 0) work->stage_seconds[kRead] += hash_seconds;
-      Guarded(*work, kRead, [&] {
-        work->rate_rad_s = io::ReadAxisRadPerSecondIsolated(job->info, std::to_string(a),
-                                                            options.read, nullptr, ReadLimits());
-      });
-      std::get<0>(ports).try_put(work);
-    }
+    ReadRecording(job, options, [&](AxisPtr w) { std::get<0>(ports).try_put(std::move(w)); });
   });
-  using AxisNode = flow::function_node<AxisPtr, AxisPtr>;
-  // The EMD's sifts run their envelope work through TBB too (bit-identical IMFs, emd.h): with
-  // few recordings in flight it is otherwise the one serial stage.
-  method::MethodOptions decompose_options = options.method;
-  decompose_options.emd.for_each = TbbForEach;
   AxisNode decompose(g, flow::unlimited, [&](AxisPtr w) {
-    Guarded(*w, kDecompose, [&] {
-      if (options.model) {
-        // rate - effects, as model::Compensate(rate) computes it: rate + (0 - effects) is the
-        // same IEEE operation (equal up to the sign of a zero sample).
-        const FileJob& job = *w->job;
-        std::string error = job.compensation_error;
-        if (error.empty() && job.compensation_rad_s.size() != w->rate_rad_s.size()) {
-          error = "the compensation has " + std::to_string(job.compensation_rad_s.size()) +
-                  " samples, the axis " + std::to_string(w->rate_rad_s.size());
-        }
-        if (!error.empty()) {
-          w->error = AxisError(job, w->axis, "--model " + options.model->path + ": " + error);
-          return;
-        }
-        w->rate_rad_s += job.compensation_rad_s;
-      }
-      method::PreprocessAndDecompose(w->rate_rad_s, w->job->info.sample_rate_hz, decompose_options,
-                                     &w->result);
-      w->rate_rad_s = Eigen::VectorXd();  // the preprocessed copy is what is kept
-      if (!HasResult(w->result.summary.termination)) {
-        w->error = AxisError(*w->job, w->axis, w->result.summary.message);
-      }
-    });
+    Decompose(w.get(), options, decompose_options);
     return w;
   });
   AxisNode models(g, flow::unlimited, [&](AxisPtr w) {
-    Guarded(*w, kModels, [&] {
-      method::ModelComponents(options.method, TbbForEach, &w->result);
-      method::RunReferenceFilters(w->job->info.sample_rate_hz, options.method, TbbForEach,
-                                  &w->result);
-      if (!HasResult(w->result.summary.termination)) {
-        w->error = AxisError(*w->job, w->axis, w->result.summary.message);
-      }
-    });
+    ModelAxis(w.get(), options);
     return w;
   });
   AxisNode allan(g, flow::unlimited, [&](AxisPtr w) {
-    Guarded(*w, kAllan, [&] {
-      method::EvaluateAllan(w->job->info.sample_rate_hz, options.method, TbbForEach, &w->result);
-      if (!HasResult(w->result.summary.termination)) {
-        w->error = AxisError(*w->job, w->axis, w->result.summary.message);
-      }
-    });
+    AllanAxis(w.get(), options);
     return w;
   });
-  using WriterNode = flow::multifunction_node<AxisPtr, std::tuple<flow::continue_msg>>;
   WriterNode writer(g, flow::serial, [&](AxisPtr w, WriterNode::output_ports_type& ports) {
-    FileJob* job = w->job;
-    try {
-      hdf5::SilenceHdf5ErrorPrinter();
-      job->arrived.push_back(std::move(w));
-      if (static_cast<int>(job->arrived.size()) < job->info.axis_count) return;
-      // Axes in column order, whatever order they finished in.
-      std::sort(job->arrived.begin(), job->arrived.end(),
-                [](const AxisPtr& a, const AxisPtr& b) { return a->axis < b->axis; });
-      runner.Finish(job);
-    } catch (...) {
-      // Finish() reports its own errors; this only guards the graph against the unexpected.
-    }
+    GatherAndWrite(std::move(w), runner);
     std::get<0>(ports).try_put(flow::continue_msg());
   });
-
   flow::make_edge(source, limiter);
   flow::make_edge(limiter, reader);
   flow::make_edge(std::get<0>(reader.output_ports()), decompose);
@@ -533,24 +575,57 @@ CampaignReport RunCampaign(const std::vector<io::InputFile>& inputs,
   flow::make_edge(std::get<0>(writer.output_ports()), limiter.decrementer());
   source.activate();
   g.wait_for_all();
-  progress.Finish();
+  return next;
+}
 
-  report.interrupted = StopRequested();
-  if (report.interrupted || runner.OutputExhausted()) {
-    // Files never admitted: reported so that every input has a line.
-    const std::string why = report.interrupted
-                                ? "interrupted (signal " + std::to_string(StopSignal()) + ")"
-                                : runner.ExhaustedReason() + "; rerun when there is room";
-    for (std::size_t j = next; j < jobs.size(); ++j) {
-      FileOutcome outcome{jobs[j]->input.path, "",  0,
-                          FileStatus::kFailed, 0.0, jobs[j]->input.path + ": not started: " + why};
-      runner.Record(outcome, jobs[j]->outcome_index);
+/// After a stop or a full output device: every recording never started gets its line.
+void ReportNotStarted(const Jobs& jobs, std::size_t started, bool interrupted,
+                      CampaignRunner& runner) {
+  if (!interrupted && !runner.OutputExhausted()) return;
+  const std::string why = interrupted ? "interrupted (signal " + std::to_string(StopSignal()) + ")"
+                                      : runner.ExhaustedReason() + "; rerun when there is room";
+  for (std::size_t j = started; j < jobs.size(); ++j) {
+    runner.Record(FileOutcome{jobs[j]->input.path, "", 0, FileStatus::kFailed, 0.0,
+                              jobs[j]->input.path + ": not started: " + why},
+                  jobs[j]->outcome_index);
+  }
+}
+
+}  // namespace
+
+CampaignReport RunCampaign(const std::vector<io::InputFile>& inputs,
+                           const CampaignOptions& options) {
+  CampaignReport report;
+  report.outcomes.resize(inputs.size());
+  if (!options.dry_run) {
+    std::error_code ec;
+    fs::create_directories(options.output_dir, ec);
+    if (ec) {
+      throw std::runtime_error(options.output_dir +
+                               ": cannot create output folder: " + ec.message());
     }
   }
-  if (options.tables_stream != nullptr && !runner.tables_text_.empty()) {
-    std::fputs(runner.tables_text_.c_str(), options.tables_stream);
-    std::fflush(options.tables_stream);
+  const std::string status_path = (fs::path(options.output_dir) / "status.jsonl").string();
+  StatusLog log(options.dry_run ? std::string() : status_path);
+  if (!log.ok()) {
+    throw std::runtime_error(status_path + ": cannot open for appending: " + log.problem());
   }
+  Progress progress(static_cast<int>(inputs.size()), options.progress_stream,
+                    options.redraw_progress);
+  CampaignRunner runner(options, &report, &log, &progress);
+  hdf5::SilenceHdf5ErrorPrinter();
+
+  const Jobs jobs = Preflight(inputs, options, runner, &report);
+  if (options.dry_run) {
+    ReportDryRun(jobs, options, &report);
+    return report;
+  }
+  const std::size_t started =
+      RunGraph(jobs, options, static_cast<std::size_t>(report.files_in_flight), runner);
+  progress.Finish();
+  report.interrupted = StopRequested();
+  ReportNotStarted(jobs, started, report.interrupted, runner);
+  runner.PrintTables();
   return report;
 }
 
