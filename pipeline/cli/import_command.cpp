@@ -22,10 +22,14 @@
 #include <vector>
 
 #include "pipeline/cli/commands.h"
-#include "pipeline/io/version.h"
+#include "pipeline/graph/campaign.h"
+#include "pipeline/graph/interrupt.h"
+#include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/isolated_call.h"
 #include "pipeline/io/matlab_import.h"
 #include "pipeline/io/recording_import.h"
 #include "pipeline/io/text_import.h"
+#include "pipeline/io/version.h"
 
 namespace fogpipe::cli {
 namespace {
@@ -160,14 +164,92 @@ bool ImportOneUnguarded(const ImportArguments& a, const std::string& input,
   return true;
 }
 
-// The importers return their errors; what they cannot (memory exhausted) fails this input only.
+// Each input is imported in a child process (isolated_call.h): a MATLAB file whose damaged
+// metadata crashes or hangs the HDF5 library, or that declares more data than memory holds, is
+// that input's named failure and the next input is imported. The child prints its own report.
 bool ImportOne(const ImportArguments& a, const std::string& input, const std::string& output) {
-  try {
-    return ImportOneUnguarded(a, input, output);
-  } catch (const std::exception& e) {
-    std::cerr << "fogpipe import: " << input << ": " << e.what() << "\n";
+  constexpr int kFailed = 1;
+  constexpr int kOutOfMemory = 3;
+  const std::string folder = fs::absolute(output).parent_path().string();
+  const std::string name = fs::path(output).filename().string();
+  graph::RemoveStaleTempFiles(folder, name);  // left by an import that was killed
+  io::IsolationLimits limits;
+  limits.seconds = 3600.0;  // a day at 100 Hz takes seconds; a slow network disk more
+  std::error_code ec;
+  const auto input_bytes = fs::is_regular_file(input, ec) ? fs::file_size(input, ec) : 0;
+  // What a well-formed import needs (the parser's rows, the matrix, its copy for the writer) is
+  // a few times the input; anything beyond is a damaged or implausible file.
+  limits.extra_memory_bytes += 8 * static_cast<std::uint64_t>(ec ? 0 : input_bytes);
+  limits.stop = graph::StopRequested;
+  io::IsolatedOutcome outcome;
+  std::string error;
+  const auto kind = io::DetectImportSourceKind(input, &error);  // reads 8 bytes, no HDF5
+  if (kind && *kind == io::ImportSourceKind::kHdf5 && a.format != "text") {
+    // Metadata first, under the short limit that suits it (isolated_call.h): a loop in damaged
+    // metadata is found in seconds, not at the end of the long limit below.
+    io::IsolationLimits metadata;
+    metadata.stop = graph::StopRequested;
+    {
+      auto lock = hdf5::LockHdf5();
+      outcome = io::RunIsolated(
+          [&](std::string* out) {
+            lock.unlock();
+            *out = io::CheckMatlabVariables(input, a.matlab);
+            return 0;
+          },
+          metadata);
+    }
+    const bool passed = outcome.end == io::IsolatedOutcome::End::kExited &&
+                        outcome.exit_code == 0 && outcome.output.empty();
+    if (!passed) {
+      if (outcome.end == io::IsolatedOutcome::End::kExited && outcome.exit_code == 0) {
+        std::cerr << "fogpipe import: " << outcome.output << "\n";
+      } else if (outcome.Interrupted()) {
+        std::cerr << "fogpipe import: " << input << ": interrupted; nothing written\n";
+      } else {
+        std::cerr << "fogpipe import: " << input << ": reading its metadata, the HDF5 library "
+                  << outcome.Describe(metadata)
+                  << " (damaged metadata); the failure was contained in a child process, "
+                     "nothing written\n";
+      }
+      return false;
+    }
+  }
+  {
+    auto lock = hdf5::LockHdf5();  // held across the fork; the child releases its copy
+    outcome = io::RunIsolated(
+        [&](std::string*) {
+          lock.unlock();
+          try {
+            return ImportOneUnguarded(a, input, output) ? 0 : kFailed;
+          } catch (const std::bad_alloc&) {
+            return kOutOfMemory;
+          } catch (const std::exception& e) {
+            std::cerr << "fogpipe import: " << input << ": " << e.what() << "\n";
+            return kFailed;
+          }
+        },
+        limits);
+  }
+  if (outcome.end == io::IsolatedOutcome::End::kExited && outcome.exit_code == 0) return true;
+  if (outcome.end == io::IsolatedOutcome::End::kExited && outcome.exit_code == kFailed) {
     return false;
   }
+  graph::RemoveStaleTempFiles(folder, name);
+  if (outcome.Interrupted()) {
+    std::cerr << "fogpipe import: " << input << ": interrupted; nothing written\n";
+  } else if (outcome.end == io::IsolatedOutcome::End::kExited &&
+             outcome.exit_code == kOutOfMemory) {
+    std::cerr << "fogpipe import: " << input << ": needed more than the "
+              << (limits.extra_memory_bytes >> 20)
+              << " MiB allowed for this input (a damaged or implausible file); not imported\n";
+  } else {
+    std::cerr << "fogpipe import: " << input << ": reading it, the HDF5 library "
+              << outcome.Describe(limits)
+              << " (damaged metadata, or a file that blocks); the failure was contained in a "
+                 "child process, nothing written\n";
+  }
+  return false;
 }
 
 int RunImport(ImportArguments& a) {
@@ -189,10 +271,17 @@ int RunImport(ImportArguments& a) {
   }
   const std::vector<std::string> outputs = PlanOutputs(a);
   if (outputs.empty()) return 2;
+  graph::InstallStopHandlers();
   int failures = 0;
   for (std::size_t k = 0; k < a.inputs.size(); ++k) {
+    if (graph::StopRequested()) {
+      std::cerr << "fogpipe import: " << a.inputs[k] << ": not started: interrupted\n";
+      ++failures;
+      continue;
+    }
     if (!ImportOne(a, a.inputs[k], outputs[k])) ++failures;
   }
+  if (graph::StopRequested()) return graph::InterruptedExitCode();
   if (a.inputs.size() > 1) {
     std::cerr << "fogpipe import: " << a.inputs.size() - failures << " of " << a.inputs.size()
               << " inputs imported\n";

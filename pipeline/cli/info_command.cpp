@@ -6,6 +6,7 @@
 
 #include "pipeline/cli/commands.h"
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/inputs.h"
 #include "pipeline/io/results_reader.h"
 
 namespace fogpipe::cli {
@@ -19,6 +20,9 @@ void AddInfoCommand(CLI::App& app, int* exit_code) {
     *exit_code = 0;
     for (const std::string& path : *paths) {
       try {
+        if (const std::string problem = io::RegularFileProblem(path); !problem.empty()) {
+          throw std::runtime_error(path + ": not a results file: " + problem);
+        }
         std::cout << io::FormatResultsSummaryIsolated(path) << "\n" << std::flush;
       } catch (const std::exception& e) {
         std::cerr << "fogpipe info: " << e.what() << "\n";

@@ -90,10 +90,27 @@ bool AtomicTempInUse(const std::filesystem::path& path) {
   return locked;
 }
 
+namespace {
+
+/// File::Create, removing what it left when it failed: H5Fcreate makes the file before writing
+/// its superblock, and on a full device it throws after that, before any destructor of ours
+/// could run.
+File CreateOrRemove(const std::filesystem::path& path) {
+  try {
+    return File::Create(path.string(), /*overwrite=*/false);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(path, ignored);
+    throw;
+  }
+}
+
+}  // namespace
+
 AtomicOutputFile::AtomicOutputFile(std::filesystem::path final_path)
     : final_path_(std::move(final_path)),
       temp_path_(MakeAtomicTempPath(final_path_)),
-      file_(File::Create(temp_path_.string(), /*overwrite=*/false)) {
+      file_(CreateOrRemove(temp_path_)) {
   Register(temp_path_);
 }
 

@@ -13,11 +13,11 @@
 #include <sstream>
 
 #include "algorithms/common/units.h"
-#include "pipeline/io/inputs.h"
 #include "pipeline/hdf5/atomic_output_file.h"
 #include "pipeline/hdf5/file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/file_validation.h"
+#include "pipeline/io/inputs.h"
 #include "pipeline/io/isolated_reader.h"
 #include "pipeline/io/results_layout.h"
 
@@ -111,6 +111,13 @@ struct StatusLine {
 std::map<std::string, StatusLine> ReadStatusLog(const fs::path& path,
                                                 std::vector<std::string>* problems) {
   std::map<std::string, StatusLine> last;
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(path, ec))) {
+    if (const std::string problem = RegularFileProblem(path.string()); !problem.empty()) {
+      problems->push_back(path.string() + ": not read: " + problem);
+      return last;
+    }
+  }
   std::ifstream in(path);
   std::string line;
   int number = 0;
@@ -166,7 +173,7 @@ std::vector<Column> Columns() {
 }
 
 std::string CsvField(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
   std::string out = "\"";
   for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
   return out + "\"";

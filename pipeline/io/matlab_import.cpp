@@ -12,6 +12,7 @@
 
 #include "pipeline/hdf5/file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/inputs.h"
 #include "pipeline/io/recording_error.h"
 #include "pipeline/io/recording_reader.h"
 #include "pipeline/io/sha256.h"
@@ -79,7 +80,7 @@ std::string VariableList(const hdf5::Group& group) {
 
 // Reads `variable` as a real numeric array of rank <= 2. Caller holds the HDF5 lock.
 bool ReadVariable(const hdf5::Group& root, const std::string& variable, Variable* out,
-                  std::string* error) {
+                  std::string* error, bool read_values = true) {
   out->path = HdfPath(variable);
   out->label = "variable '" + variable + "'";
   auto fail = [&](const std::string& message) {
@@ -131,7 +132,19 @@ bool ReadVariable(const hdf5::Group& root, const std::string& variable, Variable
     out->cols = static_cast<long long>(out->column_major ? dims[0] : dims[1]);
   }
   if (out->rows == 0 || out->cols == 0) return fail("is empty");
-  out->values = dataset.ReadDoubles();
+  // The same storage checks as the recording reader's: nothing outside the file is read, and
+  // a declared size is believed only if the file can hold it.
+  try {
+    std::error_code ec;
+    const auto file_bytes = std::filesystem::file_size(root.file_path(), ec);
+    CheckDatasetStorage(
+        dataset,
+        static_cast<unsigned long long>(out->rows) * static_cast<unsigned long long>(out->cols),
+        type.size_bytes, ec ? 0 : static_cast<long long>(file_bytes));
+  } catch (const RecordingError& e) {
+    return fail("is refused: " + e.problem());
+  }
+  if (read_values) out->values = dataset.ReadDoubles();
   return true;
 }
 
@@ -209,13 +222,37 @@ bool ReadSource(const hdf5::File& file, const MatlabImportOptions& options, Impo
 
 }  // namespace
 
+std::string CheckMatlabVariables(const std::string& path, const MatlabImportOptions& options) {
+  hdf5::SilenceHdf5ErrorPrinter();
+  try {
+    auto lock = hdf5::LockHdf5();  // declared first, released last
+    const hdf5::File file = OpenHdf5ReadOnly(path);
+    const hdf5::Group root = file.Root();
+    std::vector<std::string> names = {options.variable, options.sample_rate_variable};
+    for (const AuxImportSpec& spec : options.metadata.aux) names.push_back(spec.source);
+    for (const std::string& name : names) {
+      Variable v;
+      std::string error;
+      if (!name.empty() && !ReadVariable(root, name, &v, &error, /*read_values=*/false)) {
+        return path + ": " + error;
+      }
+    }
+  } catch (const RecordingError& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    return path + ": " + e.what();
+  }
+  return "";
+}
+
 std::optional<ImportSourceKind> DetectImportSourceKind(const std::string& path,
                                                        std::string* error) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) {
-    if (error) *error = path + ": is a folder, not a file";
+  // Before any open: a FIFO blocks it, a device never ends.
+  if (const std::string problem = RegularFileProblem(path); !problem.empty()) {
+    if (error) *error = path + ": cannot be imported: " + problem;
     return std::nullopt;
   }
+  std::error_code ec;
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     if (error) *error = path + ": cannot open for reading: " + std::strerror(errno);

@@ -62,4 +62,9 @@ struct MatlabImportOptions {
 /// lock itself: do not call it while holding hdf5::LockHdf5().
 ImportResult ImportMatlab(const std::string& path, const MatlabImportOptions& options);
 
+/// The metadata checks of ImportMatlab alone (variables found, their classes, shapes and
+/// storage), without reading a sample: what a short-lived child process runs first, so that
+/// damaged metadata that loops is stopped in seconds. "" when they pass, else why not.
+std::string CheckMatlabVariables(const std::string& path, const MatlabImportOptions& options);
+
 }  // namespace fogpipe::io

@@ -15,6 +15,7 @@
 #include "pipeline/hdf5/file.h"
 #include "pipeline/hdf5/group.h"
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/inputs.h"
 #include "pipeline/io/text_output_file.h"
 
 namespace fogpipe::io {
@@ -232,6 +233,9 @@ void WriteModelFile(const std::string& path, const model::Evaluation& e) {
 }
 
 ModelFile ReadModelFile(const std::string& path) {
+  if (const std::string problem = RegularFileProblem(path); !problem.empty()) {
+    throw std::runtime_error(path + ": needs a model file, but " + problem);
+  }
   std::ifstream f(path);
   if (!f) throw std::runtime_error(path + ": cannot open model file");
   json j;
@@ -319,6 +323,9 @@ int AppendHistory(const std::string& results, const std::string& recording, cons
 }
 
 std::vector<HistoryStep> ReadHistory(const std::string& results) {
+  if (const std::string problem = RegularFileProblem(results); !problem.empty()) {
+    throw std::runtime_error(results + ": needs a results file, but " + problem);
+  }
   auto lock = hdf5::LockHdf5();
   hdf5::File f = hdf5::File::OpenReadOnly(results);
   hdf5::Group root = f.Root();

@@ -1,6 +1,7 @@
 #include "pipeline/io/recording_check.h"
 
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/results_layout.h"
 
 namespace fogpipe::io {
 
@@ -31,6 +32,17 @@ RecordingCheck CheckRecordingMetadata(const std::string& path, const hdf5::File&
   ValidationReport layout = schema.Validate(file);
   check.objects_checked = layout.objects_checked;
   check.problems = std::move(layout.problems);
+  // A fogpipe output (results, sweep, campaign) names its format at the root; `validate` holds
+  // it to that format's schema, so a reading command must not take it for a recording either.
+  try {
+    if (file.Root().HasAttribute(results::kFormatAttribute)) {
+      check.problems.push_back(
+          {"/", std::string("carries the attribute '") + results::kFormatAttribute +
+                    "' of a fogpipe output file, so it is not read as a recording"});
+    }
+  } catch (const hdf5::Error&) {
+    // An unreadable root is reported by the layout check and the reader.
+  }
   // The reader also runs on a file the layout refuses: its refusal carries the specific kind
   // that status lines and scripts use. Listed only when the layout is clean, where it is the one
   // problem (otherwise it repeats one of the layout's in other words).

@@ -111,11 +111,13 @@ long long ExpectedChunks(const hdf5::Dataset& dataset) {
   return count;
 }
 
+}  // namespace
+
 /// Refuses datasets whose samples live outside the file (virtual datasets, external raw
 /// storage: a FIFO, a device or any other file could stand there), and datasets declared but
 /// never written. `values` is the declared element count, `element_bytes` the stored size.
-void CheckStorage(const hdf5::Dataset& dataset, unsigned long long values,
-                  std::size_t element_bytes, long long file_size_bytes) {
+void CheckDatasetStorage(const hdf5::Dataset& dataset, unsigned long long values,
+                         std::size_t element_bytes, long long file_size_bytes) {
   const std::string& path = dataset.file_path();
   const hid_t plist = H5Dget_create_plist(dataset.id());
   if (plist < 0) return;
@@ -170,6 +172,8 @@ void CheckStorage(const hdf5::Dataset& dataset, unsigned long long values,
                              "would read as fill values");
   }
 }
+
+namespace {
 
 /// An optional root attribute of the given class; a wrong class is a contract violation.
 template <typename T>
@@ -364,8 +368,8 @@ void InspectRate(const hdf5::Group& root, RecordingInfo* info) {
   CheckRateShape(path, dims);
   info->samples = static_cast<long long>(dims[0]);
   info->axis_count = info->two_dimensional ? static_cast<int>(dims[1]) : 1;
-  CheckStorage(rate, dims[0] * (info->two_dimensional ? dims[1] : 1), type.size_bytes,
-               info->file_size_bytes);
+  CheckDatasetStorage(rate, dims[0] * (info->two_dimensional ? dims[1] : 1), type.size_bytes,
+                      info->file_size_bytes);
   for (hsize_t c : rate.chunk_dims()) info->rate_chunk.push_back(c);
   CheckFiltersAvailable(rate);
 
@@ -474,7 +478,7 @@ void InspectAux(const hdf5::Group& root, RecordingInfo* info) {
                                " samples but /rate has " + std::to_string(info->samples) +
                                " (aux channels share the sampling of /rate)");
     }
-    CheckStorage(channel, dims[0], type.size_bytes, info->file_size_bytes);
+    CheckDatasetStorage(channel, dims[0], type.size_bytes, info->file_size_bytes);
     CheckFiltersAvailable(channel);
     info->aux.push_back({name, RequiredUnits(channel), FloatName(type)});
   }

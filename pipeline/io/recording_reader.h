@@ -116,6 +116,13 @@ class RecordingReader {
 /// argument: not empty, not "." or "..", no '/' and no NUL.
 bool IsValidAxisName(const std::string& name);
 
+/// Refuses a dataset whose samples live outside the file (virtual datasets, external raw
+/// storage), one declared but never written (wholly or in part: chunks missing), and one that
+/// declares more than a file of `file_size_bytes` can hold. `values` is the declared element
+/// count, `element_bytes` the stored size. Throws RecordingError. Caller holds LockHdf5().
+void CheckDatasetStorage(const hdf5::Dataset& dataset, unsigned long long values,
+                         std::size_t element_bytes, long long file_size_bytes);
+
 /// Opens any HDF5 file read-only after the checks every reader of fogpipe files needs, each with
 /// its RecordingError kind: missing_file, unreadable_file, empty_file, not_hdf5, truncated_file,
 /// corrupt_file. Caller holds LockHdf5().

@@ -340,6 +340,8 @@ TEST(FileValidation, AFormatTagThatNamesAPathOrNoFormatIsTheFilesProblem) {
     EXPECT_NE(Lines(v.problems).find("names no fogpipe file format"), std::string::npos)
         << tag << ": " << Lines(v.problems);
     EXPECT_TRUE(v.schema_path.empty()) << tag << ": " << v.schema_path;
+    // The reading commands refuse it too: one verdict.
+    EXPECT_THROW(InspectRecording(path), RecordingError) << tag;
   }
 }
 

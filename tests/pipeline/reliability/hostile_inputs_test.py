@@ -17,6 +17,7 @@ import sys
 import tempfile
 
 import h5py
+import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import hostile_corpus  # noqa: E402
@@ -224,6 +225,52 @@ def full_disk(tmp):
           f"full disk: simulate reports the write error once ({err.count('HDF5 error stack')})")
 
 
+def write_mat(path, seed, external=None):
+    """A MATLAB v7.3-like file: a 512-byte user block, /rate stored [1, N] (MATLAB's column-major
+    N x 1) with a variable-length MATLAB_class string attribute (kept in the global heap)."""
+    data = np.random.default_rng(seed).standard_normal((1, 2000))
+    with h5py.File(path, "w", userblock_size=512) as f:
+        if external:
+            data.tofile(external)
+            d = f.create_dataset("rate", shape=(1, 2000), dtype="f8",
+                                 external=[(external, 0, 16000)])
+        else:
+            d = f.create_dataset("rate", data=data)
+        d.attrs["MATLAB_class"] = "double"
+
+
+def hostile_import(tmp):
+    """`import` of hostile MATLAB files beside a good one: a damaged heap byte (HDF5 crashes), a
+    heap object of size 0 (HDF5 loops), samples kept in an external raw file, and a FIFO. Each is
+    named and refused, the good file is imported, and nothing outside the inputs is read."""
+    folder = os.path.join(tmp, "import")
+    os.makedirs(folder)
+    paths = {name: os.path.join(folder, name + ".mat")
+             for name in ("crash", "loop", "external", "good")}
+    write_mat(paths["crash"], 1)
+    hostile_corpus.corrupt_units_heap(paths["crash"])
+    write_mat(paths["loop"], 2)
+    hostile_corpus.corrupt_units_heap(paths["loop"], offset=24, value=0)
+    write_mat(paths["external"], 3, external=os.path.join(folder, "secret.bin"))
+    write_mat(paths["good"], 4)
+    fifo = os.path.join(folder, "pipe.csv")
+    os.mkfifo(fifo)
+    out = os.path.join(tmp, "import_out")
+    os.makedirs(out)
+    r = run(["import", "--units", "deg/h", "--variable", "rate", "--sample-rate-hz", "100",
+             "-o", out + "/", paths["crash"], paths["loop"], paths["external"], fifo,
+             paths["good"]], timeout=120)
+    check(r.returncode == 1, f"import of hostile files: exit 1, no crash ({r.returncode})")
+    for name, expected in (("crash", "crashed"), ("loop", "did not finish"),
+                           ("external", "external raw file")):
+        line = [l for l in r.stderr.splitlines() if paths[name] in l]
+        check(bool(line) and expected in line[0],
+              f"import names {name}.mat: {expected} ({line[0] if line else r.stderr[-300:]})")
+    check(any(fifo in l and "FIFO" in l for l in r.stderr.splitlines()),
+          "import refuses a FIFO by name before opening it")
+    check(sorted(os.listdir(out)) == ["good.h5"], f"only the good file is imported ({os.listdir(out)})")
+
+
 def damaged_results(tmp):
     """`info` on results files with one size byte of a global-heap object set to 0xFF (the byte
     that crashes HDF5 1.10's attribute reader): never a crash, each damaged file named, and the
@@ -322,6 +369,7 @@ with tempfile.TemporaryDirectory() as tmp:
     write_error(tmp)
     full_disk(tmp)
     damaged_results(tmp)
+    hostile_import(tmp)
     planted_symlink(tmp)
     overlapping(tmp)
 print(f"{len(failures)} failure(s)")
