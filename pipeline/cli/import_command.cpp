@@ -289,106 +289,118 @@ int RunImport(ImportArguments& a) {
   return failures == 0 ? 0 : 1;
 }
 
-}  // namespace
-
-void AddImportCommand(CLI::App& app, int* exit_code) {
-  auto args = std::make_shared<ImportArguments>();
-  ImportArguments& a = *args;
-  auto* cmd = app.add_subcommand(
-      "import",
-      "Turn text tables (CSV, TSV, blank-separated) and MATLAB v7.3 MAT-files into contract-v1 "
-      "recordings. Exit code 0: all imported, 1: some input failed, 2: usage error.");
-  cmd->add_option("INPUT", a.inputs, "Text or MATLAB v7.3 file(s), opened read-only")->required();
-  cmd->add_option("-o,--output", a.output,
+void AddInputOutputOptions(CLI::App* cmd, ImportArguments* a) {
+  cmd->add_option("INPUT", a->inputs, "Text or MATLAB v7.3 file(s), opened read-only")->required();
+  cmd->add_option("-o,--output", a->output,
                   "Output recording for one input; or a folder (several inputs, an existing "
                   "folder, or a path ending in '/') that receives <input stem>.h5 for each")
       ->required();
-  cmd->add_option("--format", a.format,
+  cmd->add_option("--format", a->format,
                   "Input kind: auto (HDF5 content: MATLAB v7.3; otherwise text), text or matlab")
       ->check(CLI::IsMember({"auto", "text", "matlab"}))
       ->capture_default_str();
-  cmd->add_flag("--force", a.force, "Replace existing output files (default: refuse them)");
+  cmd->add_flag("--force", a->force, "Replace existing output files (default: refuse them)");
+}
 
-  // What every input needs.
-  cmd->add_option("--units", a.metadata.rate_units,
+// What every input needs.
+void AddMetadataOptions(CLI::App* cmd, ImportArguments* a) {
+  io::ImportMetadataOptions& metadata = a->metadata;
+  cmd->add_option("--units", metadata.rate_units,
                   "Unit of the rate after --scale-factor: deg/h, deg/s or rad/s (required)")
       ->check(CLI::IsMember({"deg/h", "deg/s", "rad/s"}))
       ->required();
-  cmd->add_option("--scale-factor", a.metadata.scale_factor,
+  cmd->add_option("--scale-factor", metadata.scale_factor,
                   "rate = value x scale factor, in --units per source unit (e.g. per count); 1 "
                   "keeps the values bit for bit")
       ->capture_default_str();
-  cmd->add_option("--sample-rate-hz", a.metadata.sample_rate_hz,
+  cmd->add_option("--sample-rate-hz", metadata.sample_rate_hz,
                   "Sample rate in Hz (default: none, from --time-column or "
                   "--sample-rate-variable; with --time-column both must agree)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--axes", a.metadata.axes,
+  cmd->add_option("--axes", metadata.axes,
                   "Axis names, comma-separated, one per rate column (default: the header's names "
                   "of the rate columns, else none: axis0, axis1, ...)")
       ->delimiter(',');
-  cmd->add_option("--aux", a.aux,
+  cmd->add_option("--aux", a->aux,
                   "Aux channel NAME=SOURCE:UNITS, e.g. temperature=T:degC; SOURCE is a column "
                   "(text) or a variable (MATLAB) of N values; repeatable (default: none)");
-  cmd->add_option("--instrument", a.metadata.instrument,
+  cmd->add_option("--instrument", metadata.instrument,
                   "Root attribute `instrument` (default: none, omitted)");
-  cmd->add_option("--serial", a.metadata.serial,
-                  "Root attribute `serial` (default: none, omitted)");
-  cmd->add_option("--start-time-utc", a.metadata.start_time_utc,
+  cmd->add_option("--serial", metadata.serial, "Root attribute `serial` (default: none, omitted)");
+  cmd->add_option("--start-time-utc", metadata.start_time_utc,
                   "Root attribute `start_time_utc`, ISO 8601 UTC time of the first sample, e.g. "
                   "2026-03-01T08:00:00Z (default: none, omitted)");
-  cmd->add_option("--latitude-deg", a.metadata.latitude_deg,
+  cmd->add_option("--latitude-deg", metadata.latitude_deg,
                   "Root attribute `latitude_deg`, site latitude in deg, [-90, 90] (default: none, "
                   "omitted)")
       ->check(CLI::Range(-90.0, 90.0));
+}
 
-  // Text inputs.
-  a.text_only = {
-      cmd->add_option("--delimiter", a.text.delimiter,
+// Options for text inputs; returned so that they can be refused for MATLAB inputs.
+std::vector<CLI::Option*> AddTextOptions(CLI::App* cmd, io::TextImportOptions* text) {
+  return {
+      cmd->add_option("--delimiter", text->delimiter,
                       "Field delimiter: auto (the first of tab, ';', ',' and blanks that splits "
                       "the first lines evenly), comma or ',', semicolon or ';', tab, or space "
                       "(runs of blanks)")
           ->capture_default_str(),
-      cmd->add_option("--skip-rows", a.text.skip_rows,
+      cmd->add_option("--skip-rows", text->skip_rows,
                       "Lines dropped at the top of the file whatever they hold, in lines")
           ->check(CLI::NonNegativeNumber)
           ->capture_default_str(),
-      cmd->add_option("--header", a.text.header,
+      cmd->add_option("--header", text->header,
                       "Header line: auto (the first kept line when none of its fields is a "
                       "number), yes or no")
           ->check(CLI::IsMember({"auto", "yes", "no"}))
           ->capture_default_str(),
-      cmd->add_option("--comment", a.text.comment_prefix,
+      cmd->add_option("--comment", text->comment_prefix,
                       "Lines starting with this (after blanks) are skipped; \"\" keeps every line")
           ->capture_default_str(),
-      cmd->add_flag("--decimal-comma", a.text.decimal_comma,
+      cmd->add_flag("--decimal-comma", text->decimal_comma,
                     "Numbers use a decimal comma, 1,5 (default: off, a decimal point)"),
-      cmd->add_option("--rate-columns", a.text.rate_columns,
+      cmd->add_option("--rate-columns", text->rate_columns,
                       "Rate columns, comma-separated header names or 0-based indices, one per "
                       "axis (default: the only column not used by --time-column or --aux)")
           ->delimiter(','),
-      cmd->add_option("--time-column", a.text.time_column,
+      cmd->add_option("--time-column", text->time_column,
                       "Column of time stamps (name or 0-based index): gives the sample rate, and "
                       "its steps are checked to be uniform (default: none)"),
-      cmd->add_option("--time-units", a.text.time_units, "Unit of --time-column: s, ms, us or ns")
+      cmd->add_option("--time-units", text->time_units, "Unit of --time-column: s, ms, us or ns")
           ->check(CLI::IsMember({"s", "ms", "us", "ns"}))
           ->capture_default_str(),
-      cmd->add_option("--time-tolerance-percent", a.text.time_tolerance_percent,
+      cmd->add_option("--time-tolerance-percent", text->time_tolerance_percent,
                       "Largest deviation of a time step from the median step, in % of the "
                       "median; a larger one is refused, naming its line")
           ->check(CLI::Range(0.001, 49.0))
           ->capture_default_str(),
   };
+}
 
-  // MATLAB inputs.
-  a.matlab_only = {
-      cmd->add_option("--variable", a.matlab.variable,
+// Options for MATLAB inputs; returned so that they can be refused for text inputs.
+std::vector<CLI::Option*> AddMatlabOptions(CLI::App* cmd, io::MatlabImportOptions* matlab) {
+  return {
+      cmd->add_option("--variable", matlab->variable,
                       "Variable holding the rate: an N x A matrix (one row per sample) or a "
                       "vector; a struct field a.b or an HDF5 path /a/b (required for MATLAB "
                       "files; default: none)"),
-      cmd->add_option("--sample-rate-variable", a.matlab.sample_rate_variable,
+      cmd->add_option("--sample-rate-variable", matlab->sample_rate_variable,
                       "Scalar variable holding the sample rate in Hz (default: none; then "
                       "--sample-rate-hz)"),
   };
+}
+
+}  // namespace
+
+void AddImportCommand(CLI::App& app, int* exit_code) {
+  auto args = std::make_shared<ImportArguments>();
+  auto* cmd = app.add_subcommand(
+      "import",
+      "Turn text tables (CSV, TSV, blank-separated) and MATLAB v7.3 MAT-files into contract-v1 "
+      "recordings. Exit code 0: all imported, 1: some input failed, 2: usage error.");
+  AddInputOutputOptions(cmd, args.get());
+  AddMetadataOptions(cmd, args.get());
+  args->text_only = AddTextOptions(cmd, &args->text);
+  args->matlab_only = AddMatlabOptions(cmd, &args->matlab);
   cmd->callback([args, exit_code]() { *exit_code = RunImport(*args); });
 }
 

@@ -102,9 +102,8 @@ bool WantsTemperature(const SimulateArguments& a) {
          a.temperature_noise_degC || a.temperature_coef || a.temperature_rate_coef;
 }
 
-// Builds the options of file i. Throws std::invalid_argument on a malformed option.
-sim::GyroSimulatorOptions BuildOptions(const SimulateArguments& a, std::uint64_t seed) {
-  using namespace fogpipe::units;
+// The profile, with an explicit record length, sample rate and latitude over it.
+sim::GyroSimulatorOptions ProfileOptions(const SimulateArguments& a, std::uint64_t seed) {
   sim::GyroSimulatorOptions o;
   if (a.profile == "paper") {
     o = sim::PaperOptions(seed);
@@ -118,7 +117,13 @@ sim::GyroSimulatorOptions BuildOptions(const SimulateArguments& a, std::uint64_t
   if (a.duration_s) o.duration_s = *a.duration_s;
   if (a.sample_rate_hz) o.sample_rate_hz = *a.sample_rate_hz;
   if (a.latitude_deg) o.latitude_deg = *a.latitude_deg;
-  sim::GyroErrorModel& e = o.errors;
+  return o;
+}
+
+// Explicit levels and temperature settings.
+void ApplyLevels(const SimulateArguments& a, sim::GyroSimulatorOptions* o) {
+  using namespace fogpipe::units;
+  sim::GyroErrorModel& e = o->errors;
   if (a.n_deg_sqrt_h) e.n_rad_sqrt_s = DegPerSqrtHourToArw(*a.n_deg_sqrt_h);
   if (a.b_deg_h) e.b_rad_s = DegPerHourToBias(*a.b_deg_h);
   if (a.k_deg_h_sqrt_h) e.k_rad_s_sqrt_s = DegPerHourSqrtHourToRrw(*a.k_deg_h_sqrt_h);
@@ -128,16 +133,19 @@ sim::GyroSimulatorOptions BuildOptions(const SimulateArguments& a, std::uint64_t
   if (a.angle_quantizer) e.quantization_model = sim::QuantizationModel::kAngleQuantizer;
 
   if (a.no_temperature) {
-    o.temperature.reset();
-  } else if (WantsTemperature(a) || o.temperature) {
-    sim::TemperatureProfile t = o.temperature ? *o.temperature : DefaultTemperature();
+    o->temperature.reset();
+  } else if (WantsTemperature(a) || o->temperature) {
+    sim::TemperatureProfile t = o->temperature ? *o->temperature : DefaultTemperature();
     if (a.temperature_pp_degC) t.peak_to_peak_degC = *a.temperature_pp_degC;
     if (a.temperature_period_s) t.period_s = *a.temperature_period_s;
     if (a.temperature_mean_degC) t.mean_degC = *a.temperature_mean_degC;
     if (a.temperature_noise_degC) t.noise_std_degC = *a.temperature_noise_degC;
-    o.temperature = t;
+    o->temperature = t;
   }
+}
 
+// --add TERM: each at a navigation-grade size drawn from the seed.
+void AddCatalogTerms(const SimulateArguments& a, std::uint64_t seed, sim::GyroSimulatorOptions* o) {
   for (const std::string& name : a.add) {
     const std::optional<sim::Term> term = sim::ParseTerm(name);
     if (!term) throw std::invalid_argument("--add '" + name + "' is not a catalog term");
@@ -145,9 +153,14 @@ sim::GyroSimulatorOptions BuildOptions(const SimulateArguments& a, std::uint64_t
       throw std::invalid_argument("--add " + name +
                                   " needs the aux temperature (--no-temperature)");
     }
-    sim::AddNavigationGradeTerm(*term, seed, &o);
+    sim::AddNavigationGradeTerm(*term, seed, o);
   }
+}
 
+// Explicit effects (those on the temperature need it), then the rate-table input.
+void ApplyEffects(const SimulateArguments& a, sim::GyroSimulatorOptions* o) {
+  using namespace fogpipe::units;
+  sim::GyroErrorModel& e = o->errors;
   for (const std::string& text : a.gm) {
     const std::vector<double> v = ParseFields("--gm", text, 2, 2);
     e.gauss_markov.push_back({DegPerHourToRadPerSecond(v[0]), v[1]});
@@ -166,14 +179,14 @@ sim::GyroSimulatorOptions BuildOptions(const SimulateArguments& a, std::uint64_t
     e.warmup = sim::Warmup{DegPerHourToRadPerSecond(v[0]), v[1]};
   }
   if (a.temperature_coef || a.temperature_rate_coef) {
-    if (!o.temperature) {
+    if (!o->temperature) {
       throw std::invalid_argument("thermal effects need the aux temperature (--no-temperature)");
     }
   }
   if (a.temperature_coef) {
     e.temperature = sim::TemperatureEffect{
         DegPerHourToRadPerSecond(*a.temperature_coef),
-        a.temperature_ref_degC ? *a.temperature_ref_degC : o.temperature->mean_degC};
+        a.temperature_ref_degC ? *a.temperature_ref_degC : o->temperature->mean_degC};
   }
   if (a.temperature_rate_coef) {
     e.temperature_rate =
@@ -181,10 +194,19 @@ sim::GyroSimulatorOptions BuildOptions(const SimulateArguments& a, std::uint64_t
   }
   if (!a.rate_profile.empty()) {
     std::string error;
-    if (!sim::ParseRateProfile(a.rate_profile, &o.input_rate, &error)) {
+    if (!sim::ParseRateProfile(a.rate_profile, &o->input_rate, &error)) {
       throw std::invalid_argument("--rate-profile: " + error);
     }
   }
+}
+
+// Builds the options of file i, in the order of construction above. Throws
+// std::invalid_argument on a malformed option.
+sim::GyroSimulatorOptions BuildOptions(const SimulateArguments& a, std::uint64_t seed) {
+  sim::GyroSimulatorOptions o = ProfileOptions(a, seed);
+  ApplyLevels(a, &o);
+  AddCatalogTerms(a, seed, &o);
+  ApplyEffects(a, &o);
   std::string error;
   if (!o.IsValid(&error)) throw std::invalid_argument(error);
   return o;

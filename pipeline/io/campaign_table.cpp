@@ -10,6 +10,7 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "algorithms/common/units.h"
@@ -179,53 +180,67 @@ std::string CsvField(const std::string& text) {
   return out + "\"";
 }
 
-}  // namespace
+bool IsResultsFile(const fs::directory_entry& entry) {
+  const std::string name = entry.path().filename().string();
+  const std::size_t suffix = std::string(kResultsSuffix).size();
+  return entry.is_regular_file() && name.size() > suffix &&
+         name.compare(name.size() - suffix, std::string::npos, kResultsSuffix) == 0;
+}
 
-CampaignTable CollectCampaign(const std::string& outdir, const std::string& manifest) {
-  CampaignTable table;
-  table.source_folder = outdir;
-  // The newest results file per input path (a re-named duplicate must not count twice).
-  std::map<std::string, ResultsRows> by_input;
+std::vector<fs::path> ListResultsFiles(const std::string& outdir) {
   std::vector<fs::path> files;
   for (const auto& entry : fs::directory_iterator(outdir)) {
-    const std::string name = entry.path().filename().string();
-    if (entry.is_regular_file() && name.size() > std::string(kResultsSuffix).size() &&
-        name.compare(name.size() - std::string(kResultsSuffix).size(), std::string::npos,
-                     kResultsSuffix) == 0) {
-      files.push_back(entry.path());
-    }
+    if (IsResultsFile(entry)) files.push_back(entry.path());
   }
   std::sort(files.begin(), files.end());
-  for (const fs::path& file : files) {
-    // A results file that misses part of its layout (say an axis without /allan) would otherwise
-    // give rows without terms marked ok. Checked in a child process: a damaged file cannot take
-    // the merge down.
-    FileValidationOptions validation;
-    validation.check_data = false;
-    const FileValidation v = ValidateFileIsolated(file.string(), validation, IsolationLimits());
-    if (v.usage_error.empty() && !v.problems.empty()) {
-      table.problems.push_back(file.string() + ": invalid results (" + v.problems.front().object +
-                               ": " + v.problems.front().message + ")");
-      continue;
-    }
-    ResultsRows rows;
-    try {
-      rows = ReadResultsRows(file);
-    } catch (const std::exception& e) {
-      table.problems.push_back(file.string() + ": " + e.what());
-      continue;
-    }
-    auto found = by_input.find(rows.input_path);
+  return files;
+}
+
+// The rows of one results file, or nothing after adding to `problems` why it cannot count.
+std::optional<ResultsRows> ReadCheckedResults(const fs::path& file,
+                                              std::vector<std::string>* problems) {
+  // A results file that misses part of its layout (say an axis without /allan) would otherwise
+  // give rows without terms marked ok. Checked in a child process: a damaged file cannot take
+  // the merge down.
+  FileValidationOptions validation;
+  validation.check_data = false;
+  const FileValidation v = ValidateFileIsolated(file.string(), validation, IsolationLimits());
+  if (v.usage_error.empty() && !v.problems.empty()) {
+    problems->push_back(file.string() + ": invalid results (" + v.problems.front().object + ": " +
+                        v.problems.front().message + ")");
+    return std::nullopt;
+  }
+  try {
+    return ReadResultsRows(file);
+  } catch (const std::exception& e) {
+    problems->push_back(file.string() + ": " + e.what());
+    return std::nullopt;
+  }
+}
+
+// The newest results file per input path (a re-named duplicate must not count twice).
+std::map<std::string, ResultsRows> NewestResultsByInput(const std::string& outdir,
+                                                        CampaignTable* table) {
+  std::map<std::string, ResultsRows> by_input;
+  for (const fs::path& file : ListResultsFiles(outdir)) {
+    std::optional<ResultsRows> rows = ReadCheckedResults(file, &table->problems);
+    if (!rows) continue;
+    auto found = by_input.find(rows->input_path);
     if (found == by_input.end()) {
-      by_input.emplace(rows.input_path, std::move(rows));
+      by_input.emplace(rows->input_path, std::move(*rows));
     } else {
-      ++table.duplicate_results;
-      if (rows.end_time_utc > found->second.end_time_utc) found->second = std::move(rows);
+      ++table->duplicate_results;
+      if (rows->end_time_utc > found->second.end_time_utc) found->second = std::move(*rows);
     }
   }
-  const auto status = ReadStatusLog(fs::path(outdir) / "status.jsonl", &table.problems);
+  return by_input;
+}
 
-  std::map<std::string, std::vector<CampaignRow>> rows;
+using RowsByInput = std::map<std::string, std::vector<CampaignRow>>;
+
+// The analysed rows, with the serial and instrument of their recordings.
+RowsByInput AnalysedRows(std::map<std::string, ResultsRows> by_input, CampaignTable* table) {
+  RowsByInput rows;
   for (auto& [input, results] : by_input) {
     // Serial and instrument live in the recording, not in the results file.
     std::string serial, instrument;
@@ -241,28 +256,48 @@ CampaignTable CollectCampaign(const std::string& outdir, const std::string& mani
       row.instrument = instrument;
     }
     rows[input] = std::move(results.rows);
-    ++table.results_files;
+    ++table->results_files;
   }
+  return rows;
+}
+
+// A row for every input the status log names that has no results file.
+void AddStatusOnlyRows(const std::map<std::string, StatusLine>& status, RowsByInput* rows) {
   for (const auto& [input, line] : status) {
-    if (rows.count(input) != 0) continue;
+    if (rows->count(input) != 0) continue;
     CampaignRow row = EmptyRow(input);
     // "ok"/"skipped" without a results file: it was removed or renamed since.
     row.status = line.status == "failed" ? "failed" : "missing";
     row.message = line.message;
-    rows[input] = {row};
+    (*rows)[input] = {row};
   }
-  if (!manifest.empty()) {
-    std::vector<std::string> errors;
-    for (const InputFile& input : ListInputs({}, manifest, &errors)) {
-      const std::string key = Normal(input.path);
-      if (rows.count(key) != 0) continue;
-      CampaignRow row = EmptyRow(key);
-      row.status = "missing";
-      row.message = "listed in " + manifest + " but neither analysed nor reported";
-      rows[key] = {row};
-    }
-    for (const std::string& e : errors) table.problems.push_back(e);
+}
+
+// A "missing" row for every input of the manifest that has neither results nor a status.
+void AddManifestOnlyRows(const std::string& manifest, RowsByInput* rows,
+                         std::vector<std::string>* problems) {
+  std::vector<std::string> errors;
+  for (const InputFile& input : ListInputs({}, manifest, &errors)) {
+    const std::string key = Normal(input.path);
+    if (rows->count(key) != 0) continue;
+    CampaignRow row = EmptyRow(key);
+    row.status = "missing";
+    row.message = "listed in " + manifest + " but neither analysed nor reported";
+    (*rows)[key] = {row};
   }
+  for (const std::string& e : errors) problems->push_back(e);
+}
+
+}  // namespace
+
+CampaignTable CollectCampaign(const std::string& outdir, const std::string& manifest) {
+  CampaignTable table;
+  table.source_folder = outdir;
+  std::map<std::string, ResultsRows> by_input = NewestResultsByInput(outdir, &table);
+  const auto status = ReadStatusLog(fs::path(outdir) / "status.jsonl", &table.problems);
+  RowsByInput rows = AnalysedRows(std::move(by_input), &table);
+  AddStatusOnlyRows(status, &rows);
+  if (!manifest.empty()) AddManifestOnlyRows(manifest, &rows, &table.problems);
   for (auto& [input, file_rows] : rows) {
     ++table.recordings;
     for (CampaignRow& row : file_rows) table.rows.push_back(std::move(row));

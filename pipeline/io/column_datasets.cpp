@@ -96,56 +96,68 @@ std::vector<unsigned char> EncodeChunk(const double* values, std::size_t rows,
   return out;
 }
 
-void WriteColumnDataset(hdf5::Group& group, const std::string& name,
-                        const std::vector<const Eigen::VectorXd*>& columns, bool matrix,
-                        const std::string& units, const ColumnStorage& storage) {
+namespace {
+
+// Throws std::invalid_argument unless the columns make a dataset; returns their length.
+hsize_t CheckedLength(const std::string& name, const std::vector<const Eigen::VectorXd*>& columns,
+                      bool matrix, const ColumnStorage& storage) {
   std::string error;
   if (!storage.IsValid(&error)) throw std::invalid_argument("fogpipe::io: " + error);
   if (columns.empty() || (!matrix && columns.size() != 1)) {
     throw std::invalid_argument("fogpipe::io: " + name + ": a vector dataset needs one column");
   }
   const hsize_t n = static_cast<hsize_t>(columns[0]->size());
-  const hsize_t k = columns.size();
   for (const Eigen::VectorXd* c : columns) {
     if (static_cast<hsize_t>(c->size()) != n) {
       throw std::invalid_argument("fogpipe::io: " + name + ": columns of different lengths");
     }
   }
-  const std::vector<hsize_t> dims = matrix ? std::vector<hsize_t>{n, k} : std::vector<hsize_t>{n};
+  return n;
+}
 
-  if (n < storage.min_chunked_rows) {  // small: contiguous, one plain write
-    hdf5::DatasetOptions plain;
-    plain.storage = storage.type;
-    plain.deflate_level = 0;
-    plain.min_chunked_elements = ~hsize_t{0};
-    std::vector<double> data(n * k);
-    for (hsize_t r = 0; r < n; ++r)
-      for (hsize_t c = 0; c < k; ++c) data[r * k + c] = (*columns[c])[r];
-    group.WriteDataset(name, data.data(), dims, units, plain);
-    return;
-  }
+// A small dataset: contiguous, one plain write.
+void WriteContiguous(hdf5::Group& group, const std::string& name,
+                     const std::vector<const Eigen::VectorXd*>& columns,
+                     const std::vector<hsize_t>& dims, const std::string& units,
+                     hdf5::StorageType type) {
+  const hsize_t n = dims[0];
+  const hsize_t k = columns.size();
+  hdf5::DatasetOptions plain;
+  plain.storage = type;
+  plain.deflate_level = 0;
+  plain.min_chunked_elements = ~hsize_t{0};
+  std::vector<double> data(n * k);
+  for (hsize_t r = 0; r < n; ++r)
+    for (hsize_t c = 0; c < k; ++c) data[r * k + c] = (*columns[c])[r];
+  group.WriteDataset(name, data.data(), dims, units, plain);
+}
 
-  ColumnStorage effective = storage;
-  effective.chunk_rows = std::min<unsigned long long>(storage.chunk_rows, n);
-  const hsize_t chunk_rows = effective.chunk_rows;
-  // The layout the chunks below are encoded for: [chunk_rows, 1] chunks, shuffle + deflate
-  // declared so that every reader decodes them (the writes bypass the filters).
+// The layout the chunks are encoded for: [chunk_rows, 1] chunks, shuffle + deflate declared so
+// that every reader decodes them (the writes bypass the filters).
+hdf5::Dataset CreateChunked(hdf5::Group& group, const std::string& name,
+                            const std::vector<hsize_t>& dims, const std::string& units,
+                            const ColumnStorage& storage) {
   hdf5::DatasetOptions layout;
-  layout.storage = effective.type;
-  layout.chunk_rows = chunk_rows;
-  layout.deflate_level = effective.deflate_level;
+  layout.storage = storage.type;
+  layout.chunk_rows = storage.chunk_rows;
+  layout.deflate_level = storage.deflate_level;
   layout.shuffle = true;
   layout.min_chunked_elements = 0;  // n >= min_chunked_rows: always chunked
   layout.chunk_per_column = true;
-  hdf5::Dataset dataset = group.CreateDataset(name, dims, units, layout);
+  return group.CreateDataset(name, dims, units, layout);
+}
 
-  // Chunks in file order: column 0 top to bottom, then column 1, ... A pipeline of at most
-  // 2 x threads chunks in flight (bounded memory: ~1.5 chunk sizes each): encoded in parallel,
-  // written one at a time in order while the next ones are being encoded. The write may run on
-  // a TBB worker thread: it is an HDF5 C API call (thread-safe in Debian's build), serialized by
-  // the serial_in_order filter, while this thread holds the fogpipe HDF5 lock for all of it.
+// Chunks in file order: column 0 top to bottom, then column 1, ... A pipeline of at most
+// 2 x threads chunks in flight (bounded memory: ~1.5 chunk sizes each): encoded in parallel,
+// written one at a time in order while the next ones are being encoded. The write may run on
+// a TBB worker thread: it is an HDF5 C API call (thread-safe in Debian's build), serialized by
+// the serial_in_order filter, while this thread holds the fogpipe HDF5 lock for all of it.
+void WriteChunks(const hdf5::Dataset& dataset, const std::vector<const Eigen::VectorXd*>& columns,
+                 const ColumnStorage& storage) {
+  const hsize_t n = static_cast<hsize_t>(columns[0]->size());
+  const hsize_t chunk_rows = storage.chunk_rows;
   const hsize_t per_column = (n + chunk_rows - 1) / chunk_rows;
-  const hsize_t total = per_column * k;
+  const hsize_t total = per_column * columns.size();
   const std::size_t tokens =
       2 * static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
   const hid_t dataset_id = dataset.id();
@@ -165,7 +177,7 @@ void WriteColumnDataset(hdf5::Group& group, const std::string& name,
                       [&](hsize_t i) {
                         const hsize_t c = i / per_column, row0 = i % per_column * chunk_rows;
                         return Encoded{i, EncodeChunk(columns[c]->data() + row0,
-                                                      std::min(chunk_rows, n - row0), effective)};
+                                                      std::min(chunk_rows, n - row0), storage)};
                       }) &
                   tbb::make_filter<Encoded, void>(
                       tbb::filter_mode::serial_in_order, [&](const Encoded& chunk) {
@@ -178,6 +190,24 @@ void WriteColumnDataset(hdf5::Group& group, const std::string& name,
                                              dataset.file_path(), dataset.path(),
                                              "write chunk at row " + std::to_string(row0));
                       }));
+}
+
+}  // namespace
+
+void WriteColumnDataset(hdf5::Group& group, const std::string& name,
+                        const std::vector<const Eigen::VectorXd*>& columns, bool matrix,
+                        const std::string& units, const ColumnStorage& storage) {
+  const hsize_t n = CheckedLength(name, columns, matrix, storage);
+  const hsize_t k = columns.size();
+  const std::vector<hsize_t> dims = matrix ? std::vector<hsize_t>{n, k} : std::vector<hsize_t>{n};
+  if (n < storage.min_chunked_rows) {
+    WriteContiguous(group, name, columns, dims, units, storage.type);
+    return;
+  }
+  ColumnStorage effective = storage;
+  effective.chunk_rows = std::min<unsigned long long>(storage.chunk_rows, n);
+  const hdf5::Dataset dataset = CreateChunked(group, name, dims, units, effective);
+  WriteChunks(dataset, columns, effective);
 }
 
 }  // namespace fogpipe::io

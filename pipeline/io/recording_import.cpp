@@ -65,6 +65,106 @@ void DescribeColumn(const std::string& what, const Eigen::VectorXd& column, bool
   }
 }
 
+// The sample rate: --sample-rate-hz when given, else what the source found. Sets *from to where
+// it came from, for the provenance. False when there is none.
+bool ResolveSampleRate(const ImportSource& source, const ImportMetadataOptions& options,
+                       RecordingData* data, std::string* from) {
+  const bool rate_given = options.sample_rate_hz > 0.0;
+  data->sample_rate_hz = rate_given ? options.sample_rate_hz : source.sample_rate_hz;
+  *from = rate_given ? "--sample-rate-hz" : source.sample_rate_from;
+  return data->sample_rate_hz > 0.0 && std::isfinite(data->sample_rate_hz);
+}
+
+// Axis names from --axes, else from the source when they are valid (a note says why not).
+bool NameAxes(const ImportSource& source, const ImportMetadataOptions& options,
+              ImportedRecording* out, std::string* error) {
+  const Eigen::Index axes = source.rate.cols();
+  if (!options.axes.empty()) {
+    if (static_cast<Eigen::Index>(options.axes.size()) != axes) {
+      *error = "--axes names " + std::to_string(options.axes.size()) + " axes but the rate has " +
+               std::to_string(axes) + " column" + (axes == 1 ? "" : "s");
+      return false;
+    }
+    out->data.axes = options.axes;
+  } else if (!source.axis_names.empty()) {
+    if (AreValidAxisNames(source.axis_names, nullptr)) {
+      out->data.axes = source.axis_names;
+    } else {
+      out->notes.push_back("the source's column names " + JoinNames(source.axis_names) +
+                           " are not valid axis names (unique, non-empty, no '/'); the axes are "
+                           "unnamed (axis0, axis1, ...): give --axes to name them");
+    }
+  }
+  return true;
+}
+
+// Moves the rate (scaled) and the aux channels the options name from the source into `data`.
+bool TakeSamples(const ImportMetadataOptions& options, ImportSource* source, RecordingData* data,
+                 std::string* error) {
+  const Eigen::Index samples = source->rate.rows();
+  data->rate_in_output_unit = std::move(source->rate);
+  if (options.scale_factor != 1.0) data->rate_in_output_unit *= options.scale_factor;
+  for (const AuxImportSpec& spec : options.aux) {
+    auto found = source->aux.find(spec.name);
+    if (found == source->aux.end()) {
+      *error = "aux '" + spec.name + "' was not read";
+      return false;
+    }
+    if (found->second.size() != samples) {
+      *error = "aux '" + spec.name + "' has " + std::to_string(found->second.size()) +
+               " values, the rate " + std::to_string(samples) + " samples";
+      return false;
+    }
+    data->aux[spec.name] = AuxChannel{std::move(found->second), spec.units};
+  }
+  return true;
+}
+
+// Warns of and notes what `run` will refuse or repair; returns the missing samples per axis.
+nlohmann::json DescribeSamples(ImportedRecording* out) {
+  const RecordingData& data = out->data;
+  nlohmann::json missing = nlohmann::json::object();
+  for (Eigen::Index a = 0; a < data.rate_in_output_unit.cols(); ++a) {
+    const std::string name = data.axes.empty() ? "axis" + std::to_string(a) : data.axes[a];
+    missing[name] = data.rate_in_output_unit.col(a).array().isNaN().count();
+    DescribeColumn("axis '" + name + "'", data.rate_in_output_unit.col(a), true, &out->warnings,
+                   &out->notes);
+  }
+  for (const auto& [name, channel] : data.aux) {
+    DescribeColumn("aux '" + name + "'", channel.samples, false, &out->warnings, &out->notes);
+  }
+  const Eigen::Index samples = data.rate_in_output_unit.rows();
+  const long long min_samples = ReadOptions().min_samples;
+  if (samples < min_samples) {
+    out->warnings.push_back("only " + std::to_string(samples) + " samples; `run` needs at least " +
+                            std::to_string(min_samples));
+  }
+  return missing;
+}
+
+// The import_provenance attribute: the source file, every option, what was found.
+nlohmann::json ImportProvenance(const ImportMetadataOptions& options, const RecordingData& data,
+                                const std::string& rate_from, nlohmann::json missing,
+                                ImportSource* source) {
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(source->path, ec);
+  nlohmann::json found = std::move(source->found);
+  found["samples"] = data.rate_in_output_unit.rows();
+  found["axes"] = data.rate_in_output_unit.cols();
+  found["sample_rate_hz"] = data.sample_rate_hz;
+  found["sample_rate_from"] = rate_from;
+  found["missing_samples"] = std::move(missing);
+  nlohmann::json all_options = std::move(source->options);
+  all_options["metadata"] = options.ToJson();
+  return {{"source",
+           {{"path", ec ? source->path : absolute.lexically_normal().string()},
+            {"format", source->format},
+            {"sha256", source->sha256},
+            {"size_bytes", source->size_bytes}}},
+          {"options", std::move(all_options)},
+          {"found", std::move(found)}};
+}
+
 }  // namespace
 
 bool ParseAuxImportSpec(const std::string& text, AuxImportSpec* spec, std::string* error) {
@@ -142,88 +242,25 @@ ImportResult FinishImport(ImportSource source, const ImportMetadataOptions& opti
   };
   std::string error;
   if (!options.IsValid(&error)) return fail(error);
-  const Eigen::Index samples = source.rate.rows();
-  const Eigen::Index axes = source.rate.cols();
-  if (samples < 1 || axes < 1) return fail("no samples to import");
+  if (source.rate.rows() < 1 || source.rate.cols() < 1) return fail("no samples to import");
 
   ImportedRecording& out = result.recording;
   RecordingData& data = out.data;
   out.rate_unit = *units::ParseRateUnit(options.rate_units);
-  const bool rate_given = options.sample_rate_hz > 0.0;
-  data.sample_rate_hz = rate_given ? options.sample_rate_hz : source.sample_rate_hz;
-  const std::string rate_from = rate_given ? "--sample-rate-hz" : source.sample_rate_from;
-  if (!(data.sample_rate_hz > 0.0) || !std::isfinite(data.sample_rate_hz)) {
+  std::string rate_from;
+  if (!ResolveSampleRate(source, options, &data, &rate_from)) {
     return fail(
         "no sample rate: give --sample-rate-hz, a time column (text) or a sample-rate "
         "variable (MATLAB)");
   }
-
-  if (!options.axes.empty()) {
-    if (static_cast<Eigen::Index>(options.axes.size()) != axes) {
-      return fail("--axes names " + std::to_string(options.axes.size()) +
-                  " axes but the rate has " + std::to_string(axes) + " column" +
-                  (axes == 1 ? "" : "s"));
-    }
-    data.axes = options.axes;
-  } else if (!source.axis_names.empty()) {
-    if (AreValidAxisNames(source.axis_names, nullptr)) {
-      data.axes = source.axis_names;
-    } else {
-      out.notes.push_back("the source's column names " + JoinNames(source.axis_names) +
-                          " are not valid axis names (unique, non-empty, no '/'); the axes are "
-                          "unnamed (axis0, axis1, ...): give --axes to name them");
-    }
-  }
-
-  data.rate_in_output_unit = std::move(source.rate);
-  if (options.scale_factor != 1.0) data.rate_in_output_unit *= options.scale_factor;
-  for (const AuxImportSpec& spec : options.aux) {
-    auto found = source.aux.find(spec.name);
-    if (found == source.aux.end()) return fail("aux '" + spec.name + "' was not read");
-    if (found->second.size() != samples) {
-      return fail("aux '" + spec.name + "' has " + std::to_string(found->second.size()) +
-                  " values, the rate " + std::to_string(samples) + " samples");
-    }
-    data.aux[spec.name] = AuxChannel{std::move(found->second), spec.units};
-  }
+  if (!NameAxes(source, options, &out, &error)) return fail(error);
+  if (!TakeSamples(options, &source, &data, &error)) return fail(error);
   data.instrument = options.instrument;
   data.serial = options.serial;
   data.start_time_utc = options.start_time_utc;
   data.latitude_deg = options.latitude_deg;
-
-  nlohmann::json missing = nlohmann::json::object();
-  for (Eigen::Index a = 0; a < axes; ++a) {
-    const std::string name = data.axes.empty() ? "axis" + std::to_string(a) : data.axes[a];
-    missing[name] = data.rate_in_output_unit.col(a).array().isNaN().count();
-    DescribeColumn("axis '" + name + "'", data.rate_in_output_unit.col(a), true, &out.warnings,
-                   &out.notes);
-  }
-  for (const auto& [name, channel] : data.aux) {
-    DescribeColumn("aux '" + name + "'", channel.samples, false, &out.warnings, &out.notes);
-  }
-  const long long min_samples = ReadOptions().min_samples;
-  if (samples < min_samples) {
-    out.warnings.push_back("only " + std::to_string(samples) + " samples; `run` needs at least " +
-                           std::to_string(min_samples));
-  }
-
-  std::error_code ec;
-  const fs::path absolute = fs::absolute(source.path, ec);
-  nlohmann::json found = std::move(source.found);
-  found["samples"] = samples;
-  found["axes"] = axes;
-  found["sample_rate_hz"] = data.sample_rate_hz;
-  found["sample_rate_from"] = rate_from;
-  found["missing_samples"] = missing;
-  nlohmann::json all_options = std::move(source.options);
-  all_options["metadata"] = options.ToJson();
-  out.provenance = {{"source",
-                     {{"path", ec ? source.path : absolute.lexically_normal().string()},
-                      {"format", source.format},
-                      {"sha256", source.sha256},
-                      {"size_bytes", source.size_bytes}}},
-                    {"options", std::move(all_options)},
-                    {"found", std::move(found)}};
+  nlohmann::json missing = DescribeSamples(&out);
+  out.provenance = ImportProvenance(options, data, rate_from, std::move(missing), &source);
   return result;
 }
 

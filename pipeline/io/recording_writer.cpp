@@ -144,10 +144,145 @@ void WriteJsonFile(const std::string& path, const nlohmann::json& json) {
   WriteTextFileAtomically(path, json.dump(2) + "\n");
 }
 
+namespace {
+
+using nlohmann::json;
+
+json RateComponentToJson(const sim::RateComponent& c) {
+  using units::RadPerSecondToDegPerHour;
+  json item{{"kind", sim::ToString(c.kind)}};
+  switch (c.kind) {
+    case sim::RateComponent::Kind::kConstant:
+      item["value_deg_h"] = RadPerSecondToDegPerHour(c.value_rad_s);
+      break;
+    case sim::RateComponent::Kind::kStep:
+      item["start_s"] = c.start_s;
+      item["value_deg_h"] = RadPerSecondToDegPerHour(c.value_rad_s);
+      break;
+    case sim::RateComponent::Kind::kRamp:
+      item["start_s"] = c.start_s;
+      item["end_s"] = c.end_s;
+      item["slope_deg_h_per_s"] = RadPerSecondToDegPerHour(c.slope_rad_s2);
+      break;
+    case sim::RateComponent::Kind::kSine:
+      item["frequency_hz"] = c.frequency_hz;
+      item["amplitude_deg_h"] = RadPerSecondToDegPerHour(c.value_rad_s);
+      item["phase_rad"] = c.phase_rad;
+      break;
+  }
+  return item;
+}
+
+json AuxTemperatureToJson(const std::optional<sim::TemperatureProfile>& temperature) {
+  if (!temperature) return nullptr;
+  const sim::TemperatureProfile& t = *temperature;
+  return {{"mean_degC", t.mean_degC},
+          {"peak_to_peak_degC", t.peak_to_peak_degC},
+          {"period_s", t.period_s},
+          {"sharpness", t.sharpness},
+          {"phase_rad", t.phase_rad},
+          {"noise_std_degC", t.noise_std_degC},
+          {"max_abs_rate_degC_per_s", sim::MaxAbsTemperatureRate(t)}};
+}
+
+// The stochastic terms of the catalog; an absent term (zero) writes no key.
+void AddNoiseTerms(const sim::GyroErrorModel& e, json* axis) {
+  using namespace fogpipe::units;
+  json& a = *axis;
+  if (e.n_rad_sqrt_s > 0.0) {
+    a["white"] = {{"n_deg_sqrt_h", ArwToDegPerSqrtHour(e.n_rad_sqrt_s)},
+                  {"n_rad_sqrt_s", e.n_rad_sqrt_s}};
+  }
+  if (e.q_rad > 0.0) {
+    a["quantization"] = {{"q_arcsec", QuantizationToArcsec(e.q_rad)},
+                         {"q_rad", e.q_rad},
+                         {"model", sim::ToString(e.quantization_model)}};
+  }
+  if (e.b_rad_s > 0.0) {
+    a["bias_instability"] = {
+        {"b_deg_h", BiasToDegPerHour(e.b_rad_s)},
+        {"b_rad_s", e.b_rad_s},
+        {"allan_floor_deg_h", BiasToDegPerHour(sim::BiasInstabilityFloor(e.b_rad_s))}};
+  }
+  if (e.k_rad_s_sqrt_s > 0.0) {
+    a["rate_random_walk"] = {{"k_deg_h_sqrt_h", RrwToDegPerHourSqrtHour(e.k_rad_s_sqrt_s)},
+                             {"k_rad_s_sqrt_s", e.k_rad_s_sqrt_s}};
+  }
+  if (e.r_rad_s2 != 0.0) {
+    a["rate_ramp"] = {{"r_deg_h2", RampToDegPerHour2(e.r_rad_s2)}, {"r_rad_s2", e.r_rad_s2}};
+  }
+  if (!e.gauss_markov.empty()) {
+    json list = json::array();
+    for (const sim::GaussMarkovTerm& g : e.gauss_markov) {
+      list.push_back({{"sigma_deg_h", RadPerSecondToDegPerHour(g.sigma_rad_s)},
+                      {"sigma_rad_s", g.sigma_rad_s},
+                      {"correlation_time_s", g.correlation_time_s}});
+    }
+    a["gauss_markov"] = list;
+  }
+}
+
+// The deterministic and environmental terms; an absent term writes no key.
+void AddSystematicTerms(const sim::GyroErrorModel& e, json* axis) {
+  using units::RadPerSecondToDegPerHour;
+  json& a = *axis;
+  if (!e.sinusoids.empty()) {
+    json list = json::array();
+    for (const sim::SinusoidTerm& s : e.sinusoids) {
+      list.push_back({{"frequency_hz", s.frequency_hz},
+                      {"amplitude_deg_h", RadPerSecondToDegPerHour(s.amplitude_rad_s)},
+                      {"amplitude_rad_s", s.amplitude_rad_s},
+                      {"phase_rad", s.phase_rad}});
+    }
+    a["sinusoid"] = list;
+  }
+  if (e.temperature) {
+    a["temperature"] = {{"coefficient_deg_h_per_degC",
+                         RadPerSecondToDegPerHour(e.temperature->coefficient_rad_s_per_degC)},
+                        {"coefficient_rad_s_per_degC", e.temperature->coefficient_rad_s_per_degC},
+                        {"reference_degC", e.temperature->reference_degC}};
+  }
+  if (e.temperature_rate) {
+    a["temperature_rate"] = {
+        {"coefficient_deg_h_per_degC_per_s",
+         RadPerSecondToDegPerHour(e.temperature_rate->coefficient_rad_s_per_degC_per_s)},
+        {"coefficient_rad_s_per_degC_per_s", e.temperature_rate->coefficient_rad_s_per_degC_per_s}};
+  }
+  if (!e.bias_steps.empty()) {
+    json list = json::array();
+    for (const sim::BiasStep& s : e.bias_steps) {
+      list.push_back({{"time_s", s.time_s},
+                      {"size_deg_h", RadPerSecondToDegPerHour(s.size_rad_s)},
+                      {"size_rad_s", s.size_rad_s}});
+    }
+    a["bias_step"] = list;
+  }
+  if (e.warmup) {
+    a["warmup"] = {{"amplitude_deg_h", RadPerSecondToDegPerHour(e.warmup->amplitude_rad_s)},
+                   {"amplitude_rad_s", e.warmup->amplitude_rad_s},
+                   {"time_constant_s", e.warmup->time_constant_s}};
+  }
+}
+
+json AxisTruthToJson(const sim::SimulationTruth& truth, const std::string& name) {
+  const sim::GyroErrorModel& e = truth.options.errors;
+  json a;
+  a["name"] = name;
+  a["stream_axis"] = truth.options.axis;
+  json terms = json::array();
+  for (sim::Term term : truth.terms) terms.push_back(sim::ToString(term));
+  a["terms"] = terms;
+  a["bias_deg_h"] = units::RadPerSecondToDegPerHour(e.bias_rad_s);
+  a["bias_rad_s"] = e.bias_rad_s;
+  AddNoiseTerms(e, &a);
+  AddSystematicTerms(e, &a);
+  return a;
+}
+
+}  // namespace
+
 nlohmann::json SimulationTruthToJson(const std::vector<sim::SimulationTruth>& axes,
                                      const std::vector<std::string>& axis_names) {
-  using nlohmann::json;
-  using namespace fogpipe::units;
   if (axes.empty()) throw std::invalid_argument("the truth needs at least one axis");
   const sim::GyroSimulatorOptions& first = axes.front().options;
   json j;
@@ -159,129 +294,21 @@ nlohmann::json SimulationTruthToJson(const std::vector<sim::SimulationTruth>& ax
   j["duration_s"] = first.duration_s;
   j["num_samples"] = axes.front().num_samples;
   j["latitude_deg"] = first.latitude_deg ? json(*first.latitude_deg) : json(nullptr);
-  j["earth_rate_deg_h"] = RadPerSecondToDegPerHour(axes.front().earth_rate_rad_s);
+  j["earth_rate_deg_h"] = units::RadPerSecondToDegPerHour(axes.front().earth_rate_rad_s);
   j["earth_rate_rad_s"] = axes.front().earth_rate_rad_s;
 
   json input = json::array();
   for (const sim::RateComponent& c : first.input_rate.components) {
-    json item{{"kind", sim::ToString(c.kind)}};
-    switch (c.kind) {
-      case sim::RateComponent::Kind::kConstant:
-        item["value_deg_h"] = RadPerSecondToDegPerHour(c.value_rad_s);
-        break;
-      case sim::RateComponent::Kind::kStep:
-        item["start_s"] = c.start_s;
-        item["value_deg_h"] = RadPerSecondToDegPerHour(c.value_rad_s);
-        break;
-      case sim::RateComponent::Kind::kRamp:
-        item["start_s"] = c.start_s;
-        item["end_s"] = c.end_s;
-        item["slope_deg_h_per_s"] = RadPerSecondToDegPerHour(c.slope_rad_s2);
-        break;
-      case sim::RateComponent::Kind::kSine:
-        item["frequency_hz"] = c.frequency_hz;
-        item["amplitude_deg_h"] = RadPerSecondToDegPerHour(c.value_rad_s);
-        item["phase_rad"] = c.phase_rad;
-        break;
-    }
-    input.push_back(item);
+    input.push_back(RateComponentToJson(c));
   }
   j["input_rate"] = input;
   j["input_rate_text"] = sim::FormatRateProfile(first.input_rate);
-
-  if (first.temperature) {
-    const sim::TemperatureProfile& t = *first.temperature;
-    j["aux_temperature"] = {{"mean_degC", t.mean_degC},
-                            {"peak_to_peak_degC", t.peak_to_peak_degC},
-                            {"period_s", t.period_s},
-                            {"sharpness", t.sharpness},
-                            {"phase_rad", t.phase_rad},
-                            {"noise_std_degC", t.noise_std_degC},
-                            {"max_abs_rate_degC_per_s", sim::MaxAbsTemperatureRate(t)}};
-  } else {
-    j["aux_temperature"] = nullptr;
-  }
+  j["aux_temperature"] = AuxTemperatureToJson(first.temperature);
 
   json axis_list = json::array();
   for (size_t i = 0; i < axes.size(); ++i) {
-    const sim::GyroErrorModel& e = axes[i].options.errors;
-    json a;
-    a["name"] = i < axis_names.size() ? axis_names[i] : std::to_string(i);
-    a["stream_axis"] = axes[i].options.axis;
-    json terms = json::array();
-    for (sim::Term term : axes[i].terms) terms.push_back(sim::ToString(term));
-    a["terms"] = terms;
-    a["bias_deg_h"] = RadPerSecondToDegPerHour(e.bias_rad_s);
-    a["bias_rad_s"] = e.bias_rad_s;
-    if (e.n_rad_sqrt_s > 0.0) {
-      a["white"] = {{"n_deg_sqrt_h", ArwToDegPerSqrtHour(e.n_rad_sqrt_s)},
-                    {"n_rad_sqrt_s", e.n_rad_sqrt_s}};
-    }
-    if (e.q_rad > 0.0) {
-      a["quantization"] = {{"q_arcsec", QuantizationToArcsec(e.q_rad)},
-                           {"q_rad", e.q_rad},
-                           {"model", sim::ToString(e.quantization_model)}};
-    }
-    if (e.b_rad_s > 0.0) {
-      a["bias_instability"] = {
-          {"b_deg_h", BiasToDegPerHour(e.b_rad_s)},
-          {"b_rad_s", e.b_rad_s},
-          {"allan_floor_deg_h", BiasToDegPerHour(sim::BiasInstabilityFloor(e.b_rad_s))}};
-    }
-    if (e.k_rad_s_sqrt_s > 0.0) {
-      a["rate_random_walk"] = {{"k_deg_h_sqrt_h", RrwToDegPerHourSqrtHour(e.k_rad_s_sqrt_s)},
-                               {"k_rad_s_sqrt_s", e.k_rad_s_sqrt_s}};
-    }
-    if (e.r_rad_s2 != 0.0) {
-      a["rate_ramp"] = {{"r_deg_h2", RampToDegPerHour2(e.r_rad_s2)}, {"r_rad_s2", e.r_rad_s2}};
-    }
-    if (!e.gauss_markov.empty()) {
-      json list = json::array();
-      for (const sim::GaussMarkovTerm& g : e.gauss_markov) {
-        list.push_back({{"sigma_deg_h", RadPerSecondToDegPerHour(g.sigma_rad_s)},
-                        {"sigma_rad_s", g.sigma_rad_s},
-                        {"correlation_time_s", g.correlation_time_s}});
-      }
-      a["gauss_markov"] = list;
-    }
-    if (!e.sinusoids.empty()) {
-      json list = json::array();
-      for (const sim::SinusoidTerm& s : e.sinusoids) {
-        list.push_back({{"frequency_hz", s.frequency_hz},
-                        {"amplitude_deg_h", RadPerSecondToDegPerHour(s.amplitude_rad_s)},
-                        {"amplitude_rad_s", s.amplitude_rad_s},
-                        {"phase_rad", s.phase_rad}});
-      }
-      a["sinusoid"] = list;
-    }
-    if (e.temperature) {
-      a["temperature"] = {{"coefficient_deg_h_per_degC",
-                           RadPerSecondToDegPerHour(e.temperature->coefficient_rad_s_per_degC)},
-                          {"coefficient_rad_s_per_degC", e.temperature->coefficient_rad_s_per_degC},
-                          {"reference_degC", e.temperature->reference_degC}};
-    }
-    if (e.temperature_rate) {
-      a["temperature_rate"] = {
-          {"coefficient_deg_h_per_degC_per_s",
-           RadPerSecondToDegPerHour(e.temperature_rate->coefficient_rad_s_per_degC_per_s)},
-          {"coefficient_rad_s_per_degC_per_s",
-           e.temperature_rate->coefficient_rad_s_per_degC_per_s}};
-    }
-    if (!e.bias_steps.empty()) {
-      json list = json::array();
-      for (const sim::BiasStep& s : e.bias_steps) {
-        list.push_back({{"time_s", s.time_s},
-                        {"size_deg_h", RadPerSecondToDegPerHour(s.size_rad_s)},
-                        {"size_rad_s", s.size_rad_s}});
-      }
-      a["bias_step"] = list;
-    }
-    if (e.warmup) {
-      a["warmup"] = {{"amplitude_deg_h", RadPerSecondToDegPerHour(e.warmup->amplitude_rad_s)},
-                     {"amplitude_rad_s", e.warmup->amplitude_rad_s},
-                     {"time_constant_s", e.warmup->time_constant_s}};
-    }
-    axis_list.push_back(a);
+    axis_list.push_back(
+        AxisTruthToJson(axes[i], i < axis_names.size() ? axis_names[i] : std::to_string(i)));
   }
   j["axes"] = axis_list;
   return j;

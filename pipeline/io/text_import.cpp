@@ -257,6 +257,14 @@ class TextReader {
   bool ParseValue(std::string_view field, int column, long long line_number, double* value);
   long long LineOfRow(long long row) const;
   bool CheckTime(double* sample_rate_hz, nlohmann::json* found);
+  /// Checks the options and opens the file for reading.
+  bool Open(std::ifstream* in);
+  void ReserveRows();
+  /// Every data row: the detection lines first, then the rest of the file.
+  bool ReadRows(LineReader* reader);
+  /// What the reader found (delimiter, header, columns, lines), for the provenance.
+  nlohmann::json Found() const;
+  bool FillSource(ImportSource* source);
 
   std::string path_;
   const TextImportOptions& options_;
@@ -558,65 +566,52 @@ bool TextReader::CheckTime(double* sample_rate_hz, nlohmann::json* found) {
   return true;
 }
 
-ImportResult TextReader::Run() {
-  ImportResult failed;
-  auto failure = [&]() {
-    failed.error = error_;
-    return failed;
-  };
+bool TextReader::Open(std::ifstream* in) {
   std::string error;
-  if (!options_.IsValid(&error)) {
-    error_ = path_ + ": " + error;
-    return failure();
-  }
+  if (!options_.IsValid(&error)) return Fail(error);
   std::error_code ec;
-  if (fs::is_directory(path_, ec)) {
-    Fail("is a folder, not a text file");
-    return failure();
-  }
-  std::ifstream in(path_, std::ios::binary);
-  if (!in) {
-    Fail(std::string("cannot open for reading: ") + std::strerror(errno));
-    return failure();
-  }
-  Sha256 sha;
-  LineReader reader(in, &sha);
-  if (!ReadPreamble(&reader) || !ChooseDelimiter() || !ChooseColumns()) return failure();
+  if (fs::is_directory(path_, ec)) return Fail("is a folder, not a text file");
+  in->open(path_, std::ios::binary);
+  if (!*in) return Fail(std::string("cannot open for reading: ") + std::strerror(errno));
+  return true;
+}
 
-  // Room for the expected rows at once (from the first lines' length), so that a large file is
-  // not copied on every doubling of the vectors.
+// Room for the expected rows at once (from the first lines' length), so that a large file is not
+// copied on every doubling of the vectors.
+void TextReader::ReserveRows() {
+  std::error_code ec;
   const auto size = fs::file_size(path_, ec);
-  if (!ec && !first_lines_.empty()) {
-    std::size_t bytes = 0;
-    for (const KeptLine& line : first_lines_) bytes += line.text.size() + 1;
-    const std::size_t expected = static_cast<std::size_t>(
-        1.05 * static_cast<double>(size) / (static_cast<double>(bytes) / first_lines_.size()));
-    rate_.reserve(expected * rate_columns_.size());
-    if (time_column_ >= 0) time_.reserve(expected);
-    for (std::vector<double>& channel : aux_) channel.reserve(expected);
-  }
+  if (ec || first_lines_.empty()) return;
+  std::size_t bytes = 0;
+  for (const KeptLine& line : first_lines_) bytes += line.text.size() + 1;
+  const std::size_t expected = static_cast<std::size_t>(
+      1.05 * static_cast<double>(size) / (static_cast<double>(bytes) / first_lines_.size()));
+  rate_.reserve(expected * rate_columns_.size());
+  if (time_column_ >= 0) time_.reserve(expected);
+  for (std::vector<double>& channel : aux_) channel.reserve(expected);
+}
 
+bool TextReader::ReadRows(LineReader* reader) {
+  ReserveRows();
   for (const KeptLine& line : first_lines_) {
-    if (!AddRow(line.text, line.number)) return failure();
+    if (!AddRow(line.text, line.number)) return false;
   }
   std::string_view line;
-  while (reader.Next(&line)) {
+  while (reader->Next(&line)) {
     if (IsSkipped(line, options_.comment_prefix)) continue;
-    if (!AddRow(line, reader.line_number())) return failure();
+    if (!AddRow(line, reader->line_number())) return false;
   }
-  if (reader.read_error()) {
-    Fail("read error after line " + std::to_string(reader.line_number()));
-    return failure();
+  if (reader->read_error()) {
+    return Fail("read error after line " + std::to_string(reader->line_number()));
   }
   if (rows_ == 0) {
-    Fail("has a header (line " + std::to_string(header_line_) + ") but no data lines");
-    return failure();
+    return Fail("has a header (line " + std::to_string(header_line_) + ") but no data lines");
   }
+  return true;
+}
 
-  ImportSource source;
-  source.path = path_;
-  source.format = "text";
-  nlohmann::json& found = source.found;
+nlohmann::json TextReader::Found() const {
+  nlohmann::json found;
   found["delimiter"] = DelimiterName(delimiter_);
   found["delimiter_detected"] = delimiter_detected_;
   found["header_line"] = header_ ? nlohmann::json(header_line_) : nullptr;
@@ -628,24 +623,50 @@ ImportResult TextReader::Run() {
   found["data_rows"] = rows_;
   found["first_data_line"] = line_jumps_.front().second;
   found["last_data_line"] = LineOfRow(rows_ - 1);
+  return found;
+}
+
+// Hands the rows read over to `source` (the rate's row buffer is freed once copied).
+bool TextReader::FillSource(ImportSource* source) {
+  source->path = path_;
+  source->format = "text";
+  source->found = Found();
   if (time_column_ >= 0) {
-    if (!CheckTime(&source.sample_rate_hz, &found)) return failure();
-    source.sample_rate_from = "the time column, " + ColumnLabel(time_column_);
+    if (!CheckTime(&source->sample_rate_hz, &source->found)) return false;
+    source->sample_rate_from = "the time column, " + ColumnLabel(time_column_);
   }
   const auto axes = static_cast<Eigen::Index>(rate_columns_.size());
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  source.rate = Eigen::Map<const RowMajor>(rate_.data(), rows_, axes);
+  source->rate = Eigen::Map<const RowMajor>(rate_.data(), rows_, axes);
   std::vector<double>().swap(rate_);
   if (header_) {
-    for (int c : rate_columns_) source.axis_names.push_back(names_[static_cast<std::size_t>(c)]);
+    for (int c : rate_columns_) source->axis_names.push_back(names_[static_cast<std::size_t>(c)]);
   }
   for (std::size_t k = 0; k < aux_.size(); ++k) {
-    source.aux[options_.metadata.aux[k].name] = Eigen::Map<const Eigen::VectorXd>(
+    source->aux[options_.metadata.aux[k].name] = Eigen::Map<const Eigen::VectorXd>(
         aux_[k].data(), static_cast<Eigen::Index>(aux_[k].size()));
+  }
+  source->options = options_.ToJson();
+  return true;
+}
+
+ImportResult TextReader::Run() {
+  ImportResult failed;
+  auto failure = [&]() {
+    failed.error = error_;
+    return failed;
+  };
+  std::ifstream in;
+  if (!Open(&in)) return failure();
+  Sha256 sha;
+  LineReader reader(in, &sha);
+  ImportSource source;
+  if (!ReadPreamble(&reader) || !ChooseDelimiter() || !ChooseColumns() || !ReadRows(&reader) ||
+      !FillSource(&source)) {
+    return failure();
   }
   source.sha256 = sha.FinishHex();
   source.size_bytes = reader.bytes();
-  source.options = options_.ToJson();
   return FinishImport(std::move(source), options_.metadata);
 }
 
