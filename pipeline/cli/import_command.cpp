@@ -164,82 +164,49 @@ bool ImportOneUnguarded(const ImportArguments& a, const std::string& input,
   return true;
 }
 
-// Each input is imported in a child process (isolated_call.h): a MATLAB file whose damaged
-// metadata crashes or hangs the HDF5 library, or that declares more data than memory holds, is
-// that input's named failure and the next input is imported. The child prints its own report.
-bool ImportOne(const ImportArguments& a, const std::string& input, const std::string& output) {
-  constexpr int kFailed = 1;
-  constexpr int kOutOfMemory = 3;
-  const std::string folder = fs::absolute(output).parent_path().string();
-  const std::string name = fs::path(output).filename().string();
-  graph::RemoveStaleTempFiles(folder, name);  // left by an import that was killed
+// A MATLAB/HDF5 input's metadata checked in a child under the short default limit
+// (isolated_call.h): a loop in damaged metadata is found in seconds, not at the end of the long
+// limit of the import itself. Returns false after printing why the input is refused.
+bool MetadataPassesIsolated(const ImportArguments& a, const std::string& input) {
   io::IsolationLimits limits;
-  limits.seconds = 3600.0;  // a day at 100 Hz takes seconds; a slow network disk more
-  std::error_code ec;
-  const auto input_bytes = fs::is_regular_file(input, ec) ? fs::file_size(input, ec) : 0;
-  // What a well-formed import needs (the parser's rows, the matrix, its copy for the writer) is
-  // a few times the input; anything beyond is a damaged or implausible file.
-  limits.extra_memory_bytes += 8 * static_cast<std::uint64_t>(ec ? 0 : input_bytes);
   limits.stop = graph::StopRequested;
   io::IsolatedOutcome outcome;
-  std::string error;
-  const auto kind = io::DetectImportSourceKind(input, &error);  // reads 8 bytes, no HDF5
-  if (kind && *kind == io::ImportSourceKind::kHdf5 && a.format != "text") {
-    // Metadata first, under the short limit that suits it (isolated_call.h): a loop in damaged
-    // metadata is found in seconds, not at the end of the long limit below.
-    io::IsolationLimits metadata;
-    metadata.stop = graph::StopRequested;
-    {
-      auto lock = hdf5::LockHdf5();
-      outcome = io::RunIsolated(
-          [&](std::string* out) {
-            lock.unlock();
-            *out = io::CheckMatlabVariables(input, a.matlab);
-            return 0;
-          },
-          metadata);
-    }
-    const bool passed = outcome.end == io::IsolatedOutcome::End::kExited &&
-                        outcome.exit_code == 0 && outcome.output.empty();
-    if (!passed) {
-      if (outcome.end == io::IsolatedOutcome::End::kExited && outcome.exit_code == 0) {
-        std::cerr << "fogpipe import: " << outcome.output << "\n";
-      } else if (outcome.Interrupted()) {
-        std::cerr << "fogpipe import: " << input << ": interrupted; nothing written\n";
-      } else {
-        std::cerr << "fogpipe import: " << input << ": reading its metadata, the HDF5 library "
-                  << outcome.Describe(metadata)
-                  << " (damaged metadata); the failure was contained in a child process, "
-                     "nothing written\n";
-      }
-      return false;
-    }
-  }
   {
     auto lock = hdf5::LockHdf5();  // held across the fork; the child releases its copy
     outcome = io::RunIsolated(
-        [&](std::string*) {
+        [&](std::string* out) {
           lock.unlock();
-          try {
-            return ImportOneUnguarded(a, input, output) ? 0 : kFailed;
-          } catch (const std::bad_alloc&) {
-            return kOutOfMemory;
-          } catch (const std::exception& e) {
-            std::cerr << "fogpipe import: " << input << ": " << e.what() << "\n";
-            return kFailed;
-          }
+          *out = io::CheckMatlabVariables(input, a.matlab);
+          return 0;
         },
         limits);
   }
-  if (outcome.end == io::IsolatedOutcome::End::kExited && outcome.exit_code == 0) return true;
-  if (outcome.end == io::IsolatedOutcome::End::kExited && outcome.exit_code == kFailed) {
-    return false;
+  const bool exited = outcome.end == io::IsolatedOutcome::End::kExited && outcome.exit_code == 0;
+  if (exited && outcome.output.empty()) return true;
+  if (exited) {
+    std::cerr << "fogpipe import: " << outcome.output << "\n";
+  } else if (outcome.Interrupted()) {
+    std::cerr << "fogpipe import: " << input << ": interrupted; nothing written\n";
+  } else {
+    std::cerr << "fogpipe import: " << input << ": reading its metadata, the HDF5 library "
+              << outcome.Describe(limits)
+              << " (damaged metadata); the failure was contained in a child process, nothing "
+                 "written\n";
   }
-  graph::RemoveStaleTempFiles(folder, name);
+  return false;
+}
+
+// The child's exit codes.
+constexpr int kImportFailed = 1;  // the child printed why
+constexpr int kImportOutOfMemory = 3;
+
+// What the parent says when the import's child did not end by itself.
+void ReportImportChild(const std::string& input, const io::IsolatedOutcome& outcome,
+                       const io::IsolationLimits& limits) {
   if (outcome.Interrupted()) {
     std::cerr << "fogpipe import: " << input << ": interrupted; nothing written\n";
   } else if (outcome.end == io::IsolatedOutcome::End::kExited &&
-             outcome.exit_code == kOutOfMemory) {
+             outcome.exit_code == kImportOutOfMemory) {
     std::cerr << "fogpipe import: " << input << ": needed more than the "
               << (limits.extra_memory_bytes >> 20)
               << " MiB allowed for this input (a damaged or implausible file); not imported\n";
@@ -249,6 +216,52 @@ bool ImportOne(const ImportArguments& a, const std::string& input, const std::st
               << " (damaged metadata, or a file that blocks); the failure was contained in a "
                  "child process, nothing written\n";
   }
+}
+
+// Each input is imported in a child process (isolated_call.h): a MATLAB file whose damaged
+// metadata crashes or hangs the HDF5 library, or that declares more data than memory holds, is
+// that input's named failure and the next input is imported. The child prints its own report.
+bool ImportOne(const ImportArguments& a, const std::string& input, const std::string& output) {
+  const std::string folder = fs::absolute(output).parent_path().string();
+  const std::string name = fs::path(output).filename().string();
+  graph::RemoveStaleTempFiles(folder, name);  // left by an import that was killed
+  std::string error;
+  const auto kind = io::DetectImportSourceKind(input, &error);  // reads 8 bytes, no HDF5
+  if (kind && *kind == io::ImportSourceKind::kHdf5 && a.format != "text" &&
+      !MetadataPassesIsolated(a, input)) {
+    return false;
+  }
+  io::IsolationLimits limits;
+  limits.seconds = 3600.0;  // a day at 100 Hz takes seconds; a slow network disk more
+  std::error_code ec;
+  const auto input_bytes = fs::is_regular_file(input, ec) ? fs::file_size(input, ec) : 0;
+  // What a well-formed import needs (the parser's rows, the matrix, its copy for the writer) is
+  // a few times the input; anything beyond is a damaged or implausible file.
+  limits.extra_memory_bytes += 8 * static_cast<std::uint64_t>(ec ? 0 : input_bytes);
+  limits.stop = graph::StopRequested;
+  io::IsolatedOutcome outcome;
+  {
+    auto lock = hdf5::LockHdf5();  // held across the fork; the child releases its copy
+    outcome = io::RunIsolated(
+        [&](std::string*) {
+          lock.unlock();
+          try {
+            return ImportOneUnguarded(a, input, output) ? 0 : kImportFailed;
+          } catch (const std::bad_alloc&) {
+            return kImportOutOfMemory;
+          } catch (const std::exception& e) {
+            std::cerr << "fogpipe import: " << input << ": " << e.what() << "\n";
+            return kImportFailed;
+          }
+        },
+        limits);
+  }
+  if (outcome.end == io::IsolatedOutcome::End::kExited) {
+    if (outcome.exit_code == 0) return true;
+    if (outcome.exit_code == kImportFailed) return false;
+  }
+  graph::RemoveStaleTempFiles(folder, name);
+  ReportImportChild(input, outcome, limits);
   return false;
 }
 
