@@ -12,8 +12,8 @@
 #include <memory>
 
 #include "pipeline/cli/commands.h"
-#include "pipeline/io/inputs.h"
 #include "pipeline/io/campaign_manifest.h"
+#include "pipeline/io/inputs.h"
 
 namespace fogpipe::cli {
 namespace {
@@ -35,6 +35,18 @@ int RunPlan(const PlanConfig& config) {
   }
   std::vector<std::string> errors;
   auto inputs = io::ListInputs(config.inputs, config.manifest, &errors);
+  // A plan lists recordings that exist: one named but missing (or a FIFO, a folder) is an error
+  // here, not a line that every shard would then fail on.
+  std::vector<io::InputFile> readable;
+  for (io::InputFile& input : inputs) {
+    const std::string problem = io::RegularFileProblem(input.path);
+    if (problem.empty()) {
+      readable.push_back(std::move(input));
+    } else {
+      errors.push_back(input.path + ": not planned: " + problem);
+    }
+  }
+  inputs = std::move(readable);
   for (const std::string& e : errors) std::cerr << "fogpipe plan: " << e << "\n";
   if (inputs.empty()) {
     std::cerr << "fogpipe plan: no recording found\n";

@@ -7,6 +7,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 namespace fogpipe::graph {
@@ -25,7 +26,10 @@ const char* ToString(FileStatus status) {
 
 std::string ToJsonLine(const FileOutcome& outcome) {
   nlohmann::ordered_json line;
-  line["file"] = outcome.file;
+  // Absolute, so that a later `merge` from another folder finds the same input.
+  std::error_code ec;
+  const std::filesystem::path absolute = std::filesystem::absolute(outcome.file, ec);
+  line["file"] = ec ? outcome.file : absolute.lexically_normal().string();
   line["output"] = outcome.output;
   line["axes"] = outcome.axes;
   line["status"] = ToString(outcome.status);

@@ -53,10 +53,24 @@ TEST(StatusLog, LinesOfConcurrentProcessesNeverInterleaveWhateverTheirLength) {
     const std::string file = j["file"], message = j["message"];
     ASSERT_EQ(message.size(), length) << file;
     EXPECT_EQ(message, std::string(length, message[0])) << file;
-    EXPECT_EQ(file[7], static_cast<char>(message[0] - 'a' + '0')) << file;
+    // The log stores absolute paths: "/.../process<p>_<i>.h5".
+    const std::string name = std::filesystem::path(file).filename().string();
+    EXPECT_EQ(name[7], static_cast<char>(message[0] - 'a' + '0')) << file;
     ++count;
   }
   EXPECT_EQ(count, processes * lines);
+  // A relative input is logged as absolute, so that `merge` run from another folder finds it.
+  {
+    StatusLog log(path);
+    FileOutcome outcome;
+    outcome.file = "relative/run.h5";
+    log.Append(outcome);
+  }
+  std::ifstream again(path);
+  std::string last;
+  while (std::getline(again, line)) last = line;
+  EXPECT_EQ(nlohmann::json::parse(last)["file"].get<std::string>(),
+            (std::filesystem::current_path() / "relative/run.h5").string());
   std::filesystem::remove_all(dir);
 }
 
