@@ -1,9 +1,13 @@
 #include "pipeline/graph/campaign.h"
 
+#include <fcntl.h>
 #include <oneapi/tbb/flow_graph.h>
 #include <oneapi/tbb/global_control.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -132,6 +136,27 @@ std::string AxisError(const FileJob& job, int axis, const std::string& what) {
   return job.input.path + ": axis " + job.info.axis_names[axis] + ": " + what;
 }
 
+/// An exclusive flock(2) on the output folder while it lives: runs writing into one folder
+/// check and rename one at a time. Best effort: a folder that cannot be locked is not.
+class OutputFolderLock {
+ public:
+  explicit OutputFolderLock(const std::string& folder)
+      : fd_(::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)) {
+    if (fd_ >= 0) {
+      while (::flock(fd_, LOCK_EX) != 0 && errno == EINTR) {
+      }
+    }
+  }
+  ~OutputFolderLock() {
+    if (fd_ >= 0) ::close(fd_);  // closing releases the lock
+  }
+  OutputFolderLock(const OutputFolderLock&) = delete;
+  OutputFolderLock& operator=(const OutputFolderLock&) = delete;
+
+ private:
+  int fd_;
+};
+
 class CampaignRunner {
  public:
   CampaignRunner(const CampaignOptions& options, CampaignReport* report, StatusLog* log,
@@ -238,6 +263,17 @@ void CampaignRunner::Finish(FileJob* job) {
         a.input_units = job->info.rate_units;
         a.result = &w->result;
         axes.push_back(a);
+      }
+      // Another run writing into this folder may have put another input's results under this
+      // name since the preflight: checked again under a lock on the folder held to the rename.
+      const OutputFolderLock folder_lock(options_.output_dir);
+      std::error_code exists_ec;
+      if (fs::exists(final_path, exists_ec)) {
+        const io::CompletedResults now =
+            io::CheckCompletedResults(final_path.string(), job->input.path, options_.config_sha256);
+        if (now.verdict == io::CompletedResults::Verdict::kCollision) {
+          throw std::runtime_error(now.reason);
+        }
       }
       io::WriteResultsFile(final_path, p, axes, options_.results);
       outcome.status = FileStatus::kOk;

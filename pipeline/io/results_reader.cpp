@@ -190,17 +190,17 @@ CompletedResults CheckCompletedResults(const std::string& output_path,
     out.reason = std::string("existing results unreadable (") + e.what() + ")";
     return out;
   }
-  if (config != config_sha256) {
-    out.verdict = Verdict::kRerun;
-    return out;
-  }
   // The recorded input is this input: the same path (the identity "done" is defined by) and the
-  // same bytes. Another input with the same output name, even a byte-identical copy, is a
-  // collision: its results would carry the other file's provenance.
+  // same bytes. Another input with the same output name, even a byte-identical copy and whatever
+  // its configuration, is a collision: its results would be lost under this input's.
   if (!SamePath(recorded_path, input_path)) {
     out.verdict = Verdict::kCollision;
     out.reason = output_path + " already holds the results of another input, " + recorded_path +
                  " (same output name; give the inputs distinct names or another output folder)";
+    return out;
+  }
+  if (config != config_sha256) {
+    out.verdict = Verdict::kRerun;
     return out;
   }
   std::string error;

@@ -362,6 +362,30 @@ def overlapping(tmp):
         check(all(l.startswith("{") and l.endswith("}") for l in lines),
               f"trial {trial}: every status line whole")
     check(spurious == 0, f"{TRIALS} trials of two overlapping runs: {spurious} spurious failures")
+    # Two runs at once with different inputs of one name (A/rec.h5, B/rec.h5): one is written,
+    # the other fails naming the first; neither result is lost silently.
+    for trial in range(TRIALS):
+        pair = []
+        for side in ("A", "B"):
+            folder = os.path.join(tmp, f"same_name{trial}", side)
+            os.makedirs(folder)
+            pair.append(os.path.join(folder, "rec.h5"))
+            hostile_corpus.write_valid(pair[-1], 450 + trial * 2 + len(pair), n=20000)
+        outdir = os.path.join(tmp, f"out_same_name{trial}")
+        procs = [subprocess.Popen([FOGPIPE, "run", src, "-o", outdir, "--threads", "1"],
+                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                 for src in pair]
+        codes = sorted(p.wait(timeout=600) for p in procs)
+        lines = status_lines(outdir)
+        ok = [l["file"] for l in lines if l["status"] == "ok"]
+        failed = [l for l in lines if l["status"] == "failed"]
+        with h5py.File(os.path.join(outdir, "rec.fogpipe.h5"), "r") as f:
+            kept = f["provenance"].attrs["input_path"]
+            kept = kept.decode() if isinstance(kept, bytes) else kept
+        check(codes == [0, 1] and len(ok) == 1 and len(failed) == 1 and ok[0] == kept and
+              "already holds the results of another input" in failed[0]["message"],
+              f"trial {trial}: two runs with inputs of one name: one written, one named collision "
+              f"(exit codes {codes}, ok {ok}, kept {kept})")
 
 
 with tempfile.TemporaryDirectory() as tmp:
