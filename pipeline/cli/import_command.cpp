@@ -24,7 +24,6 @@
 #include "pipeline/cli/commands.h"
 #include "pipeline/graph/campaign.h"
 #include "pipeline/graph/interrupt.h"
-#include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/file_validation.h"
 #include "pipeline/io/isolated_call.h"
 #include "pipeline/io/matlab_import.h"
@@ -189,17 +188,12 @@ bool ImportOneUnguarded(const ImportArguments& a, const std::string& input,
 bool MetadataPassesIsolated(const ImportArguments& a, const std::string& input) {
   io::IsolationLimits limits;
   limits.stop = graph::StopRequested;
-  io::IsolatedOutcome outcome;
-  {
-    auto lock = hdf5::LockHdf5();  // held across the fork; the child releases its copy
-    outcome = io::RunIsolated(
-        [&](std::string* out) {
-          lock.unlock();
-          *out = io::CheckMatlabVariables(input, a.matlab);
-          return 0;
-        },
-        limits);
-  }
+  const io::IsolatedOutcome outcome = io::RunIsolatedLockingHdf5(
+      [&](std::string* out) {
+        *out = io::CheckMatlabVariables(input, a.matlab);
+        return 0;
+      },
+      limits);
   const bool exited = outcome.end == io::IsolatedOutcome::End::kExited && outcome.exit_code == 0;
   if (exited && outcome.output.empty()) return true;
   if (exited) {
@@ -258,23 +252,18 @@ bool ImportOne(const ImportArguments& a, const std::string& input, const std::st
   // a few times the input; anything beyond is a damaged or implausible file.
   limits.extra_memory_bytes += 8 * static_cast<std::uint64_t>(ec ? 0 : input_bytes);
   limits.stop = graph::StopRequested;
-  io::IsolatedOutcome outcome;
-  {
-    auto lock = hdf5::LockHdf5();  // held across the fork; the child releases its copy
-    outcome = io::RunIsolated(
-        [&](std::string*) {
-          lock.unlock();
-          try {
-            return ImportOneUnguarded(a, input, output) ? 0 : kImportFailed;
-          } catch (const std::bad_alloc&) {
-            return kImportOutOfMemory;
-          } catch (const std::exception& e) {
-            std::cerr << "fogpipe import: " << input << ": " << e.what() << "\n";
-            return kImportFailed;
-          }
-        },
-        limits);
-  }
+  const io::IsolatedOutcome outcome = io::RunIsolatedLockingHdf5(
+      [&](std::string*) {
+        try {
+          return ImportOneUnguarded(a, input, output) ? 0 : kImportFailed;
+        } catch (const std::bad_alloc&) {
+          return kImportOutOfMemory;
+        } catch (const std::exception& e) {
+          std::cerr << "fogpipe import: " << input << ": " << e.what() << "\n";
+          return kImportFailed;
+        }
+      },
+      limits);
   if (outcome.end == io::IsolatedOutcome::End::kExited) {
     if (outcome.exit_code == 0) return true;
     if (outcome.exit_code == kImportFailed) return false;

@@ -267,14 +267,8 @@ void CampaignRunner::Finish(FileJob* job) {
       // Another run writing into this folder may have put another input's results under this
       // name since the preflight: checked again under a lock on the folder held to the rename.
       const OutputFolderLock folder_lock(options_.output_dir);
-      std::error_code exists_ec;
-      if (fs::exists(final_path, exists_ec)) {
-        const io::CompletedResults now =
-            io::CheckCompletedResults(final_path.string(), job->input.path, options_.config_sha256);
-        if (now.verdict == io::CompletedResults::Verdict::kCollision) {
-          throw std::runtime_error(now.reason);
-        }
-      }
+      const std::string collision = io::ResultsOfAnotherInput(final_path.string(), job->input.path);
+      if (!collision.empty()) throw std::runtime_error(collision);
       io::WriteResultsFile(final_path, p, axes, options_.results);
       outcome.status = FileStatus::kOk;
       outcome.output = final_path.string();

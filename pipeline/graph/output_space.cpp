@@ -31,13 +31,13 @@ std::string FromStatvfs(const std::string& output_dir, bool write_failed_for_spa
 }  // namespace
 
 std::string OutputExhaustedReason(const std::string& output_dir, const std::string& error_text) {
-  const bool no_space = error_text.find(std::strerror(ENOSPC)) != std::string::npos ||
-                        error_text.find("errno = 28,") != std::string::npos;
-  const bool quota = error_text.find(std::strerror(EDQUOT)) != std::string::npos;
-  const bool read_only = error_text.find(std::strerror(EROFS)) != std::string::npos;
-  if (quota) return "the disk quota of " + output_dir + " is exhausted";
-  if (read_only) return "the output folder " + output_dir + " is on a read-only filesystem";
-  return FromStatvfs(output_dir, no_space);
+  // The system's message for the errno, as HDF5 and std::filesystem quote it; a quota or a
+  // read-only filesystem outranks a full device when a text names several.
+  int error_number = error_text.find("errno = 28,") != std::string::npos ? ENOSPC : 0;
+  for (int candidate : {ENOSPC, EROFS, EDQUOT}) {
+    if (error_text.find(std::strerror(candidate)) != std::string::npos) error_number = candidate;
+  }
+  return OutputExhaustedReason(output_dir, error_number);
 }
 
 std::string OutputExhaustedReason(const std::string& output_dir, int error_number) {

@@ -205,18 +205,7 @@ FileValidation ValidateInChild(const std::string& path, const FileValidationOpti
       return kOutOfMemory;
     }
   };
-  IsolatedOutcome outcome;
-  {
-    // Held across the fork so that the child finds HDF5 idle; ValidateFile in the child must not
-    // lock it again, hence the unlock inside the child.
-    auto lock = hdf5::LockHdf5();
-    outcome = RunIsolated(
-        [&](std::string* out) {
-          lock.unlock();
-          return child(out);
-        },
-        limits);
-  }
+  IsolatedOutcome outcome = RunIsolatedLockingHdf5(child, limits);
   if (outcome.end == IsolatedOutcome::End::kExited && outcome.exit_code == 0) {
     try {
       return FromWire(path, outcome.output);

@@ -14,6 +14,8 @@
 #include <cstring>
 #include <sstream>
 
+#include "pipeline/hdf5/hdf5_lock.h"
+
 namespace fogpipe::io {
 namespace {
 
@@ -161,6 +163,17 @@ IsolatedOutcome RunIsolated(const std::function<int(std::string* output)>& body,
 bool IsolatedOutcome::Interrupted() const {
   return end == End::kStopped ||
          (end == End::kSignalled && (signal == SIGINT || signal == SIGTERM || signal == SIGHUP));
+}
+
+IsolatedOutcome RunIsolatedLockingHdf5(const std::function<int(std::string* output)>& body,
+                                       const IsolationLimits& limits) {
+  auto lock = hdf5::LockHdf5();
+  return RunIsolated(
+      [&](std::string* output) {
+        lock.unlock();
+        return body(output);
+      },
+      limits);
 }
 
 }  // namespace fogpipe::io

@@ -50,4 +50,10 @@ struct IsolatedOutcome {
 IsolatedOutcome RunIsolated(const std::function<int(std::string* output)>& body,
                             const IsolationLimits& limits);
 
+/// RunIsolated for a body that takes the HDF5 lock itself (pipeline/hdf5/hdf5_lock.h): the lock
+/// is held across the fork, so that the child finds HDF5 idle, and the child releases its copy
+/// before the body runs. Take no lock around it.
+IsolatedOutcome RunIsolatedLockingHdf5(const std::function<int(std::string* output)>& body,
+                                       const IsolationLimits& limits);
+
 }  // namespace fogpipe::io

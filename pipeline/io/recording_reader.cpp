@@ -85,29 +85,21 @@ void CheckPathStaysInFile(const hdf5::Group& root, const std::string& path,
   }
 }
 
-/// How many chunks a chunked dataset has when every one is written; 0 for other layouts.
-long long ExpectedChunks(const hdf5::Dataset& dataset) {
-  const hid_t plist = H5Dget_create_plist(dataset.id());
-  if (plist < 0) return 0;
-  long long count = 0;
-  if (H5Pget_layout(plist) == H5D_CHUNKED) {
-    const std::vector<hsize_t> dims = dataset.dims();
-    std::vector<hsize_t> chunk(dims.size(), 0);
-    if (!dims.empty() && H5Pget_chunk(plist, static_cast<int>(chunk.size()), chunk.data()) ==
-                             static_cast<int>(dims.size())) {
-      count = 1;
-      for (std::size_t d = 0; d < dims.size() && count > 0; ++d) {
-        if (chunk[d] == 0) {
-          count = 0;
-          break;
-        }
-        const hsize_t per_dim = (dims[d] + chunk[d] - 1) / chunk[d];
-        // Declared sizes are bounded before this is called (no overflow of the product).
-        count *= static_cast<long long>(per_dim);
-      }
-    }
+/// How many chunks a chunked dataset of extent `dims` has when every one is written, from its
+/// creation property list `plist`; 0 for other layouts.
+long long ExpectedChunks(hid_t plist, const std::vector<hsize_t>& dims) {
+  std::vector<hsize_t> chunk(dims.size(), 0);
+  if (dims.empty() || H5Pget_layout(plist) != H5D_CHUNKED ||
+      H5Pget_chunk(plist, static_cast<int>(chunk.size()), chunk.data()) !=
+          static_cast<int>(dims.size())) {
+    return 0;
   }
-  H5Pclose(plist);
+  long long count = 1;
+  for (std::size_t d = 0; d < dims.size(); ++d) {
+    if (chunk[d] == 0) return 0;
+    // Declared sizes are bounded before this is called (no overflow of the product).
+    count *= static_cast<long long>((dims[d] + chunk[d] - 1) / chunk[d]);
+  }
   return count;
 }
 
@@ -119,10 +111,12 @@ long long ExpectedChunks(const hdf5::Dataset& dataset) {
 void CheckDatasetStorage(const hdf5::Dataset& dataset, unsigned long long values,
                          std::size_t element_bytes, long long file_size_bytes) {
   const std::string& path = dataset.file_path();
+  const std::vector<hsize_t> dims = dataset.dims();  // may throw: before the plist is open
   const hid_t plist = H5Dget_create_plist(dataset.id());
   if (plist < 0) return;
   const H5D_layout_t layout = H5Pget_layout(plist);
   const int external = H5Pget_external_count(plist);
+  const long long expected_chunks = ExpectedChunks(plist, dims);
   H5Pclose(plist);
   if (layout == H5D_VIRTUAL) {
     throw RecordingError(error_kind::kExternalData, path,
@@ -158,16 +152,15 @@ void CheckDatasetStorage(const hdf5::Dataset& dataset, unsigned long long values
   // Chunks never written read as the fill value (zeros), which would be analysed as samples.
   // Counted, not judged by the space status, which reports a compressed dataset as partly
   // allocated even when every chunk was written.
-  const long long expected = ExpectedChunks(dataset);
   hsize_t written = 0;
-  const hid_t space = expected > 0 ? H5Dget_space(dataset.id()) : -1;
+  const hid_t space = expected_chunks > 0 ? H5Dget_space(dataset.id()) : -1;
   const bool counted = space >= 0 && H5Dget_num_chunks(dataset.id(), space, &written) >= 0;
   if (space >= 0) H5Sclose(space);
-  if (counted && static_cast<long long>(written) < expected) {
+  if (counted && static_cast<long long>(written) < expected_chunks) {
     throw RecordingError(error_kind::kUnwrittenDataset, path,
                          dataset.path() + " is declared with " + std::to_string(values) +
                              " values but only " + std::to_string(written) + " of its " +
-                             std::to_string(expected) +
+                             std::to_string(expected_chunks) +
                              " chunks were ever written (a recording cut short?); the others "
                              "would read as fill values");
   }

@@ -156,6 +156,56 @@ bool SamePath(const std::string& a, const std::string& b) {
 
 }  // namespace
 
+namespace {
+
+/// What an existing results file records of its input and configuration; `problem` says why it
+/// cannot be used (layout invalid, checked in a child process, or unreadable).
+struct RecordedInput {
+  std::string problem;
+  std::string config_sha256, path, sha256;
+  long long size_bytes = -1;
+};
+
+RecordedInput ReadRecordedInput(const std::string& output_path) {
+  RecordedInput r;
+  FileValidationOptions options;
+  options.check_data = false;
+  const FileValidation v = ValidateFileIsolated(output_path, options, IsolationLimits());
+  // Without the schemas (a usage problem, not the file's) the provenance is still read.
+  if (v.usage_error.empty() && !v.problems.empty()) {
+    r.problem = "existing results invalid (" + v.problems.front().object + ": " +
+                v.problems.front().message + ")";
+    return r;
+  }
+  try {
+    auto lock = hdf5::LockHdf5();
+    hdf5::File file = hdf5::File::OpenReadOnly(output_path);
+    const Group root = file.Root();
+    CheckFormat(root, output_path);
+    const Group p = root.OpenGroup("provenance");
+    r.config_sha256 = p.ReadStringAttribute(results::kConfigHashAttribute);
+    r.path = p.ReadStringAttribute("input_path");
+    r.size_bytes = p.ReadInt64Attribute("input_size_bytes");
+    r.sha256 = p.ReadStringAttribute("input_sha256");
+  } catch (const std::exception& e) {
+    r.problem = std::string("existing results unreadable (") + e.what() + ")";
+  }
+  return r;
+}
+
+/// The results at `output_path` were recorded from another input than `input_path`: identity is
+/// the path (then size and content). Another input with the same output name, even a
+/// byte-identical copy and whatever its configuration, is a collision: its results would be lost
+/// under this input's. "" when the recorded input is this one.
+std::string CollisionReason(const std::string& output_path, const RecordedInput& recorded,
+                            const std::string& input_path) {
+  if (SamePath(recorded.path, input_path)) return "";
+  return output_path + " already holds the results of another input, " + recorded.path +
+         " (same output name; give the inputs distinct names or another output folder)";
+}
+
+}  // namespace
+
 CompletedResults CheckCompletedResults(const std::string& output_path,
                                        const std::string& input_path,
                                        const std::string& config_sha256) {
@@ -163,56 +213,38 @@ CompletedResults CheckCompletedResults(const std::string& output_path,
   CompletedResults out;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(output_path, ec)) return out;
-  FileValidationOptions options;
-  options.check_data = false;
-  const FileValidation v = ValidateFileIsolated(output_path, options, IsolationLimits());
-  // Without the schemas (a usage problem, not the file's) the provenance checks below still run.
-  if (v.usage_error.empty() && !v.problems.empty()) {
+  const RecordedInput recorded = ReadRecordedInput(output_path);
+  if (!recorded.problem.empty()) {
     out.verdict = Verdict::kRerun;
-    out.reason = "existing results invalid (" + v.problems.front().object + ": " +
-                 v.problems.front().message + ")";
+    out.reason = recorded.problem;
     return out;
   }
-  std::string config, recorded_path, recorded_sha;
-  long long recorded_size = -1;
-  try {
-    auto lock = hdf5::LockHdf5();
-    hdf5::File file = hdf5::File::OpenReadOnly(output_path);
-    const Group root = file.Root();
-    CheckFormat(root, output_path);
-    const Group p = root.OpenGroup("provenance");
-    config = p.ReadStringAttribute(results::kConfigHashAttribute);
-    recorded_path = p.ReadStringAttribute("input_path");
-    recorded_size = p.ReadInt64Attribute("input_size_bytes");
-    recorded_sha = p.ReadStringAttribute("input_sha256");
-  } catch (const std::exception& e) {
-    out.verdict = Verdict::kRerun;
-    out.reason = std::string("existing results unreadable (") + e.what() + ")";
-    return out;
-  }
-  // The recorded input is this input: the same path (the identity "done" is defined by) and the
-  // same bytes. Another input with the same output name, even a byte-identical copy and whatever
-  // its configuration, is a collision: its results would be lost under this input's.
-  if (!SamePath(recorded_path, input_path)) {
+  out.reason = CollisionReason(output_path, recorded, input_path);
+  if (!out.reason.empty()) {
     out.verdict = Verdict::kCollision;
-    out.reason = output_path + " already holds the results of another input, " + recorded_path +
-                 " (same output name; give the inputs distinct names or another output folder)";
     return out;
   }
-  if (config != config_sha256) {
+  if (recorded.config_sha256 != config_sha256) {
     out.verdict = Verdict::kRerun;
     return out;
   }
   std::string error;
   const auto size = std::filesystem::file_size(input_path, ec);
   const auto sha = ec ? std::nullopt : Sha256FileHex(input_path, &error);
-  if (sha && static_cast<long long>(size) == recorded_size && *sha == recorded_sha) {
+  if (sha && static_cast<long long>(size) == recorded.size_bytes && *sha == recorded.sha256) {
     out.verdict = Verdict::kDone;
     return out;
   }
   out.verdict = Verdict::kRerun;
   out.reason = "input changed since its results were written";
   return out;
+}
+
+std::string ResultsOfAnotherInput(const std::string& output_path, const std::string& input_path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(output_path, ec)) return "";
+  const RecordedInput recorded = ReadRecordedInput(output_path);
+  return recorded.problem.empty() ? CollisionReason(output_path, recorded, input_path) : "";
 }
 
 std::string FormatSummary(const ResultsSummary& summary) {
@@ -245,24 +277,17 @@ std::string FormatSummary(const ResultsSummary& summary) {
 std::string FormatResultsSummaryIsolated(const std::string& path) {
   constexpr int kReadError = 1;
   const IsolationLimits limits;
-  IsolatedOutcome outcome;
-  {
-    // Held across the fork so that the child finds HDF5 idle (isolated_call.h); the child
-    // releases its copy before ReadResultsSummary takes the lock again.
-    auto lock = hdf5::LockHdf5();
-    outcome = RunIsolated(
-        [&](std::string* out) {
-          lock.unlock();
-          try {
-            *out = FormatSummary(ReadResultsSummary(path));
-            return 0;
-          } catch (const std::exception& e) {
-            *out = e.what();
-            return kReadError;
-          }
-        },
-        limits);
-  }
+  const IsolatedOutcome outcome = RunIsolatedLockingHdf5(
+      [&](std::string* out) {
+        try {
+          *out = FormatSummary(ReadResultsSummary(path));
+          return 0;
+        } catch (const std::exception& e) {
+          *out = e.what();
+          return kReadError;
+        }
+      },
+      limits);
   using End = IsolatedOutcome::End;
   if (outcome.end == End::kExited && outcome.exit_code == 0) return outcome.output;
   if (outcome.end == End::kExited && outcome.exit_code == kReadError) {

@@ -59,6 +59,11 @@ CompletedResults CheckCompletedResults(const std::string& output_path,
                                        const std::string& input_path,
                                        const std::string& config_sha256);
 
+/// The collision of CheckCompletedResults alone, without hashing the input: the reason when
+/// `output_path` holds the results of another input than `input_path`, else "" (also when there
+/// is no file there or it cannot be used, which this input's results may replace).
+std::string ResultsOfAnotherInput(const std::string& output_path, const std::string& input_path);
+
 /// Human-readable summary: provenance, then per axis Table 3 and Table 5 with units.
 std::string FormatSummary(const ResultsSummary& summary);
 
