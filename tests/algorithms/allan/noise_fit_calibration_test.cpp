@@ -4,7 +4,8 @@
 //       in [0.8, 1.25];
 //   (2) a term absent from the truth is significant (theta / se(theta) > 2) in <= 5 % of records.
 // The CI tests use 80 records per scenario (seeds 20000+); the study behind docs/allan-noise-fit.md
-// is the DISABLED_ test with 250 records per scenario on other seeds (40000+). Run it with
+// is the DISABLED_ test with 250 records per scenario on other seeds (40000+), and 1000 navigation
+// records on held-out seeds (60000+) for Q's false alarms. Run them with
 //   allan_noise_fit_calibration_test --gtest_also_run_disabled_tests --gtest_filter=*Study*
 #include <gtest/gtest.h>
 
@@ -30,8 +31,9 @@ struct Scenario {
 // Each scenario at 10 Hz, 2^18 samples (7.3 h), octave grid. Amplitudes put the crossovers
 // inside the tau range (see docs/allan-noise-fit.md): white only; all five terms (Q/N at 0.3 s,
 // N/B at 10 s, B/K at 300 s, K/R at 3000 s); navigation grade N + B + K (N/B at 30 s, B/K at
-// 1000 s). The Kasdin flicker generator's floor is within 1.5 % of the IEEE (2 ln2 / pi) B^2 from
-// m = 8 (10 Hz: 0.8 s) on, where B starts to matter here.
+// 1000 s). B is sampled as an integrating gyro outputs it (simulated_gyro.h), whose Allan
+// variance is the IEEE floor (2 ln2 / pi) B^2 at every m; Kasdin's discrete filter exceeds it at
+// m <= 8, which biased Q upward (SimulatedBiasInstabilityHasTheIeeeFloorAtShortTau).
 std::vector<Scenario> Scenarios() {
   std::vector<Scenario> s(3);
   s[0].name = "white";
@@ -46,7 +48,10 @@ std::vector<Scenario> Scenarios() {
   s[2].truth.n_rad_sqrt_s = 1e-6;
   s[2].truth.b_rad_s = 2.75e-7;
   s[2].truth.k_rad_s_sqrt_s = 1e-8;
-  for (Scenario& x : s) x.samples = 1 << 18, x.rate_hz = 10.0;
+  for (Scenario& x : s) {
+    x.samples = 1 << 18, x.rate_hz = 10.0;
+    x.truth.flicker = testing::FlickerSampling::kIntegrated;  // see ...IeeeFloorAtShortTau
+  }
   return s;
 }
 
@@ -64,7 +69,7 @@ double Value(const NoiseTerms& t, int term, bool se) {
 
 struct TermStats {
   std::vector<double> z;  // present terms, records where the term is positive
-  int held_at_zero = 0;   // present terms fitted as 0
+  int held_at_zero = 0;   // records where the term is fitted as 0
   int significant = 0;    // absent terms: false alarms; present terms: detections
   int unreliable = 0;     // records where the term is flagged unreliable (all false alarms here)
 };
@@ -107,12 +112,8 @@ Calibration Simulate(const Scenario& s, int records, unsigned seed_base, bool co
           std::printf("  %s %s flagged: %s\n", s.name, TermSymbol(j),
                       fit.assessment[j].reason.c_str());
       }
-      if (truth > 0.0) {
-        if (est > 0.0)
-          t.z.push_back((est - truth) / Value(fit.terms, j, true));
-        else
-          ++t.held_at_zero;
-      }
+      if (!(est > 0.0)) ++t.held_at_zero;
+      if (truth > 0.0 && est > 0.0) t.z.push_back((est - truth) / Value(fit.terms, j, true));
     }
   }
   return c;
@@ -129,8 +130,9 @@ void Print(const Scenario& s, const Calibration& c, const char* fit) {
           TermSymbol(j), t.z.size() > 1 ? StandardDeviation(t.z) : NAN,
           t.z.empty() ? NAN : Mean(t.z), t.held_at_zero, t.significant, t.unreliable);
     else
-      std::printf("  %s absent: significant in %d (%.1f %%), unreliable %d\n", TermSymbol(j),
-                  t.significant, 100.0 * t.significant / c.records, t.unreliable);
+      std::printf("  %s absent: significant in %d (%.1f %%), held at 0 in %d, unreliable %d\n",
+                  TermSymbol(j), t.significant, 100.0 * t.significant / c.records, t.held_at_zero,
+                  t.unreliable);
   }
   std::fflush(stdout);
 }
@@ -161,6 +163,39 @@ void ExpectCalibrated(const Scenario& s, const Calibration& c) {
   }
 }
 
+// The calibration measures the fit only if its records follow the model the fit assumes. At
+// m = 1..4 the flicker term is buried under N (navigation: 0.3 % of sigma^2 at m = 1), but the
+// estimate there is so precise (relative sd 0.34 % at m = 1 on 2^18 samples) that Kasdin's excess
+// over the IEEE floor (1.44x at m = 1, 1.15x at 2, 1.05x at 4) is 0.45 sd at m = 1, a rise at
+// short tau that the fit reads as quantization: by the GLS normal equations it moves Q^2 by
+// +0.17 of its standard error in the navigation scenario, where Q's false alarms were 4.2 % of
+// 1000 held-out records against 2.4 % with the integrated flicker (docs/allan-noise-fit.md). Every
+// scenario's flicker must have the floor at m = 1, 2, 4, 8: the mean over records of sigma^2(m) /
+// floor within 4 standard errors of 1.
+TEST(NoiseFitCalibration, SimulatedBiasInstabilityHasTheIeeeFloorAtShortTau) {
+  for (const Scenario& s : Scenarios()) {
+    if (!(s.truth.b_rad_s > 0.0)) continue;
+    testing::GyroTruth b;
+    b.b_rad_s = s.truth.b_rad_s;
+    b.flicker = s.truth.flicker;
+    const double floor = 2.0 * std::log(2.0) / 3.14159265358979323846 * b.b_rad_s * b.b_rad_s;
+    constexpr int kRecords = 100;
+    std::vector<std::vector<double>> ratio(4);
+    for (int r = 0; r < kRecords; ++r) {
+      const AllanResult allan = ComputeAllan(
+          testing::SimulateGyro(b, 1 << 14, s.rate_hz, 23000 + r), s.rate_hz, AllanOptions());
+      for (int i = 0; i < 4; ++i) {
+        ASSERT_EQ(allan.table.m[i], 1LL << i);
+        ratio[i].push_back(allan.table.sigma[i] * allan.table.sigma[i] / floor);
+      }
+    }
+    for (int i = 0; i < 4; ++i) {
+      const double se = StandardDeviation(ratio[i]) / std::sqrt(kRecords);
+      EXPECT_NEAR(Mean(ratio[i]), 1.0, 4.0 * se) << s.name << " m = " << (1 << i);
+    }
+  }
+}
+
 TEST(NoiseFitCalibration, WhiteNoiseGivesCalibratedArwAndNoSpuriousTerms) {
   const Scenario s = Scenarios()[0];
   const Calibration c = Simulate(s, 80, 20000, true);
@@ -181,6 +216,14 @@ TEST(NoiseFitCalibration, DISABLED_StudyOfAllScenariosWithAndWithoutCorrelation)
       const Calibration c = Simulate(s, 250, 40000, correlated);
       Print(s, c, correlated ? "GLS" : "diagonal");
     }
+}
+
+// Q's false alarms in the navigation scenario on seeds the design never saw (60000+), 1000
+// records: for a calibrated, unbiased theta_Q the one-sided rate is 2.3 % and Q is held at 0 in
+// half the records (docs/allan-noise-fit.md).
+TEST(NoiseFitCalibration, DISABLED_StudyOfNavigationOnHeldOutSeeds) {
+  const Scenario s = Scenarios()[2];
+  Print(s, Simulate(s, 1000, 60000, true), "GLS");
 }
 
 // The five-term scenario's ramp (K/R crossover at 3000 s) is significant in only ~5 % of 7.3 h
