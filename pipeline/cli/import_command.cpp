@@ -24,7 +24,6 @@
 #include "pipeline/cli/commands.h"
 #include "pipeline/graph/campaign.h"
 #include "pipeline/graph/interrupt.h"
-#include "pipeline/io/file_validation.h"
 #include "pipeline/io/isolated_call.h"
 #include "pipeline/io/matlab_import.h"
 #include "pipeline/io/recording_import.h"
@@ -92,23 +91,6 @@ std::vector<std::string> PlanOutputs(const ImportArguments& a) {
   return outputs;
 }
 
-// What `import` writes is what `validate` calls valid and `run` analyses: the samples are
-// checked as `validate` checks them (with `run`'s reader limits), and a file that fails is
-// removed, its problems printed.
-bool OutputIsValid(const std::string& output) {
-  io::FileValidationOptions options;
-  const io::FileValidation v = io::ValidateFile(output, options);
-  if (v.valid()) return true;
-  for (const io::SchemaProblem& p : v.problems) {
-    std::cerr << "fogpipe import: " << output << ": " << p.object << ": " << p.message << "\n";
-  }
-  std::error_code ec;
-  fs::remove(output, ec);
-  std::cerr << "fogpipe import: " << output
-            << ": removed: `run` would refuse it (fix the source or the import options)\n";
-  return false;
-}
-
 // Imports one input; prints what happened. Returns false when it failed.
 bool ImportOneUnguarded(const ImportArguments& a, const std::string& input,
                         const std::string& output) {
@@ -167,7 +149,6 @@ bool ImportOneUnguarded(const ImportArguments& a, const std::string& input,
     std::cerr << "fogpipe import: " << written.error << "\n";
     return false;
   }
-  if (!OutputIsValid(output)) return false;
   const auto end = std::chrono::steady_clock::now();
   const double read_s = std::chrono::duration<double>(read - start).count();
   const double write_s = std::chrono::duration<double>(end - read).count();

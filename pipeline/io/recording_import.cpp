@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "pipeline/hdf5/atomic_output_file.h"
+#include "pipeline/io/file_validation.h"
 #include "pipeline/io/missing_samples.h"
 #include "pipeline/io/recording_check.h"
 #include "pipeline/io/recording_error.h"
@@ -293,6 +294,17 @@ ImportWriteResult WriteImportedRecording(const std::string& output_path,
   } catch (const std::exception& e) {
     fs::remove(staged, ec);
     result.error = output_path + ": not written: checking it failed: " + e.what();
+    return result;
+  }
+  // What `import` writes is what `validate` calls valid and `run` analyses: the samples are
+  // checked as `validate` checks them, with `run`'s reader limits, before the file gets its name.
+  const FileValidation validation = ValidateFile(staged.string(), FileValidationOptions());
+  if (!validation.valid()) {
+    fs::remove(staged, ec);
+    result.error = output_path + ": not written: `run` would refuse it (fix the source or the " +
+                   "import options):";
+    for (const SchemaProblem& p : validation.problems)
+      result.error += "\n  " + p.object + ": " + p.message;
     return result;
   }
   fs::rename(staged, final_path, ec);

@@ -384,7 +384,9 @@ TEST(TextImport, ALatin1HeaderIsImportedAndWritten) {
   TempDir dir;
   // A Latin-1 degree sign (0xB0, not UTF-8), as Windows tools often write it.
   const std::string name = std::string("Temp ") + '\xB0' + "C";
-  const std::string path = WriteText(dir, "latin1.csv", "rate," + name + "\n1,20\n2,21\n3,22\n");
+  std::string rows;  // 64 rows: the fewest samples `run` analyses, which the written file must have
+  for (int k = 0; k < 64; ++k) rows += std::to_string(k) + "," + std::to_string(20 + k % 3) + "\n";
+  const std::string path = WriteText(dir, "latin1.csv", "rate," + name + "\n" + rows);
   TextImportOptions options = Options();
   options.rate_columns = {"rate"};
   options.metadata.aux = {{"temperature", name, "degC"}};
@@ -403,6 +405,18 @@ TEST(TextImport, AnOutputTheRecordingChecksRefuseNeverAppears) {
   const ImportWriteResult w = WriteImportedRecording(dir.File("in.h5"), r.recording);
   ASSERT_FALSE(w.ok());
   EXPECT_NE(w.error.find("start_time_utc"), std::string::npos) << w.error;
+  EXPECT_EQ(EntriesIn(dir.path()), 1);  // the source only
+}
+
+// Three samples pass the layout checks but not `run`'s (too few to analyse): the file is refused
+// before it gets its name, so nothing under that name ever appears.
+TEST(TextImport, AnOutputRunWouldRefuseForItsSamplesNeverAppears) {
+  TempDir dir;
+  const ImportResult r = ImportText(WriteText(dir, "in.txt", "1\n2\n3\n"), Options());
+  ASSERT_TRUE(r.ok()) << r.error;
+  const ImportWriteResult w = WriteImportedRecording(dir.File("in.h5"), r.recording);
+  ASSERT_FALSE(w.ok());
+  EXPECT_NE(w.error.find("too_few_samples"), std::string::npos) << w.error;
   EXPECT_EQ(EntriesIn(dir.path()), 1);  // the source only
 }
 
