@@ -10,6 +10,7 @@
 #include "algorithms/allan/estimate_law.h"
 #include "algorithms/allan/noise_id.h"
 #include "algorithms/allan/phase.h"
+#include "algorithms/allan/phase_noise_law.h"
 #include "algorithms/common/chi_square.h"
 
 namespace fogpipe::allan {
@@ -74,10 +75,11 @@ std::vector<double> OverlappingAllanBelow30Averages(const Eigen::VectorXd& phase
   return out;
 }
 
-// The law of the estimate of one frequency-noise type with few averages (estimate_law.h); empty
-// where chi-square serves.
-std::vector<double> FewAveragesLaw(int d, int alpha, long long m, long long count) {
-  if (alpha > 0 || alpha < -2) return {};
+// The law of the estimate of one noise type with few averages (estimate_law.h for frequency
+// noise, phase_noise_law.h for phase noise); empty where chi-square serves.
+WeightedChiSquareLaw FewAveragesLaw(int d, int alpha, long long m, long long count) {
+  if (alpha == 1 || alpha == 2) return PhaseNoiseLaw(d, alpha, m, count);
+  if (alpha < -2) return {};
   std::array<double, 4> theta{};
   theta[static_cast<size_t>(1 - alpha)] = 1.0;  // 0 -> N, -1 -> B, -2 -> K
   return OverlappingLawWeights(d, theta, m, count);
@@ -148,14 +150,19 @@ AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double s
     for (size_t k = 0; k < rows; ++k) {
       table.alpha[k] = ids[k].alpha;
       table.alpha_method[k] = ids[k].method;
-      table.edf[k] =
-          DeviationEdf(options.deviation, ids[k].alpha, table.m[k], n, options.sampled_phase_edf);
+      // Phase noise under the calibrated rule: the EDF of the sampled process's own covariance
+      // (phase_noise_law.h), which for flicker PM is above Greenhall's kernel's.
+      table.edf[k] = law_applies && (ids[k].alpha == 1 || ids[k].alpha == 2)
+                         ? PhaseNoiseEdf(DifferenceOrder(options.deviation), ids[k].alpha,
+                                         table.m[k], table.count[k])
+                         : DeviationEdf(options.deviation, ids[k].alpha, table.m[k], n,
+                                        options.sampled_phase_edf);
       if (!(table.edf[k] > 0.0)) continue;
       table.edf_source[k] = EdfSource::kNoiseType;
-      const std::vector<double> law = law_applies
-                                          ? FewAveragesLaw(DifferenceOrder(options.deviation),
-                                                           ids[k].alpha, table.m[k], table.count[k])
-                                          : std::vector<double>();
+      const WeightedChiSquareLaw law =
+          law_applies ? FewAveragesLaw(DifferenceOrder(options.deviation), ids[k].alpha, table.m[k],
+                                       table.count[k])
+                      : WeightedChiSquareLaw();
       if (!law.empty())
         LawBounds(table.sigma[k], law, options.confidence, &table.ci_low[k], &table.ci_high[k]);
       else

@@ -17,19 +17,32 @@ constexpr double kSqrt2Pi = 2.5066282746310002;
 
 double NormalCdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
 
-// Cumulant generating function of sum mu_j chi2_1 and its first two derivatives at t.
+// Cumulant generating function of the law and its first two derivatives at t.
 struct Cgf {
   double k0 = 0.0, k1 = 0.0, k2 = 0.0;
 };
-Cgf Evaluate(const std::vector<double>& mu, double t) {
+Cgf Evaluate(const WeightedChiSquareLaw& law, double t) {
   Cgf c;
-  for (double w : mu) {
+  for (double w : law.mu) {
     const double d = 1.0 - 2.0 * w * t;
     c.k0 += -0.5 * std::log(d);
     c.k1 += w / d;
     c.k2 += 2.0 * w * w / (d * d);
   }
+  if (law.bulk_dof > 0.0) {
+    const double w = law.bulk_mu, d = 1.0 - 2.0 * w * t;
+    c.k0 += -0.5 * law.bulk_dof * std::log(d);
+    c.k1 += law.bulk_dof * w / d;
+    c.k2 += law.bulk_dof * 2.0 * w * w / (d * d);
+  }
   return c;
+}
+
+// The largest weight, which bounds the cumulant generating function's domain t < 1 / (2 max).
+double MaxWeight(const WeightedChiSquareLaw& law) {
+  double max_mu = law.bulk_dof > 0.0 ? law.bulk_mu : 0.0;
+  for (double w : law.mu) max_mu = std::max(max_mu, w);
+  return max_mu;
 }
 
 }  // namespace
@@ -69,10 +82,8 @@ namespace {
 // The saddlepoint t of sum mu_j chi2_1 at x, K'(t) = x, and the cumulants there. K' increases
 // from 0 to infinity on (-inf, 1 / (2 max mu)); Newton steps (K'' > 0) kept inside a shrinking
 // bracket, bisection when a step leaves it.
-Cgf Saddlepoint(const std::vector<double>& mu, double x, double* t_out) {
-  double max_mu = 0.0;
-  for (double w : mu) max_mu = std::max(max_mu, w);
-  double hi = 0.5 / max_mu, lo = -1.0;
+Cgf Saddlepoint(const WeightedChiSquareLaw& mu, double x, double* t_out) {
+  double hi = 0.5 / MaxWeight(mu), lo = -1.0;
   while (Evaluate(mu, lo).k1 > x) lo *= 2.0;
   double t = std::clamp(0.5 * (1.0 - 1.0 / x), lo, 0.5 * (lo + hi));  // exact for one weight 1
   Cgf c = Evaluate(mu, t);
@@ -100,9 +111,13 @@ namespace {
 struct SaddlepointAt {
   double cdf = 0.0, density = 0.0;
 };
-SaddlepointAt Approximate(const std::vector<double>& mu, double x) {
+SaddlepointAt Approximate(const WeightedChiSquareLaw& mu, double x) {
   double mean = 0.0, k2 = 0.0, k3 = 0.0;
-  for (double w : mu) mean += w, k2 += 2.0 * w * w, k3 += 8.0 * w * w * w;
+  for (double w : mu.mu) mean += w, k2 += 2.0 * w * w, k3 += 8.0 * w * w * w;
+  if (mu.bulk_dof > 0.0) {
+    const double w = mu.bulk_mu, nu = mu.bulk_dof;
+    mean += nu * w, k2 += 2.0 * nu * w * w, k3 += 8.0 * nu * w * w * w;
+  }
   // Near the mean the Lugannani-Rice terms cancel; their limit is 1/2 + skewness / (6 sqrt(2 pi)).
   const double skew_limit = 0.5 + k3 / (6.0 * kSqrt2Pi * std::pow(k2, 1.5));
   double t = 0.0;
@@ -119,16 +134,19 @@ SaddlepointAt Approximate(const std::vector<double>& mu, double x) {
 
 }  // namespace
 
-double WeightedChiSquareCdf(const std::vector<double>& mu, double x) {
+double WeightedChiSquareCdf(const WeightedChiSquareLaw& mu, double x) {
   if (!(x > 0.0)) return 0.0;
   if (mu.empty()) return std::numeric_limits<double>::quiet_NaN();
   return Approximate(mu, x).cdf;
 }
 
-double WeightedChiSquareQuantile(const std::vector<double>& mu, double p) {
+double WeightedChiSquareQuantile(const WeightedChiSquareLaw& mu, double p) {
   if (!(p > 0.0 && p < 1.0) || mu.empty()) return std::numeric_limits<double>::quiet_NaN();
-  // One weight is chi-square(1) exactly, where the saddlepoint is least accurate (0.012 in a tail).
-  if (mu.size() == 1) return mu[0] * stats::ChiSquareQuantile(p, 1.0);
+  // One weight is chi-square(1) exactly, where the saddlepoint is least accurate (0.012 in a
+  // tail); the bulk alone is a scaled chi-square.
+  const bool bulk = mu.bulk_dof > 0.0 && mu.bulk_mu > 0.0;
+  if (mu.mu.size() == 1 && !bulk) return mu.mu[0] * stats::ChiSquareQuantile(p, 1.0);
+  if (mu.mu.empty()) return mu.bulk_mu * stats::ChiSquareQuantile(p, mu.bulk_dof);
   double lo = 0.0, hi = 2.0;
   while (WeightedChiSquareCdf(mu, hi) < p) hi *= 2.0;
   // Newton on F(x) = p with the saddlepoint density, inside the bracket [lo, hi], bisection when
@@ -146,7 +164,7 @@ double WeightedChiSquareQuantile(const std::vector<double>& mu, double p) {
   return x;
 }
 
-void LawBounds(double sigma, const std::vector<double>& mu, double confidence, double* low,
+void LawBounds(double sigma, const WeightedChiSquareLaw& mu, double confidence, double* low,
                double* high) {
   const double tail = 0.5 * (1.0 - confidence);
   *low = sigma / std::sqrt(WeightedChiSquareQuantile(mu, 1.0 - tail));

@@ -17,18 +17,34 @@
 // saddlepoint approximation of its distribution function (Kuonen 1999, Biometrika 86:929; one
 // weight is chi-square(1) and is computed exactly). Against 2e6 simulated sums the saddlepoint's
 // tail probabilities are within 0.006 at 4 averages and 0.002 at 8-16; both tails err the same
-// way, so the 68.3 % interval's probability is within 0.002. White
-// and flicker PM are not treated: their D are nearly independent across a few samples, their EDFs
-// stay large at every tau, and chi-square is accurate there.
+// way, so the 68.3 % interval's probability is within 0.002. White and flicker PM, whose D are
+// not continuous in their start, have their own weights (phase_noise_law.h), with a remainder of
+// many small weights summarised as one scaled chi-square.
 #pragma once
 
 #include <array>
+#include <utility>
 #include <vector>
 
 namespace fogpipe::allan {
 
-/// With fewer averages than this (rate samples / m), OADEV and OHDEV bounds of frequency noise
-/// come from the estimate's law (LawBounds) instead of chi-square, under the calibrated
+/// The law of sum_j mu_j chi2_1,j + bulk_mu chi2_{bulk_dof}, all terms independent: a few
+/// weights mu (descending) and, optionally, a remainder of many small weights summarised by the
+/// scaled chi-square with the same first two moments (bulk_dof real, >= 0). A plain list of
+/// weights converts to it.
+struct WeightedChiSquareLaw {
+  std::vector<double> mu;
+  double bulk_mu = 0.0;
+  double bulk_dof = 0.0;
+
+  WeightedChiSquareLaw() = default;
+  // Implicit: a list of weights is a law without a remainder.
+  WeightedChiSquareLaw(std::vector<double> weights) : mu(std::move(weights)) {}  // NOLINT
+  bool empty() const { return mu.empty() && !(bulk_dof > 0.0 && bulk_mu > 0.0); }
+};
+
+/// With fewer averages than this (rate samples / m), OADEV and OHDEV bounds come from the
+/// estimate's law (LawBounds) instead of chi-square, under the calibrated
 /// noise-identification rule.
 inline constexpr long long kLawBelowAverages = 16;
 
@@ -45,17 +61,16 @@ bool FewAverages(int d, long long m, long long count);
 std::vector<double> OverlappingLawWeights(int d, const std::array<double, 4>& theta, long long m,
                                           long long count);
 
-/// P(sum mu_j chi2_1 <= x) by the Lugannani-Rice saddlepoint approximation, mu > 0.
-double WeightedChiSquareCdf(const std::vector<double>& mu, double x);
+/// P(law <= x) by the Lugannani-Rice saddlepoint approximation, mu > 0.
+double WeightedChiSquareCdf(const WeightedChiSquareLaw& law, double x);
 
-/// The p-quantile of sum mu_j chi2_1, 0 < p < 1 (safeguarded Newton steps on
-/// WeightedChiSquareCdf with the saddlepoint density, to 1e-9 relative; exact chi-square(1) for
-/// one weight).
-double WeightedChiSquareQuantile(const std::vector<double>& mu, double p);
+/// The p-quantile of the law, 0 < p < 1 (safeguarded Newton steps on WeightedChiSquareCdf with
+/// the saddlepoint density, to 1e-9 relative; exact chi-square for one weight or the bulk alone).
+double WeightedChiSquareQuantile(const WeightedChiSquareLaw& law, double p);
 
-/// Two-sided bounds of a deviation sigma whose variance estimate is s2 = E[s2] sum mu_j chi2_1:
+/// Two-sided bounds of a deviation sigma whose variance estimate is s2 = E[s2] law:
 /// [sigma / sqrt(q_high), sigma / sqrt(q_low)], q the (1 +- confidence) / 2 quantiles.
-void LawBounds(double sigma, const std::vector<double>& mu, double confidence, double* low,
+void LawBounds(double sigma, const WeightedChiSquareLaw& law, double confidence, double* low,
                double* high);
 
 }  // namespace fogpipe::allan

@@ -10,6 +10,8 @@
 // test uses seeds from 1 (design and test seeds are separate).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -21,6 +23,7 @@
 #include "algorithms/allan/edf.h"
 #include "algorithms/allan/model_edf.h"
 #include "algorithms/allan/noise_fit.h"
+#include "algorithms/allan/phase_noise_law.h"
 #include "tests/algorithms/allan/power_law_noise.h"
 
 namespace fogpipe::allan {
@@ -60,6 +63,8 @@ struct CoverageRow {
   int alpha_count[5] = {0, 0, 0, 0, 0};  // identified alpha = 2 - index
   int covered_true_alpha[2] = {0, 0};  // with the EDF of the dominant true alpha (printed, sampled)
   int model_edf = 0;                   // rows whose EDF came from the fitted model
+  int identified_true = 0, covered_identified_true = 0;  // rows read as the true alpha (printed)
+  int covered_true_law = 0;  // with the true alpha's law or EDF, as the calibrated rule makes them
 };
 
 // One way of making the intervals: the Allan options, then optionally the fitted model's EDF
@@ -86,6 +91,30 @@ double TrueVariance(const PowerLawNoise& noise, Deviation deviation, long long m
     default:
       return std::numeric_limits<double>::quiet_NaN();
   }
+}
+
+// Bounds from the true noise type as the calibrated rule would make them for OADEV and OHDEV: the
+// law with few averages, otherwise chi-square with the phase noises' own EDF or Greenhall's.
+void TrueTypeBounds(const AllanOptions& options, int alpha, long long m, long long count,
+                    long long n, double sigma, double* low, double* high) {
+  const int d = options.deviation == Deviation::kOverlappingHadamard ? 3 : 2;
+  const bool phase = alpha == 1 || alpha == 2;
+  const bool kind = options.deviation == Deviation::kOverlappingAllan ||
+                    options.deviation == Deviation::kOverlappingHadamard;
+  *low = *high = std::numeric_limits<double>::quiet_NaN();
+  if (!kind) return;
+  WeightedChiSquareLaw law;
+  if (phase) {
+    law = PhaseNoiseLaw(d, alpha, m, count);
+  } else if (alpha <= 0 && alpha >= -2) {
+    std::array<double, 4> theta{};
+    theta[static_cast<size_t>(1 - alpha)] = 1.0;
+    law = OverlappingLawWeights(d, theta, m, count);
+  }
+  if (!law.empty()) return LawBounds(sigma, law, options.confidence, low, high);
+  const double edf = phase ? PhaseNoiseEdf(d, alpha, m, count)
+                           : DeviationEdf(options.deviation, alpha, m, n, true);
+  ConfidenceBounds(sigma, edf, options.confidence, low, high);
 }
 
 // Coverage of each option set in `variants` on the same realisations.
@@ -124,6 +153,15 @@ std::vector<std::vector<CoverageRow>> Coverage(const NoiseCase& c, long long n, 
         rows[k].model_edf += t.edf_source[k] == EdfSource::kModel;
         if (t.alpha[k] >= -2 && t.alpha[k] <= 2) ++rows[k].alpha_count[2 - t.alpha[k]];
         if (true_alpha == 99) continue;
+        {
+          double low = 0.0, high = 0.0;
+          TrueTypeBounds(options, true_alpha, t.m[k], t.count[k], n, t.sigma[k], &low, &high);
+          rows[k].covered_true_law += low <= truth[k] && truth[k] <= high;
+        }
+        if (t.alpha[k] == true_alpha) {
+          ++rows[k].identified_true;
+          rows[k].covered_identified_true += t.ci_low[k] <= truth[k] && truth[k] <= t.ci_high[k];
+        }
         for (int sampled = 0; sampled < 2; ++sampled) {
           double low = 0.0, high = 0.0;
           ConfidenceBounds(t.sigma[k],
@@ -324,6 +362,17 @@ TEST(AllanCoverage, Study) {
             std::printf(" %.3f", static_cast<double>(row.covered_true_alpha[sampled]) / row.total);
           std::printf(" |\n");
         }
+        std::printf("|   true alpha, its law or own EDF |");
+        for (const CoverageRow& row : rows)
+          std::printf(" %.3f", static_cast<double>(row.covered_true_law) / row.total);
+        std::printf(" |\n");
+        std::printf("|   rows read as the true alpha: their coverage |");
+        for (const CoverageRow& row : rows)
+          std::printf(
+              " %.3f (%d)",
+              static_cast<double>(row.covered_identified_true) / std::max(1, row.identified_true),
+              row.identified_true);
+        std::printf(" |\n");
       }
       std::fflush(stdout);
     }
