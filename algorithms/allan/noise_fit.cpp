@@ -107,17 +107,28 @@ std::vector<int> ModelDominantAlpha(const NoiseTerms& terms, const std::vector<d
   return out;
 }
 
-NoiseTerms SlopeReadoffs(const AllanTable& table, double slope_tolerance) {
-  NoiseTerms out;
-  out.q_rad = out.n_rad_sqrt_s = out.b_rad_s = out.k_rad_s_sqrt_s = out.r_rad_s2 = kNaN;
+namespace {
+
+// The read-offs with the pair of taus each was anchored at (B: the tau of the minimum).
+struct AnchoredReadoffs {
+  NoiseTerms value;
+  std::array<TauRange, kTerms> taus{};
+};
+
+AnchoredReadoffs ReadOff(const AllanTable& table, double slope_tolerance) {
+  AnchoredReadoffs out;
+  NoiseTerms& value = out.value;
+  value.q_rad = value.n_rad_sqrt_s = value.b_rad_s = value.k_rad_s_sqrt_s = value.r_rad_s2 = kNaN;
   std::vector<size_t> rows;
   for (size_t i = 0; i < table.size(); ++i)
     if (table.tau_s[i] > 0.0 && table.sigma[i] > 0.0 && std::isfinite(table.sigma[i]))
       rows.push_back(i);
   if (rows.empty()) return out;
-  double min_sigma = table.sigma[rows[0]];
-  for (size_t i : rows) min_sigma = std::min(min_sigma, table.sigma[i]);
-  out.b_rad_s = min_sigma / std::sqrt(2.0 * std::log(2.0) / units::kPi);
+  size_t min_row = rows[0];
+  for (size_t i : rows)
+    if (table.sigma[i] < table.sigma[min_row]) min_row = i;
+  value.b_rad_s = table.sigma[min_row] / std::sqrt(2.0 * std::log(2.0) / units::kPi);
+  out.taus[2] = {table.tau_s[min_row], table.tau_s[min_row]};
   // (slope, tau at which the line is read, factor turning the read value into the amplitude)
   struct Readoff {
     int term;         // index into kTermOrder
@@ -127,7 +138,7 @@ NoiseTerms SlopeReadoffs(const AllanTable& table, double slope_tolerance) {
   for (const Readoff& r : readoffs) {
     const double target = TermSlope(kTermOrder[r.term]);
     double best = slope_tolerance;
-    double value = kNaN;
+    double read = kNaN;
     for (size_t k = 0; k + 1 < rows.size(); ++k) {
       const double lt0 = std::log(table.tau_s[rows[k]]), lt1 = std::log(table.tau_s[rows[k + 1]]);
       const double ls0 = std::log(table.sigma[rows[k]]), ls1 = std::log(table.sigma[rows[k + 1]]);
@@ -144,12 +155,19 @@ NoiseTerms SlopeReadoffs(const AllanTable& table, double slope_tolerance) {
       if (std::abs(slope - target) <= best) {
         best = std::abs(slope - target);
         const double lt = 0.5 * (lt0 + lt1), ls = 0.5 * (ls0 + ls1);
-        value = std::exp(ls + target * (std::log(r.tau_read) - lt));
+        read = std::exp(ls + target * (std::log(r.tau_read) - lt));
+        out.taus[r.term] = {table.tau_s[rows[k]], table.tau_s[rows[k + 1]]};
       }
     }
-    *Amplitude(&out, r.term) = value;
+    *Amplitude(&value, r.term) = read;
   }
   return out;
+}
+
+}  // namespace
+
+NoiseTerms SlopeReadoffs(const AllanTable& table, double slope_tolerance) {
+  return ReadOff(table, slope_tolerance).value;
 }
 
 namespace {
@@ -393,35 +411,58 @@ void AssessMisfit(const Points& p, const Eigen::VectorXd& model, const Eigen::Ve
                 "model does not describe the curve at " + FormatTauRanges(carried[c]));
 }
 
-// Upper bound of each term from the curve, and agreement with the slope read-offs.
-void AssessBounds(const Points& p, double level, const std::vector<int>& cols,
-                  NoiseFitResult* result) {
+// Upper bound of each significant term from the curve.
+void AssessBound(const Points& p, double level, int c, NoiseFitResult* result) {
   const double tail = 0.5 * (1.0 - level);
-  for (int c : cols) {
-    TermAssessment& a = result->assessment[c];
-    NoiseTerms copy = result->terms;
-    const double amp = *Amplitude(&copy, c), se = *StandardError(&copy, c);
-    if (!a.significant || !(amp > 0.0)) continue;
+  NoiseTerms copy = result->terms;
+  const double amp = *Amplitude(&copy, c), se = *StandardError(&copy, c);
+  const double margin = std::isfinite(se) ? 2.0 * se : 0.0;
+  double bound = std::numeric_limits<double>::infinity(), at = kNaN;
+  for (int i = 0; i < p.size(); ++i) {
+    const double edf = p.edf[i];  // the table's own EDF: the bound should not rest on the fit
+    if (!(edf > 0.0) || !std::isfinite(edf)) continue;
+    const double v_high = p.v[i] * edf / stats::ChiSquareQuantile(tail, edf);
+    const double b = std::sqrt(v_high / Basis(c, p.tau[i]));
+    if (b < bound) bound = b, at = p.tau[i];
+  }
+  if (amp - margin > bound) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%.3g", at);
+    AddReason(&result->assessment[c],
+              std::string("exceeds the bound the Allan curve sets at tau = ") + buf + " s (" +
+                  Engineering(c, bound) + ")");
+  }
+}
+
+bool Overlaps(const TauRange& a, const std::vector<TauRange>& ranges) {
+  for (const TauRange& r : ranges)
+    if (a.low_s <= r.high_s && r.low_s <= a.high_s) return true;
+  return false;
+}
+
+// Agreement of a term with its slope read-off (IEEE 952 Annex C reads each term off the curve where
+// the curve has the term's slope), check (3) of noise_fit.h: a significant term's range is
+// [a - 2 SE, a + 2 SE], a term not significant has [0, upper limit] and is flagged only where the
+// read-off lies in a misfit range. B's read-off is an upper bound (min sigma / 0.664), checked by
+// AssessBound instead.
+void AssessReadoff(int c, NoiseFitResult* result) {
+  TermAssessment& a = result->assessment[c];
+  NoiseTerms terms = result->terms, readoff = result->slope_readoff;
+  const double ro = *Amplitude(&readoff, c);
+  if (c == 2 || !std::isfinite(ro) || !(ro > 0.0)) return;
+  const double amp = *Amplitude(&terms, c), se = *StandardError(&terms, c);
+  const TauRange& at = result->readoff_taus[c];
+  if (a.significant && amp > 0.0) {
     const double margin = std::isfinite(se) ? 2.0 * se : 0.0;
-    double bound = std::numeric_limits<double>::infinity(), at = kNaN;
-    for (int i = 0; i < p.size(); ++i) {
-      const double edf = p.edf[i];  // the table's own EDF: the bound should not rest on the fit
-      if (!(edf > 0.0) || !std::isfinite(edf)) continue;
-      const double v_high = p.v[i] * edf / stats::ChiSquareQuantile(tail, edf);
-      const double b = std::sqrt(v_high / Basis(c, p.tau[i]));
-      if (b < bound) bound = b, at = p.tau[i];
-    }
-    if (amp - margin > bound) {
-      char buf[48];
-      std::snprintf(buf, sizeof buf, "%.3g", at);
-      AddReason(&a, std::string("exceeds the bound the Allan curve sets at tau = ") + buf + " s (" +
-                        Engineering(c, bound) + ")");
-    }
-    NoiseTerms readoff = result->slope_readoff;
-    const double ro = *Amplitude(&readoff, c);
-    if (c != 2 && std::isfinite(ro) && ro > 0.0 &&
-        (amp - margin > 2.0 * ro || amp + margin < 0.5 * ro))
+    if (amp - margin > 2.0 * ro || amp + margin < 0.5 * ro)
       AddReason(&a, "differs from its slope read-off " + Engineering(c, ro) + " by more than 2x");
+  } else if (std::isfinite(a.upper_limit) && a.upper_limit < 0.5 * ro &&
+             Overlaps(at, result->misfit_ranges)) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%.3g x its upper limit %s, read at %s", ro / a.upper_limit,
+                  Engineering(c, a.upper_limit).c_str(), FormatTauRanges({at}).c_str());
+    AddReason(&a, "not significant, but its slope read-off " + Engineering(c, ro) + " is " + buf +
+                      " where the model misses the curve");
   }
 }
 
@@ -586,10 +627,17 @@ NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& opt
   }
 
   // Step 4: read-offs and the honesty checks.
-  result.slope_readoff = SlopeReadoffs(table, options.readoff_slope_tolerance);
+  const AnchoredReadoffs readoffs = ReadOff(table, options.readoff_slope_tolerance);
+  result.slope_readoff = readoffs.value;
+  result.readoff_taus = readoffs.taus;
   if (p.have_edf) {
     AssessMisfit(p, model_v, w.point_variance, basis, cols, theta, options.misfit_level, &result);
-    AssessBounds(p, options.misfit_level, cols, &result);
+    for (int c : cols) {
+      const TermAssessment& a = result.assessment[c];
+      if (a.significant && *Amplitude(&terms, c) > 0.0)
+        AssessBound(p, options.misfit_level, c, &result);
+      AssessReadoff(c, &result);
+    }
   }
   summary.termination = converged ? Termination::kSuccess : Termination::kNoConvergence;
   summary.message =

@@ -26,7 +26,11 @@
 // every tau (for B this is the Allan-minimum read-off min sigma / 0.664, for N the long-tau bound
 // sigma(tau) sqrt(tau)); (3) a term with a slope read-off must be within a factor 2 of it (beyond
 // 2 standard errors): the read-off extrapolates a local line with slope tolerance 0.15 over up to
-// two decades, which moves it by up to ~2x.
+// two decades, which moves it by up to ~2x. A term that is not significant is compared through its
+// upper limit, and flagged when its read-off exceeds twice that limit at taus (readoff_taus) inside
+// a misfit range: the curve has the term's slope where the data leave the model, so the limit does
+// not hold there. Outside misfit ranges the model reproduces that slope with its neighbouring terms
+// (Q into B passes N's -1/2), which a read-off cannot tell apart, and no flag is raised.
 //
 // When the model is rejected (p < 1e-3, usual on real gyros) the GLS weights trust the model's
 // shape more than the data and the terms can leave the curve's level; a relative model
@@ -133,6 +137,9 @@ struct TauRange {
 struct NoiseFitResult {
   NoiseTerms terms;          ///< The joint fit.
   NoiseTerms slope_readoff;  ///< Read-offs: N = sigma(1 s) on the -1/2 line, etc. (no SEs).
+  /// Per term Q, N, B, K, R: the pair of taus each read-off's line was anchored at [s]
+  /// (B: the tau of the Allan minimum; 0, 0 where there is no read-off).
+  std::array<TauRange, kNoiseTermCount> readoff_taus{};
   /// Generalised residual sum r^T C^-1 r [dimensionless] (diagonal weights without GLS).
   double chi2 = std::numeric_limits<double>::quiet_NaN();
   int dof = 0;  ///< points - free terms.

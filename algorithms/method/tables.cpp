@@ -32,6 +32,8 @@ NoiseRow MakeNoiseRow(const std::string& name, const AllanEvaluation& e) {
   row.p_value = e.noise.p_value;
   for (int j = 0; j < allan::kNoiseTermCount; ++j)
     row.unreliable_reason[j] = e.noise.assessment[j].reason;
+  const allan::NoiseTermsEngineering r = allan::ToEngineeringUnits(e.noise.slope_readoff);
+  row.readoff = {r.q_arcsec, r.n_deg_sqrt_h, r.b_deg_h, r.k_deg_h_sqrt_h, r.r_deg_h2};
   return row;
 }
 
@@ -82,28 +84,43 @@ std::string FormatTable3(const std::vector<FitRow>& rows) {
 }
 
 std::string FormatTable5(const std::vector<NoiseRow>& rows) {
-  std::string out;
-  char line[240];
-  std::snprintf(line, sizeof(line), "%-14s %13s %13s %13s %15s %13s %9s %9s\n", "signal", "Q", "N",
-                "B", "K", "R", "chi2/dof", "p-value");
-  out += line;
-  std::snprintf(line, sizeof(line), "%-14s %13s %13s %13s %15s %13s %9s %9s\n", "",
-                units::kQuantizationUnit, units::kArwUnit, units::kBiasUnit, units::kRrwUnit,
-                units::kRampUnit, "1", "1");
-  out += line;
+  // Each term's slope read-off (IEEE 952 Annex C) beside it: a term that disagrees with it beyond
+  // the noise fit's checks is marked '*' with the reason below the table.
+  static const char* kUnits[5] = {units::kQuantizationUnit, units::kArwUnit, units::kBiasUnit,
+                                  units::kRrwUnit, units::kRampUnit};
+  std::string out, symbols, term_units;
+  char cell[64];
+  std::snprintf(cell, sizeof(cell), "%-14s", "signal");
+  symbols += cell;
+  std::snprintf(cell, sizeof(cell), "%-14s", "");
+  term_units += cell;
+  for (int j = 0; j < 5; ++j) {
+    std::snprintf(cell, sizeof(cell), " %13s  %13s", allan::TermSymbol(j),
+                  (std::string(allan::TermSymbol(j)) + " read-off").c_str());
+    symbols += cell;
+    std::snprintf(cell, sizeof(cell), " %13s  %13s", kUnits[j], kUnits[j]);
+    term_units += cell;
+  }
+  std::snprintf(cell, sizeof(cell), " %9s %9s\n", "chi2/dof", "p-value");
+  out += symbols + cell;
+  std::snprintf(cell, sizeof(cell), " %9s %9s\n", "1", "1");
+  out += term_units + cell;
   std::string notes;
   for (const NoiseRow& r : rows) {
-    // '*' after a value: the noise fit marked the term unreliable (reasons below the table).
-    auto mark = [&r](int j) { return r.unreliable_reason[j].empty() ? ' ' : '*'; };
-    std::snprintf(
-        line, sizeof(line), "%-14s %12.4e%c %12.4e%c %12.4e%c %14.4e%c %12.4e%c %9.3g %9.2g\n",
-        r.signal.c_str(), r.q_arcsec, mark(0), r.n_deg_sqrt_h, mark(1), r.b_deg_h, mark(2),
-        r.k_deg_h_sqrt_h, mark(3), r.r_deg_h2, mark(4), r.chi2_per_dof, r.p_value);
-    out += line;
-    for (int j = 0; j < 5; ++j)
+    const double value[5] = {r.q_arcsec, r.n_deg_sqrt_h, r.b_deg_h, r.k_deg_h_sqrt_h, r.r_deg_h2};
+    std::snprintf(cell, sizeof(cell), "%-14s", r.signal.c_str());
+    std::string line = cell;
+    for (int j = 0; j < 5; ++j) {
+      // '*' after a value: the noise fit marked the term unreliable (reasons below the table).
+      std::snprintf(cell, sizeof(cell), " %13.4e%c %13.3e", value[j],
+                    r.unreliable_reason[j].empty() ? ' ' : '*', r.readoff[j]);
+      line += cell;
       if (!r.unreliable_reason[j].empty())
         notes +=
             "  * " + r.signal + " " + allan::TermSymbol(j) + ": " + r.unreliable_reason[j] + "\n";
+    }
+    std::snprintf(cell, sizeof(cell), " %9.3g %9.2g\n", r.chi2_per_dof, r.p_value);
+    out += line + cell;
   }
   return out + notes;
 }

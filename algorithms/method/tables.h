@@ -29,6 +29,12 @@ struct NoiseRow {
   double p_value = std::numeric_limits<double>::quiet_NaN();
   /// Per term Q, N, B, K, R: why it is unreliable; empty when reliable (marked '*' in the table).
   std::array<std::string, 5> unreliable_reason{};
+  /// Per term Q, N, B, K, R: the slope read-off (IEEE Std 952-1997 Annex C;
+  /// allan::NoiseFitResult::slope_readoff) in the term's unit above; NaN where there is none.
+  std::array<double, 5> readoff{
+      std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(),
+      std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(),
+      std::numeric_limits<double>::quiet_NaN()};
 };
 
 /// Table 3 rows: method 2's direct model first, then every IMF and the residue.

@@ -44,6 +44,8 @@ CampaignRow EmptyRow(const std::string& input_path) {
   row.model_loop_error = kNaN;
   for (auto& signal : row.term) signal.fill(kNaN);
   for (auto& signal : row.term_std_error) signal.fill(kNaN);
+  for (auto& signal : row.term_readoff) signal.fill(kNaN);
+  row.noise_fit_chi2_per_dof.fill(kNaN);
   row.noise_fit_p_value.fill(kNaN);
   return row;
 }
@@ -86,14 +88,22 @@ ResultsRows ReadResultsRows(const fs::path& path) {
       if (!g.Exists(noise)) continue;
       const hdf5::Group n = g.OpenGroup(noise);
       for (std::size_t t = 0; t < kCampaignTerms.size(); ++t) {
-        row.term[s][t] = Scalar(n, kCampaignTerms[t]);
-        row.term_std_error[s][t] = Scalar(n, std::string(kCampaignTerms[t]) + "_std_error");
-        const std::string reason = std::string(kCampaignTerms[t]) + "_reason";
-        if (n.HasAttribute(reason) && !n.ReadStringAttribute(reason).empty())
-          row.unreliable_terms[s] +=
-              (row.unreliable_terms[s].empty() ? "" : ",") + std::string(kCampaignTerms[t]);
+        const std::string symbol = kCampaignTerms[t];
+        row.term[s][t] = Scalar(n, symbol);
+        row.term_std_error[s][t] = Scalar(n, symbol + "_std_error");
+        row.term_readoff[s][t] = Scalar(n, symbol + "_readoff");
+        const std::string reason =
+            n.HasAttribute(symbol + "_reason") ? n.ReadStringAttribute(symbol + "_reason") : "";
+        if (reason.empty()) continue;
+        const bool first = row.unreliable_terms[s].empty();
+        row.unreliable_terms[s] += (first ? "" : ",") + symbol;
+        row.unreliable_reasons[s] += (first ? "" : " | ") + symbol + ": " + reason;
       }
+      const double dof = Scalar(n, "dof");
+      row.noise_fit_chi2_per_dof[s] = dof > 0.0 ? Scalar(n, "chi2") / dof : kNaN;
       row.noise_fit_p_value[s] = Scalar(n, "p_value");
+      if (n.HasAttribute("misfit_tau_ranges"))
+        row.misfit_tau_ranges[s] = n.ReadStringAttribute("misfit_tau_ranges");
     }
     // A model history (fogpipe compare) is not part of fogpipe-results-v1 yet.
     if (g.Exists("model_history/loop_rms_error")) {
@@ -159,12 +169,20 @@ std::vector<Column> Columns() {
           {name, kTermUnits[t], nullptr, [s, t](const CampaignRow& r) { return r.term[s][t]; }});
       columns.push_back({name + "_std_error", kTermUnits[t], nullptr,
                          [s, t](const CampaignRow& r) { return r.term_std_error[s][t]; }});
+      columns.push_back({name + "_readoff", kTermUnits[t], nullptr,
+                         [s, t](const CampaignRow& r) { return r.term_readoff[s][t]; }});
     }
     const std::string signal = kCampaignSignals[s];
     columns.push_back({signal + "_unreliable_terms", "",
                        [s](const CampaignRow& r) { return r.unreliable_terms[s]; }, nullptr});
+    columns.push_back({signal + "_unreliable_reasons", "",
+                       [s](const CampaignRow& r) { return r.unreliable_reasons[s]; }, nullptr});
+    columns.push_back({signal + "_noise_fit_chi2_per_dof", "1", nullptr,
+                       [s](const CampaignRow& r) { return r.noise_fit_chi2_per_dof[s]; }});
     columns.push_back({signal + "_noise_fit_p_value", "1", nullptr,
                        [s](const CampaignRow& r) { return r.noise_fit_p_value[s]; }});
+    columns.push_back({signal + "_noise_fit_misfit_tau_ranges", "",
+                       [s](const CampaignRow& r) { return r.misfit_tau_ranges[s]; }, nullptr});
   }
   columns.push_back({"model_loop_error", "deg/h", nullptr,
                      [](const CampaignRow& r) { return r.model_loop_error; }});

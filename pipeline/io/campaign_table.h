@@ -3,7 +3,13 @@
 //
 // Layout of campaign.h5 (fogpipe-campaign-v1):
 //   /                 attributes fogpipe_format, rows, source_folder
-//   /campaign/<col>   one 1-D dataset per column, numeric ones with a `units` attribute
+//   /campaign/<col>   one 1-D dataset per column, numeric ones with a `units` attribute:
+//                     input_path, results_file, axis, serial, instrument, duration_s; per signal S
+//                     of kCampaignSignals and term T of kCampaignTerms S_T, S_T_std_error,
+//                     S_T_readoff (the term's unit), then S_unreliable_terms,
+//                     S_unreliable_reasons, S_noise_fit_chi2_per_dof, S_noise_fit_p_value,
+//                     S_noise_fit_misfit_tau_ranges (CampaignRow); model_loop_error, status,
+//                     message
 //   /results/<name>   an HDF5 external link to the root of each results file (relative to the
 //                     campaign file's folder, so the folder may be moved as a whole)
 //
@@ -34,10 +40,18 @@ struct CampaignRow {
   /// [signal][term]: value and standard error in Q arcsec, N deg/sqrt(h), B deg/h,
   /// K deg/h/sqrt(h), R deg/h^2; NaN where not fitted.
   std::array<std::array<double, 5>, 3> term{}, term_std_error{};
-  /// [signal]: the noise fit's terms marked unreliable, e.g. "B,K" ("" when none; reasons are in
-  /// the results file's noise/<T>_reason), and the fit's chi-square p-value (NaN when unknown).
+  /// [signal][term]: the slope read-off (IEEE Std 952-1997 Annex C) in the term's unit above;
+  /// NaN where there is none.
+  std::array<std::array<double, 5>, 3> term_readoff{};
+  /// [signal]: the noise fit's terms marked unreliable, e.g. "B,K" ("" when none), their reasons
+  /// ("B: <reason> | K: <reason>", the results file's noise/<T>_reason), the fit's chi2 / dof and
+  /// chi-square p-value (NaN when unknown), and the tau ranges the model misses
+  /// ("0.1-0.3 s, 200-800 s", noise/misfit_tau_ranges; "" when none).
   std::array<std::string, 3> unreliable_terms{};
+  std::array<std::string, 3> unreliable_reasons{};
+  std::array<double, 3> noise_fit_chi2_per_dof{};
   std::array<double, 3> noise_fit_p_value{};
+  std::array<std::string, 3> misfit_tau_ranges{};
   /// RMS error of the model loop (fogpipe compare) when the results file has a model history;
   /// NaN otherwise (fogpipe-results-v1 has none yet).
   double model_loop_error = 0.0;

@@ -49,8 +49,10 @@ method::NoiseRow ReadNoiseRow(const Group& allan, const std::string& signal,
     if (!dof.empty() && dof[0] > 0) row.chi2_per_dof = Scalar(noise, "chi2") / dof[0];
   }
   for (int j = 0; j < allan::kNoiseTermCount; ++j) {
-    const std::string reason = std::string(allan::TermSymbol(j)) + "_reason";
-    if (noise.HasAttribute(reason)) row.unreliable_reason[j] = noise.ReadStringAttribute(reason);
+    const std::string symbol = allan::TermSymbol(j);
+    if (noise.HasAttribute(symbol + "_reason"))
+      row.unreliable_reason[j] = noise.ReadStringAttribute(symbol + "_reason");
+    if (noise.Exists(symbol + "_readoff")) row.readoff[j] = Scalar(noise, symbol + "_readoff");
   }
   return row;
 }

@@ -5,6 +5,8 @@
                     [--status-log OUTDIR/status.jsonl]
 
 - every column of /campaign has the same length, numeric ones carry a `units` attribute;
+- per signal, the terms named in <signal>_unreliable_reasons ("B: ... | K: ...") are exactly
+  those of <signal>_unreliable_terms ("B,K"): no flag without its reason, no reason without a flag;
 - the recordings in the table are exactly those of the manifest, and every (recording, axis) pair
   appears once (nothing lost, nothing counted twice);
 - --expect-complete: every row is "ok", has finite N for raw and method 1, and its external link
@@ -59,6 +61,14 @@ def main():
                 errors.append(f"column {name} has shape {ds.shape}, expected ({n},)")
             if ds.dtype.kind == "f" and "units" not in ds.attrs:
                 errors.append(f"numeric column {name} has no units")
+        for signal in ("raw", "method1", "method2"):
+            listed = text(c[f"{signal}_unreliable_terms"][()])
+            reasons = text(c[f"{signal}_unreliable_reasons"][()])
+            for row, (terms, why) in enumerate(zip(listed, reasons)):
+                named = [part.split(":", 1)[0] for part in why.split(" | ")] if why else []
+                if named != (terms.split(",") if terms else []):
+                    errors.append(f"row {row}: {signal}_unreliable_terms {terms!r} but reasons "
+                                  f"for {named}")
         inputs = text(c["input_path"][()])
         axes = text(c["axis"][()])
         status = text(c["status"][()])

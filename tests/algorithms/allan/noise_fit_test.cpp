@@ -141,6 +141,39 @@ TEST(FitNoiseTerms, FitsAnExactModelTableExactly) {
   EXPECT_LT(fit.chi2, 1e-12);
 }
 
+// An angle-random-walk curve (N = 1e-5 rad/sqrt(s), octave taus 0.1-1638 s, edf of 2^18 samples at
+// 10 Hz: 1.5 n / m) with a bump that triples sigma^2 at 0.4 s, Gaussian in log2(tau) with width
+// w = 1 / sqrt(2 ln 3) octaves, so that sigma^2 falls by exactly 2x from 0.4 to 0.8 s: sigma has
+// slope -1 there, quantization's, and Q is read off that pair. Q cannot fit a bump in the middle
+// of the curve (its 1 / tau^2 would exceed the measured curve at 0.1 s, 16x more), so Q is not
+// significant with an upper limit far below the read-off, and the bump is a misfit range: the
+// read-off and the term disagree where the data leave the model, and Q must be flagged.
+TEST(FitNoiseTerms, FlagsATermNotSignificantFarBelowAReadOffTakenWhereTheModelMisses) {
+  const double n = 1e-5, w2 = 1.0 / (2.0 * std::log(3.0));
+  AllanTable table;
+  for (int k = 0; k <= 14; ++k) {
+    const double tau = 0.1 * std::pow(2.0, k), x = std::log2(tau / 0.4);
+    table.tau_s.push_back(tau);
+    table.sigma.push_back(std::sqrt(n * n / tau * (1.0 + 2.0 * std::exp(-x * x / (2.0 * w2)))));
+    table.edf.push_back(1.5 * (1 << 18) / std::pow(2.0, k));
+  }
+  const NoiseFitResult fit = FitNoiseTerms(table, NoiseFitOptions());
+  ASSERT_EQ(fit.summary.termination, Termination::kSuccess) << fit.summary.message;
+  const TermAssessment& q = fit.assessment[0];
+  EXPECT_FALSE(q.significant);
+  EXPECT_EQ(fit.readoff_taus[0].low_s, 0.4);
+  EXPECT_GT(fit.slope_readoff.q_rad, 2.0 * q.upper_limit);
+  EXPECT_FALSE(q.reliable);
+  EXPECT_NE(q.reason.find("not significant, but its slope read-off"), std::string::npos)
+      << q.reason;
+  EXPECT_NE(q.reason.find("0.4-0.8 s"), std::string::npos) << q.reason;
+  // Without the bump the curve has no quantization slope and nothing is flagged.
+  for (size_t i = 0; i < table.size(); ++i) table.sigma[i] = std::sqrt(n * n / table.tau_s[i]);
+  const NoiseFitResult clean = FitNoiseTerms(table, NoiseFitOptions());
+  EXPECT_TRUE(std::isnan(clean.slope_readoff.q_rad));
+  EXPECT_EQ(UnreliableTermCount(clean), 0);
+}
+
 // Read-offs on an ideal single-term curve return the term exactly (the line is the curve).
 TEST(SlopeReadoffs, ReadEachIdealTermAtItsConventionalTau) {
   const Term terms[] = {Term::kQuantization, Term::kAngleRandomWalk, Term::kRateRandomWalk,

@@ -2,7 +2,8 @@
 """End-to-end tests of `fogpipe run` and `fogpipe info` (driven through the binary).
 
 Usage: run_campaign_test.py FOGPIPE_BINARY SOURCE_DIR [CASE...]
-Cases: campaign threads config dryrun resume identity sigterm sigterm_fast sigkill (default: all). Recordings are written
+Cases: campaign threads config dryrun resume identity flags sigterm sigterm_fast sigkill (default:
+all). Recordings are written
 with h5py + numpy (seeded), so the test needs nothing but the binary.
 """
 import json
@@ -19,6 +20,7 @@ import numpy as np
 
 FOGPIPE, SOURCE = sys.argv[1], sys.argv[2]
 CHECKER = os.path.join(SOURCE, "scripts", "check_results_h5py.py")
+CAMPAIGN_CHECKER = os.path.join(SOURCE, "scripts", "slurm", "check_campaign.py")
 failures = []
 
 
@@ -271,6 +273,69 @@ def case_identity(tmp):
           "identity: merge does not count results missing /allan as ok")
 
 
+def case_flags(tmp):
+    """A noise-fit flag reaches the results file and the campaign table. The recording is white
+    noise with a 0.2 Hz vibration (an Allan bump near 0.37 / 0.2 Hz = 1.9 s, IEEE Std 952 Annex C
+    treats sinusoids apart from the five terms): the model misses the curve over the bump, and the
+    rising side has rate random walk's +1/2 slope far above K's upper limit."""
+    rec, out = os.path.join(tmp, "flagrec"), os.path.join(tmp, "flagout")
+    os.makedirs(rec)
+    path = os.path.join(rec, "vibration.h5")
+    rate_hz, n = 10.0, 36000
+    rng = np.random.default_rng(5)
+    white = 0.005 * 60.0 * np.sqrt(rate_hz) * rng.standard_normal(n)
+    vibration = 3.0 * np.sin(2.0 * np.pi * 0.2 * np.arange(n) / rate_hz)
+    with h5py.File(path, "w") as f:
+        f.attrs["sample_rate_hz"] = rate_hz
+        f.create_dataset("rate", data=white + vibration).attrs["units"] = "deg/h"
+    r = run(["run", rec, "-o", out, "--threads", "1"])
+    check(r.returncode == 0, f"flags: run exits 0 {r.stderr}")
+    campaign = os.path.join(out, "campaign.h5")
+    m = run(["merge", out, "-o", campaign])
+    check(m.returncode == 0, f"flags: merge exits 0 {m.stderr}")
+    terms = ["Q", "N", "B", "K", "R"]
+    with h5py.File(os.path.join(out, "vibration.fogpipe.h5"), "r") as f, \
+            h5py.File(campaign, "r") as c:
+        axis = list(f["axes"].keys())[0]
+        noise = f["axes"][axis]["allan"]["raw"]["noise"]
+        value = lambda name: np.asarray(noise[name][()]).reshape(-1)[0]  # scalar or [1]
+        reasons = {t: noise.attrs[f"{t}_reason"] for t in terms}
+        reasons = {t: v.decode() if isinstance(v, bytes) else str(v) for t, v in reasons.items()}
+        flagged = [t for t in terms if value(f"{t}_reliable") == 0]
+        check(flagged == [t for t in terms if reasons[t]],
+              f"flags: results file {flagged} have reasons, the others none")
+        check(value("K_reliable") == 0 and "slope read-off" in reasons["K"],
+              f"flags: results file flags K against its read-off: {reasons['K']}")
+        col = c["campaign"]
+        text = lambda name: col[name][0].decode() if isinstance(col[name][0], bytes) \
+            else str(col[name][0])
+        check(text("raw_unreliable_terms") == ",".join(flagged),
+              f"flags: campaign raw_unreliable_terms {text('raw_unreliable_terms')} = {flagged}")
+        check(text("raw_unreliable_reasons") ==
+              " | ".join(f"{t}: {reasons[t]}" for t in flagged),
+              f"flags: campaign raw_unreliable_reasons carries the results file's reasons")
+        for t in terms:
+            a, b = value(f"{t}_readoff"), col[f"raw_{t}_readoff"][0]
+            check((np.isnan(a) and np.isnan(b)) or a == b,
+                  f"flags: campaign raw_{t}_readoff {b} = results {a} "
+                  f"[{col[f'raw_{t}_readoff'].attrs['units']}]")
+        check(col["raw_noise_fit_chi2_per_dof"][0] == value("chi2") / value("dof"),
+              "flags: campaign raw_noise_fit_chi2_per_dof = chi2 / dof of the results file")
+        ranges = noise.attrs["misfit_tau_ranges"]
+        ranges = ranges.decode() if isinstance(ranges, bytes) else str(ranges)
+        check(ranges != "" and text("raw_noise_fit_misfit_tau_ranges") == ranges,
+              f"flags: campaign raw_noise_fit_misfit_tau_ranges = results {ranges}")
+    manifest = os.path.join(tmp, "flagmanifest.txt")
+    with open(manifest, "w") as fh:
+        fh.write(path + "\n")
+    k = subprocess.run(["/usr/bin/python3", CAMPAIGN_CHECKER, campaign, manifest,
+                        "--expect-complete"], capture_output=True, text=True)
+    check(k.returncode == 0, f"flags: check_campaign.py passes {k.stdout}{k.stderr}")
+    i = run(["info", os.path.join(out, "vibration.fogpipe.h5")])
+    check(i.returncode == 0 and "K read-off" in i.stdout and reasons["K"] in i.stdout,
+          "flags: info's Table 5 shows the read-offs and K's reason")
+
+
 def long_campaign(tmp, name, files=8):
     rec = os.path.join(tmp, name)
     os.makedirs(rec)
@@ -359,7 +424,7 @@ def case_sigterm_fast(tmp):
 
 def main():
     cases = sys.argv[3:] or ["campaign", "threads", "config", "dryrun", "resume", "identity",
-                             "sigterm", "sigterm_fast", "sigkill"]
+                             "flags", "sigterm", "sigterm_fast", "sigkill"]
     tmp = tempfile.mkdtemp(prefix="fogpipe_run_test_")
     try:
         if set(cases) & {"campaign", "threads", "config", "dryrun", "resume"}:
@@ -374,6 +439,8 @@ def main():
             case_resume(tmp, rec, out1)
         if "identity" in cases:
             case_identity(tmp)
+        if "flags" in cases:
+            case_flags(tmp)
         if "sigterm" in cases:
             case_signal(tmp, signal.SIGTERM, "sigterm")
         if "sigterm_fast" in cases:
