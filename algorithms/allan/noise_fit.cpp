@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <vector>
 
 #include "algorithms/allan/avar_covariance.h"
@@ -483,6 +484,55 @@ void MarkTermsAboveUnfiltered(const NoiseFitResult& unfiltered, NoiseFitResult* 
                   amplitude / limit);
     a.reason += (a.reason.empty() ? "" : "; ") + std::string(text);
   }
+}
+
+NoiseFitResult AssessNoiseTerms(const AllanTable& table, const NoiseTerms& terms,
+                                const std::function<double(double)>& other_variance,
+                                double relative_tolerance, const NoiseFitOptions& options) {
+  NoiseFitResult result;
+  result.terms = terms;
+  std::string error = "the IEEE 952 model is that of the Allan variance";
+  if (!options.IsValid(&error) || !IeeeModelApplies(table.deviation)) {
+    result.summary = {Termination::kInvalidOptions, error};
+    return result;
+  }
+  NoiseFitSummary& summary = result.summary;
+  NoiseTerms given = terms;
+  std::vector<int> cols;
+  for (int j = 0; j < kTerms; ++j)
+    if (std::isfinite(*Amplitude(&given, j))) cols.push_back(j);
+  const Points p = SelectRows(table, options);
+  const int npts = p.size(), ncol = static_cast<int>(cols.size());
+  summary.points = npts;
+  if (npts > 0) result.fitted_range = {p.tau.front(), p.tau.back()};
+  result.slope_readoff = SlopeReadoffs(table, options.readoff_slope_tolerance);
+  if (npts == 0 || ncol == 0 || !p.have_edf) {
+    summary.termination = Termination::kInsufficientData;
+    summary.message = "no term, or no table row with an EDF, to check";
+    return result;
+  }
+  Eigen::MatrixXd basis(npts, ncol);
+  Eigen::VectorXd theta(ncol), model(npts), variance(npts);
+  for (int c = 0; c < ncol; ++c) {
+    const double a = *Amplitude(&given, cols[c]), se = *StandardError(&given, cols[c]);
+    theta[c] = a * a;
+    const double se_theta = a > 0.0 ? 2.0 * a * se : se * se;
+    TermAssessment& t = result.assessment[cols[c]];
+    // A term held at zero without an upper limit (se 0) has no z and no limit: unknown, not 0.
+    const bool known = a > 0.0 || se_theta > 0.0;
+    t.z = !known ? kNaN : a > 0.0 ? theta[c] / se_theta : 0.0;
+    t.significant = t.z > options.significance_z;
+    t.upper_limit = known ? std::sqrt(theta[c] + 2.0 * se_theta) : kNaN;
+    for (int i = 0; i < npts; ++i) basis(i, c) = Basis(cols[c], p.tau[i]);
+  }
+  for (int i = 0; i < npts; ++i) {
+    model[i] = basis.row(i).dot(theta) + (other_variance ? other_variance(p.tau[i]) : 0.0);
+    variance[i] = (2.0 / p.edf[i] + relative_tolerance * relative_tolerance) * model[i] * model[i];
+  }
+  AssessMisfit(p, model, variance, basis, cols, theta, options.misfit_level, &result);
+  AssessBounds(p, options.misfit_level, cols, &result);
+  summary.message = "checked on " + std::to_string(npts) + " points";
+  return result;
 }
 
 const char* TermSymbol(int term) {

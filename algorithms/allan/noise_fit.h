@@ -45,6 +45,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -171,6 +172,23 @@ int UnreliableTermCount(const NoiseFitResult& fit);
 /// (relative least squares) and the standard errors are NaN; otherwise rows without EDF are
 /// skipped.
 NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& options);
+
+/// The honesty checks of FitNoiseTerms (file comment, checks 1-3) on terms another estimator
+/// fitted to `table`: `fogpipe compare` fits them jointly with a deterministic part on the Allan
+/// variance of its residual, and one rule must judge every command's terms. `terms` as that fit
+/// gives them (SI; NaN amplitude = not in its model; a term held at zero carries the one-sigma
+/// upper limit sqrt(se(a^2)) as its SE, as here); `other_variance(tau)` [(rad/s)^2] is the Allan
+/// variance of the rest of that model (e.g. a Gauss-Markov term; null: none), part of the model
+/// each term's share is judged against. z = a / (2 se(a)) (the delta method, as here). Each
+/// point's variance is (2 / edf + relative_tolerance^2) v^2 with the table's EDF: the other fit's
+/// own covariance is not known here, and a fit that claims its model only to a relative shape
+/// tolerance c (compare: the closed forms are idealised at tau of a few samples, where the EDF
+/// is in the 1e5) is judged on that claim; 0 = sampling error alone. Fills terms,
+/// slope_readoff, assessment, misfit_ranges, fitted_range and summary.points; chi2, dof and
+/// p_value stay unset (the other fit has its own goodness of fit).
+NoiseFitResult AssessNoiseTerms(const AllanTable& table, const NoiseTerms& terms,
+                                const std::function<double(double)>& other_variance,
+                                double relative_tolerance, const NoiseFitOptions& options);
 
 /// For the fit of a filtered signal (a Kalman or low-pass output of the signal `unfiltered` was
 /// fitted to): marks unreliable every term whose amplitude exceeds the unfiltered fit's upper

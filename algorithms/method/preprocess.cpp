@@ -69,6 +69,13 @@ bool PreprocessOptions::IsValid(std::string* error) const {
   return true;
 }
 
+std::string PreprocessingNote(long long dropped_samples, long long outliers) {
+  return "raw = the preprocessed signal (" + std::to_string(dropped_samples) +
+         " samples dropped at the start, " + std::to_string(outliers) +
+         " outliers replaced by the local median, mean removed); `fogpipe allan` analyses the "
+         "recording as stored, so its terms differ by this preprocessing";
+}
+
 Preprocessed Preprocess(const Eigen::VectorXd& x, double sample_rate_hz,
                         const PreprocessOptions& options) {
   Preprocessed out;

@@ -63,6 +63,12 @@ struct Preprocessed {
   PreprocessSummary summary;
 };
 
+/// What the raw signal's Allan table and noise terms rest on, one sentence for every place that
+/// shows them (Table 5 of `run` and `info`, the results file's allan/raw): `run` analyses the
+/// preprocessed signal, `fogpipe allan` the recording as stored, so their terms for the same file
+/// differ by exactly this preprocessing (the Allan code path is the same).
+std::string PreprocessingNote(long long dropped_samples, long long outliers);
+
 /// Preprocesses one axis `x` sampled at `sample_rate_hz`. A constant signal (zero variance after
 /// the steps above) is kNumericalFailure: no noise to analyse.
 Preprocessed Preprocess(const Eigen::VectorXd& x, double sample_rate_hz,

@@ -38,6 +38,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/allan/noise_fit.h"
 #include "algorithms/common/for_each.h"
 #include "algorithms/common/status.h"
 #include "algorithms/model/catalog.h"
@@ -89,6 +90,10 @@ struct Evaluation {
   Views views;
   ImfView imf;  ///< filled for the base model by Compare() (not for trials: one EMD per compare)
   std::vector<FittedTerm> fitted;  ///< bias first, then each term with its parameters
+  /// The IEEE terms of `stochastic` (Q, N, B, K, R; NaN where not in the model) under the
+  /// five-term fit's reliability checks on the residual's Allan table, with that table's slope
+  /// read-offs (allan::AssessNoiseTerms; the Gauss-Markov term counts as part of the model).
+  allan::NoiseFitResult noise_check;
   Termination termination = Termination::kSuccess;
   std::string message;
 };

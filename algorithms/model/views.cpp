@@ -392,6 +392,7 @@ AllanData ResidualAllan(const Eigen::VectorXd& r, double fs, const ViewOptions& 
     d.ci_low.push_back(t.ci_low[i]);
     d.ci_high.push_back(t.ci_high[i]);
   }
+  d.table = t;
   return d;
 }
 

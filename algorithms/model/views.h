@@ -46,6 +46,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/allan/allan.h"
 #include "algorithms/model/stochastic_fit.h"
 
 namespace fogpipe::model {
@@ -79,6 +80,7 @@ struct AllanData {
   std::vector<double> tau_s, avar, edf, ci_low, ci_high;  ///< avar (rad/s)^2; ci on sigma, rad/s
   std::vector<int> alpha;                 ///< noise type behind each EDF (allan/noise_id.h)
   std::vector<std::string> alpha_method;  ///< how it was identified
+  allan::AllanTable table;  ///< the table itself (the IEEE terms' checks read it, compare.h)
 };
 
 struct Failure {

@@ -118,8 +118,9 @@ void AddAllanCommand(CLI::App& app, int* exit_code) {
   auto* cmd = app.add_subcommand(
       "allan",
       "Allan-type deviation table (tau, sigma in the recording's unit and deg/h, CI, EDF, count) "
-      "and, for OADEV / ADEV, the noise terms Q, N, B, K, R of one recording axis. Exit code 0: "
-      "done, 1: bad recording, 2: usage error.");
+      "and, for OADEV / ADEV, the noise terms Q, N, B, K, R of one recording axis, analysed as "
+      "stored (`run` first drops --drop-start-s and replaces outliers, so its raw terms can "
+      "differ). Exit code 0: done, 1: bad recording, 2: usage error.");
   cmd->add_option("RECORDING", args->recording, "HDF5 recording (input contract v1)");
   cmd->add_option("--axis", args->axis, "Axis name (from the file's `axes`) or index; default 0");
   cmd->add_option("--deviation", args->deviation, io::DeviationHelp())->capture_default_str();

@@ -24,6 +24,7 @@
 #include "pipeline/graph/tbb_for_each.h"
 #include "pipeline/io/isolated_reader.h"
 #include "pipeline/io/model_history.h"
+#include "pipeline/io/noise_fit_report.h"
 #include "pipeline/io/recording_reader.h"
 
 namespace fogpipe::cli {
@@ -90,15 +91,20 @@ void PrintText(const model::CompareResult& r) {
     for (const auto& p : ft.parameters)
       std::printf("  %-18s %-24s %.5g +- %.2g %s\n", ft.term.c_str(), p.name.c_str(), p.value,
                   p.standard_error, p.units.c_str());
+  // The same reliability checks and read-offs as `allan`, `run`, `info` and `merge` show
+  // (allan::AssessNoiseTerms), on the curve these terms were fitted to.
+  std::cout << "\nThe IEEE terms above against the residual's Allan curve (the checks and slope "
+               "read-offs of `fogpipe allan`):";
+  io::PrintNoiseFitText(std::cout, r.base.noise_check);
+  std::cout << std::flush;
   std::printf(
       "note: these stochastic terms are fitted jointly with the deterministic part above, on the\n"
       "  Allan variance of its residual, with the extra terms chosen here (e.g. Gauss-Markov) and "
       "a\n"
       "  model-shape tolerance; `fogpipe allan`, `run`, `info` and `merge` report the five IEEE\n"
-      "  terms alone fitted to the whole record (generalised least squares, with reliability "
-      "flags).\n"
-      "  The two differ wherever the deterministic part or the extra terms carry Allan "
-      "variance.\n");
+      "  terms alone fitted to the whole record (generalised least squares). Both are judged by\n"
+      "  the same reliability checks. The two differ wherever the deterministic part or the extra\n"
+      "  terms carry Allan variance.\n");
 }
 
 int PrintHistory(const std::string& results) {

@@ -17,6 +17,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "algorithms/method/preprocess.h"
 #include "algorithms/method/tables.h"
 #include "algorithms/model/compensate.h"
 #include "pipeline/graph/interrupt.h"
@@ -277,7 +278,10 @@ void CampaignRunner::Finish(FileJob* job) {
         for (const AxisPtr& w : job->arrived) {
           tables_text_ += "\n" + job->input.path + "  axis " + job->info.axis_names[w->axis] +
                           "\n" + method::FormatTable3(method::Table3(w->result)) +
-                          method::FormatTable5(method::Table5(w->result));
+                          method::FormatTable5(method::Table5(w->result)) +
+                          method::PreprocessingNote(w->result.preprocessed.summary.dropped_samples,
+                                                    w->result.preprocessed.summary.outliers) +
+                          "\n";
         }
       }
     } catch (const std::exception& e) {

@@ -16,6 +16,8 @@
 #include "pipeline/hdf5/group.h"
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/inputs.h"
+#include "pipeline/io/noise_fit_report.h"
+#include "pipeline/io/results_writer.h"
 #include "pipeline/io/text_output_file.h"
 
 namespace fogpipe::io {
@@ -181,7 +183,12 @@ json ModelJson(const model::Evaluation& e) {
   json fitted = json::array();
   for (const auto& ft : e.fitted)
     fitted.push_back({{"term", ft.term}, {"parameters", ParametersJson(ft.parameters)}});
-  return {{"terms", terms}, {"fitted", fitted}};
+  const allan::NoiseFitResult& check = e.noise_check;
+  const json noise_fit = {{"message", check.summary.message},
+                          {"points", check.summary.points},
+                          {"misfit_tau_ranges", allan::FormatTauRanges(check.misfit_ranges)},
+                          {"terms", NoiseFitAssessmentJson(check)}};
+  return {{"terms", terms}, {"fitted", fitted}, {"noise_fit", noise_fit}};
 }
 
 json CompareJson(const model::CompareResult& r) {
@@ -309,6 +316,10 @@ int AppendHistory(const std::string& results, const std::string& recording, cons
     step.WriteTextDataset("compare_json", cj.dump());
     step.WriteTextDataset("model_json", cj["model"].dump());
     WriteViews(step, r.base);
+    hdf5::Group noise = step.OpenGroup("allan").CreateGroup("noise");
+    noise.WriteStringAttribute("termination", ToString(r.base.noise_check.summary.termination));
+    noise.WriteStringAttribute("message", r.base.noise_check.summary.message);
+    WriteNoiseTerms(noise, r.base.noise_check);
     WriteImfView(step, r.base.imf);
     compare.WriteInt64Attribute("steps", index + 1);
     file->flush(H5F_SCOPE_GLOBAL);

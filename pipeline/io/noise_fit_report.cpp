@@ -111,9 +111,11 @@ void PrintNoiseFitText(std::ostream& out, const allan::NoiseFitResult& fit) {
         << Format(a.z, "%.1f") << "  " << verdict << "\n";
     if (!a.reliable) out << "       " << allan::TermSymbol(j) << ": " << a.reason << "\n";
   }
-  out << "  goodness of fit: chi2 " << Format(fit.chi2, "%.4g") << " on " << fit.dof
-      << " dof, chi2/dof " << Format(fit.dof > 0 ? fit.chi2 / fit.dof : NAN, "%.3g") << ", p-value "
-      << Format(fit.p_value, "%.3g") << "\n";
+  // A check of terms fitted elsewhere (allan::AssessNoiseTerms) has no goodness of fit of its own.
+  if (std::isfinite(fit.chi2))
+    out << "  goodness of fit: chi2 " << Format(fit.chi2, "%.4g") << " on " << fit.dof
+        << " dof, chi2/dof " << Format(fit.dof > 0 ? fit.chi2 / fit.dof : NAN, "%.3g")
+        << ", p-value " << Format(fit.p_value, "%.3g") << "\n";
   if (!fit.misfit_ranges.empty())
     out << "  the model misses the curve at " << allan::FormatTauRanges(fit.misfit_ranges)
         << " (measured sigma^2 outside the model's 99.7 % interval)\n";

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "algorithms/allan/noise_fit.h"
+#include "algorithms/method/preprocess.h"
 #include "pipeline/hdf5/file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/file_validation.h"
@@ -271,7 +272,8 @@ std::string FormatSummary(const ResultsSummary& summary) {
         << " IMFs + residue\n"
         << "Table 3: AR order and fit per component\n"
         << method::FormatTable3(axis.table3) << "Table 5: Allan noise terms\n"
-        << method::FormatTable5(axis.table5);
+        << method::FormatTable5(axis.table5)
+        << method::PreprocessingNote(axis.dropped_samples, axis.outliers) << "\n";
   }
   return out.str();
 }

@@ -150,8 +150,24 @@ void WriteReferenceFilters(Group signals, Group allan,
   }
 }
 
-// Goodness of fit and per-term flags of the noise fit (allan/noise_fit.h), next to the terms.
-void WriteNoiseFitAssessment(Group& noise, const allan::NoiseFitResult& fit) {
+}  // namespace
+
+void WriteNoiseTerms(Group& noise, const allan::NoiseFitResult& fit) {
+  const allan::NoiseTermsEngineering e = allan::ToEngineeringUnits(fit.terms);
+  const struct {
+    const char* name;
+    double value, se;
+    const char* units;
+  } terms[] = {{"Q", e.q_arcsec, e.q_se, units::kQuantizationUnit},
+               {"N", e.n_deg_sqrt_h, e.n_se, units::kArwUnit},
+               {"B", e.b_deg_h, e.b_se, units::kBiasUnit},
+               {"K", e.k_deg_h_sqrt_h, e.k_se, units::kRrwUnit},
+               {"R", e.r_deg_h2, e.r_se, units::kRampUnit}};
+  for (const auto& term : terms) {
+    WriteScalar(noise, term.name, term.value, term.units);
+    WriteScalar(noise, std::string(term.name) + "_std_error", term.se, term.units);
+  }
+  // Goodness of fit and per-term flags of the noise fit (allan/noise_fit.h), next to the terms.
   WriteScalar(noise, "chi2", fit.chi2, "1");
   WriteCount(noise, "dof", fit.dof, "1");
   WriteScalar(noise, "p_value", fit.p_value, "1");
@@ -172,6 +188,8 @@ void WriteNoiseFitAssessment(Group& noise, const allan::NoiseFitResult& fit) {
     noise.WriteStringAttribute(t + "_reason", a.reason);
   }
 }
+
+namespace {
 
 void WriteAllan(Group group, const method::AllanEvaluation& evaluation) {
   const allan::AllanTable& t = evaluation.allan.table;
@@ -200,21 +218,7 @@ void WriteAllan(Group group, const method::AllanEvaluation& evaluation) {
       std::string("sigma^2 = 3Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2 + K^2 tau/3 + R^2 tau^2/2, ") +
           std::string(evaluation.noise.generalized ? "generalised" : "weighted") +
           " NNLS (IEEE Std 952-1997 Annex C)");
-  const allan::NoiseTermsEngineering e = allan::ToEngineeringUnits(evaluation.noise.terms);
-  const struct {
-    const char* name;
-    double value, se;
-    const char* units;
-  } terms[] = {{"Q", e.q_arcsec, e.q_se, units::kQuantizationUnit},
-               {"N", e.n_deg_sqrt_h, e.n_se, units::kArwUnit},
-               {"B", e.b_deg_h, e.b_se, units::kBiasUnit},
-               {"K", e.k_deg_h_sqrt_h, e.k_se, units::kRrwUnit},
-               {"R", e.r_deg_h2, e.r_se, units::kRampUnit}};
-  for (const auto& term : terms) {
-    WriteScalar(noise, term.name, term.value, term.units);
-    WriteScalar(noise, std::string(term.name) + "_std_error", term.se, term.units);
-  }
-  WriteNoiseFitAssessment(noise, evaluation.noise);
+  WriteNoiseTerms(noise, evaluation.noise);
 }
 
 void WriteAxis(Group axes, const AxisResults& axis, const ResultsOptions& options) {
@@ -286,7 +290,12 @@ void WriteAxis(Group axes, const AxisResults& axis, const ResultsOptions& option
   WriteKalmanTable(s.CreateGroup("method2_kalman"), {"raw"}, {&r.direct});
 
   Group a = g.CreateGroup("allan");
-  WriteAllan(a.CreateGroup("raw"), r.raw_allan);
+  Group raw = a.CreateGroup("raw");
+  WriteAllan(raw, r.raw_allan);
+  raw.WriteInt64Attribute("dropped_samples", pre.summary.dropped_samples);
+  raw.WriteInt64Attribute("outliers_replaced", pre.summary.outliers);
+  raw.WriteStringAttribute("preprocessing", method::PreprocessingNote(pre.summary.dropped_samples,
+                                                                      pre.summary.outliers));
   WriteAllan(a.CreateGroup("method1"), r.method1_allan);
   WriteAllan(a.CreateGroup("method2"), r.method2_allan);
   WriteReferenceFilters(s, a, r.reference, exact);

@@ -6,7 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/allan/noise_fit.h"
 #include "algorithms/method/method.h"
+#include "pipeline/hdf5/group.h"
 
 namespace fogpipe::io {
 
@@ -64,6 +66,12 @@ struct AxisResults {
 /// std::runtime_error; nothing is left under final_path on failure.
 void WriteResultsFile(const std::filesystem::path& final_path, const Provenance& provenance,
                       const std::vector<AxisResults>& axes, const ResultsOptions& options);
+
+/// The noise terms of a fit and their assessment in `noise` (the layout of allan/<signal>/noise/
+/// in schemas/results-v1.md, also under compare's steps: schemas/model-history.md): Q ... R and
+/// their standard errors in engineer's units, chi2, dof, p_value, misfit_tau_ranges and per term
+/// z, significance, upper limit, read-off, reliability and reason.
+void WriteNoiseTerms(hdf5::Group& noise, const allan::NoiseFitResult& fit);
 
 /// Current UTC time, ISO 8601 with seconds ("2026-11-21T06:30:00Z").
 std::string UtcNowIso8601();

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <map>
 
+#include "algorithms/allan/model_edf.h"
 #include "algorithms/common/units.h"
 #include "algorithms/method/tables.h"
 #include "algorithms/method/white_noise.h"
@@ -241,6 +242,44 @@ TEST(Method, ReportsTheStageThatFailed) {
   bad.direct_ar_order = -1;
   r = RunMethod(PaperRecording(1), 1.0, bad);
   EXPECT_EQ(r.summary.termination, Termination::kInvalidOptions);
+}
+
+TEST(Method, RawTermsAreTheAllanCommandsTermsOfThePreprocessedSignal) {
+  // `run`'s raw row and `fogpipe allan` share one code path (ComputeAllan, then
+  // FitNoiseTermsAndModelEdf with default options, as allan_command.cpp calls them); the only
+  // difference is the preprocessing that PreprocessingNote states. A start-up transient and gross
+  // errors make that preprocessing matter here.
+  Eigen::VectorXd x = PaperRecording(1);
+  const double sd = std::sqrt((x.array() - x.mean()).square().mean());
+  for (long k = 0; k < 120; ++k) x[k] += 20.0 * sd * std::exp(-k / 30.0);
+  for (long k = 500; k < x.size(); k += 97) x[k] += 40.0 * sd;
+  MethodOptions options;
+  options.preprocess.drop_start_s = 120.0;
+  const MethodResult r = RunMethod(x, 1.0, options);
+  ASSERT_TRUE(HasResult(r.summary.termination)) << r.summary.message;
+  EXPECT_EQ(r.preprocessed.summary.dropped_samples, 120);
+  EXPECT_GT(r.preprocessed.summary.outliers, 0);
+
+  const auto allan_command = [](const Eigen::VectorXd& signal) {
+    allan::AllanResult a = allan::ComputeAllan(signal, 1.0, allan::AllanOptions{});
+    return allan::FitNoiseTermsAndModelEdf(allan::NoiseFitOptions{},
+                                           allan::AllanOptions{}.confidence, &a.table);
+  };
+  const allan::NoiseFitResult same = allan_command(r.preprocessed.signal);
+  const allan::NoiseTerms& a = r.raw_allan.noise.terms;
+  const allan::NoiseTerms& b = same.terms;
+  EXPECT_EQ(a.q_rad, b.q_rad);
+  EXPECT_EQ(a.n_rad_sqrt_s, b.n_rad_sqrt_s);
+  EXPECT_EQ(a.b_rad_s, b.b_rad_s);
+  EXPECT_EQ(a.k_rad_s_sqrt_s, b.k_rad_s_sqrt_s);
+  EXPECT_EQ(a.r_rad_s2, b.r_rad_s2);
+  for (int j = 0; j < allan::kNoiseTermCount; ++j) {
+    EXPECT_EQ(r.raw_allan.noise.assessment[j].reliable, same.assessment[j].reliable);
+    EXPECT_EQ(r.raw_allan.noise.assessment[j].reason, same.assessment[j].reason);
+  }
+  // On the recording as stored the terms differ: the preprocessing is the difference.
+  const allan::NoiseFitResult stored = allan_command(x);
+  EXPECT_NE(stored.terms.n_rad_sqrt_s, a.n_rad_sqrt_s);
 }
 
 }  // namespace

@@ -92,5 +92,13 @@ TEST(Preprocess, WindowedMeanAndVarianceFollowAStepInLevelAndSpread) {
   }
 }
 
+TEST(Preprocess, TheNoteStatesWhatWasDroppedAndReplacedAndThatAllanReadsTheStoredRecording) {
+  const std::string note = PreprocessingNote(500, 1243);
+  EXPECT_NE(note.find("500 samples dropped at the start"), std::string::npos) << note;
+  EXPECT_NE(note.find("1243 outliers replaced"), std::string::npos) << note;
+  EXPECT_NE(note.find("`fogpipe allan` analyses the recording as stored"), std::string::npos)
+      << note;
+}
+
 }  // namespace
 }  // namespace fogpipe::method

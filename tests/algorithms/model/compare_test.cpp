@@ -336,5 +336,53 @@ TEST(HiddenEffectStudy, DISABLED_PassRatesAgainstTheSignatureRatio) {
   }
 }
 
+// The IEEE terms of compare's model under the five-term fit's reliability checks (noise_check).
+TEST(Compare, MarksAnIeeeTermUnreliableWhereAHiddenEffectBendsTheAllanCurve) {
+  // The default model has no term for a sinusoid's or a Gauss-Markov bump: a term that carries
+  // the model there must be flagged, with its reason, and the read-offs shown beside it.
+  for (sim::Term effect : {sim::Term::kSinusoid, sim::Term::kGaussMarkov}) {
+    for (int seed = 101; seed <= 103; ++seed) {
+      const auto c = MakeHiddenCase(seed, {effect});
+      const Evaluation e = EvaluateModel(c.input, DefaultTerms(), {});
+      ASSERT_TRUE(HasResult(e.termination)) << e.message;
+      EXPECT_GE(allan::UnreliableTermCount(e.noise_check), 1) << "seed " << seed;
+      EXPECT_FALSE(e.noise_check.misfit_ranges.empty()) << "seed " << seed;
+      for (const allan::TermAssessment& a : e.noise_check.assessment)
+        EXPECT_EQ(a.reliable, a.reason.empty()) << "seed " << seed;
+      EXPECT_TRUE(std::isfinite(e.noise_check.slope_readoff.n_rad_sqrt_s)) << "seed " << seed;
+      // The checked terms are compare's own, not a refit.
+      EXPECT_EQ(e.noise_check.terms.n_rad_sqrt_s, e.stochastic.model.n_rad_sqrt_s);
+    }
+  }
+}
+
+TEST(Compare, FlagsNoIeeeTermOfRecordsThatFollowTheModel) {
+  // Effect-free control seeds: at most 1 of 20 records (5 %) may have a term flagged. Without the
+  // fit's shape tolerance in the point intervals, Q is flagged at the shortest tau on several.
+  int flagged = 0;
+  std::string reasons;
+  for (int seed = 201; seed <= 220; ++seed) {
+    const auto c = MakeHiddenCase(seed, {});
+    const Evaluation e = EvaluateModel(c.input, DefaultTerms(), {});
+    ASSERT_TRUE(HasResult(e.termination)) << e.message;
+    if (allan::UnreliableTermCount(e.noise_check) == 0) continue;
+    ++flagged;
+    for (int j = 0; j < allan::kNoiseTermCount; ++j)
+      if (!e.noise_check.assessment[j].reliable)
+        reasons += "seed " + std::to_string(seed) + " " + allan::TermSymbol(j) + ": " +
+                   e.noise_check.assessment[j].reason + "\n";
+  }
+  EXPECT_LE(flagged, 1) << reasons;
+}
+
+TEST(Compare, JudgesOnlyTheIeeeTermsInTheModel) {
+  const auto c = MakeHiddenCase(201, {});
+  const Evaluation e = EvaluateModel(c.input, {Term::kWhite}, {});
+  ASSERT_TRUE(HasResult(e.termination)) << e.message;
+  EXPECT_TRUE(std::isfinite(e.noise_check.terms.n_rad_sqrt_s));
+  EXPECT_TRUE(std::isnan(e.noise_check.terms.b_rad_s));
+  EXPECT_TRUE(std::isnan(e.noise_check.assessment[2].z));
+}
+
 }  // namespace
 }  // namespace fogpipe::model

@@ -3,6 +3,7 @@
 // --json` must be inconsistent, name `temperature` first and estimate it; adding it must make the
 // error fall at least 3x and the model consistent; `--history` must show both steps; the saved
 // model file must round-trip.
+#include <H5Cpp.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -15,6 +16,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/model_history.h"
 
 namespace fogpipe {
@@ -66,9 +68,9 @@ TEST(CompareCommand, FindsAHiddenThermalEffectAndRecordsTheHistory) {
   EXPECT_TRUE(aux_failure);
 
   const std::string model = (dir / "m.json").string();
-  const nlohmann::json j2 = nlohmann::json::parse(
-      RunFogpipe("compare --json --add temperature --save-model " + model + " -o " + results + " " + rec,
-          &code));
+  const nlohmann::json j2 = nlohmann::json::parse(RunFogpipe(
+      "compare --json --add temperature --save-model " + model + " -o " + results + " " + rec,
+      &code));
   ASSERT_EQ(code, 0);
   EXPECT_TRUE(j2["consistent"].get<bool>());
   EXPECT_LE(3.0 * j2["error"].get<double>(), j["error"].get<double>());
@@ -86,6 +88,51 @@ TEST(CompareCommand, FindsAHiddenThermalEffectAndRecordsTheHistory) {
   const io::ModelFile m = io::ReadModelFile(model);
   ASSERT_EQ(m.deterministic.components.size(), 1u);
   EXPECT_NEAR(m.deterministic.components[0].coefficients[0], coef / (180.0 / M_PI * 3600.0), 1e-12);
+  fs::remove_all(dir);
+}
+
+TEST(CompareCommand, FlagsTheRingLaserGyrosWhiteNoiseTermWithItsReadOffBesideIt) {
+  // The PSINS ring-laser gyro (not in the repository; skipped when absent): on the z axis the
+  // default model's N follows the 0.1-0.3 s bump and sits far above the bound the curve sets at
+  // the shortest tau (sigma(0.01 s) sqrt(0.01 s)) and above its slope read-off.
+  const std::string rlg = "/work/shared/data/real-rlg/psins_lasergyro.h5";
+  if (!fs::exists(rlg)) GTEST_SKIP() << rlg << " absent";
+  const fs::path dir =
+      fs::temp_directory_path() / ("fogpipe_compare_rlg_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string results = (dir / "results.h5").string();
+  int code = 0;
+  const nlohmann::json j = nlohmann::json::parse(
+      RunFogpipe("compare --json --axis z_up -o " + results + " " + rlg, &code));
+  ASSERT_EQ(code, 0);
+  const nlohmann::json& n = j["model"]["noise_fit"]["terms"][1];
+  ASSERT_EQ(n["symbol"], "N");
+  EXPECT_FALSE(n["reliable"].get<bool>());
+  EXPECT_NE(n["reason"].get<std::string>().find("exceeds the bound"), std::string::npos);
+  const double readoff = n["readoff"].get<double>();
+  double value = 0.0;
+  for (const auto& f : j["model"]["fitted"])
+    if (f["term"] == "white") value = f["parameters"]["N"]["value"].get<double>();
+  EXPECT_GT(value, 2.0 * readoff);
+  // The same flag in the stored step, in the results file's noise layout.
+  {
+    auto lock = hdf5::LockHdf5();
+    H5::H5File f(results, H5F_ACC_RDONLY);
+    long long reliable = 1;
+    f.openDataSet("/compare/step_000/allan/noise/N_reliable")
+        .read(&reliable, H5::PredType::NATIVE_LLONG);
+    EXPECT_EQ(reliable, 0);
+    double stored = 0.0;
+    f.openDataSet("/compare/step_000/allan/noise/N_readoff")
+        .read(&stored, H5::PredType::NATIVE_DOUBLE);
+    EXPECT_DOUBLE_EQ(stored, readoff);
+  }
+  // The text output puts the verdict and the read-off on the term's row.
+  const std::string text = RunFogpipe("compare --axis z_up " + rlg, &code);
+  ASSERT_EQ(code, 0);
+  const size_t row = text.find("  N  angle random walk");
+  ASSERT_NE(row, std::string::npos);
+  EXPECT_NE(text.substr(row, text.find('\n', row) - row).find("UNRELIABLE"), std::string::npos);
   fs::remove_all(dir);
 }
 
