@@ -467,6 +467,18 @@ void AssessReadoff(int c, NoiseFitResult* result) {
   }
 }
 
+// Checks (2) and (3) of noise_fit.h for the terms in `cols`: a significant term's bound from the
+// curve, and every term's agreement with its slope read-off.
+void AssessAgainstTheCurve(const Points& p, double level, const std::vector<int>& cols,
+                           NoiseFitResult* result) {
+  NoiseTerms terms = result->terms;
+  for (int c : cols) {
+    if (result->assessment[c].significant && *Amplitude(&terms, c) > 0.0)
+      AssessBound(p, level, c, result);
+    AssessReadoff(c, result);
+  }
+}
+
 }  // namespace
 
 void MarkTermsAboveUnfiltered(const NoiseFitResult& unfiltered, NoiseFitResult* filtered) {
@@ -505,7 +517,9 @@ NoiseFitResult AssessNoiseTerms(const AllanTable& table, const NoiseTerms& terms
   const int npts = p.size(), ncol = static_cast<int>(cols.size());
   summary.points = npts;
   if (npts > 0) result.fitted_range = {p.tau.front(), p.tau.back()};
-  result.slope_readoff = SlopeReadoffs(table, options.readoff_slope_tolerance);
+  const AnchoredReadoffs readoffs = ReadOff(table, options.readoff_slope_tolerance);
+  result.slope_readoff = readoffs.value;
+  result.readoff_taus = readoffs.taus;
   if (npts == 0 || ncol == 0 || !p.have_edf) {
     summary.termination = Termination::kInsufficientData;
     summary.message = "no term, or no table row with an EDF, to check";
@@ -530,7 +544,7 @@ NoiseFitResult AssessNoiseTerms(const AllanTable& table, const NoiseTerms& terms
     variance[i] = (2.0 / p.edf[i] + relative_tolerance * relative_tolerance) * model[i] * model[i];
   }
   AssessMisfit(p, model, variance, basis, cols, theta, options.misfit_level, &result);
-  AssessBounds(p, options.misfit_level, cols, &result);
+  AssessAgainstTheCurve(p, options.misfit_level, cols, &result);
   summary.message = "checked on " + std::to_string(npts) + " points";
   return result;
 }
@@ -682,12 +696,7 @@ NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& opt
   result.readoff_taus = readoffs.taus;
   if (p.have_edf) {
     AssessMisfit(p, model_v, w.point_variance, basis, cols, theta, options.misfit_level, &result);
-    for (int c : cols) {
-      const TermAssessment& a = result.assessment[c];
-      if (a.significant && *Amplitude(&terms, c) > 0.0)
-        AssessBound(p, options.misfit_level, c, &result);
-      AssessReadoff(c, &result);
-    }
+    AssessAgainstTheCurve(p, options.misfit_level, cols, &result);
   }
   summary.termination = converged ? Termination::kSuccess : Termination::kNoConvergence;
   summary.message =
