@@ -127,11 +127,14 @@ void PrintAllanCsv(std::ostream& out, const AllanReport& r) {
       << r.sample_rate_hz << " Hz, " << allan::ToString(t.deviation) << ", " << r.taus
       << " taus, CI " << r.confidence << ", noise types by the " << allan::ToString(t.noise_id_rule)
       << " rule\n";
-  out << "tau_s,m,sigma_" << UnitToken(du.primary) << ",sigma_" << e << ",ci_low_" << e
-      << ",ci_high_" << e << ",edf,edf_source,alpha,alpha_method,count\n";
+  // A recording in the engineering unit (deg/h) has one sigma column, not two of the same name.
+  const bool both = UnitToken(du.primary) != e;
+  out << "tau_s,m," << (both ? "sigma_" + UnitToken(du.primary) + "," : "") << "sigma_" << e
+      << ",ci_low_" << e << ",ci_high_" << e << ",edf,edf_source,alpha,alpha_method,count\n";
   auto g = [](double v) { return Fixed(v, "%.17g"); };
   for (size_t i = 0; i < t.size(); ++i) {
-    out << g(t.tau_s[i]) << "," << t.m[i] << "," << g(t.sigma[i] * du.primary_per_si) << ","
+    out << g(t.tau_s[i]) << "," << t.m[i] << ","
+        << (both ? g(t.sigma[i] * du.primary_per_si) + "," : "")
         << g(t.sigma[i] * du.engineering_per_si) << "," << g(t.ci_low[i] * du.engineering_per_si)
         << "," << g(t.ci_high[i] * du.engineering_per_si) << "," << g(t.edf[i]) << ","
         << allan::ToString(t.edf_source[i]) << "," << t.alpha[i] << ","

@@ -105,6 +105,20 @@ TEST(AllanCommand, JsonTableEqualsTheDefinitionOfTheOverlappingAllanDeviation) {
   EXPECT_NEAR(j["noise_terms"]["n_deg_sqrt_h"].get<double>(), n_true, 0.1 * n_true);
 }
 
+TEST(AllanCommand, CsvOfARecordingInDegPerHourHasOneSigmaColumn) {
+  testing::TempDir dir;
+  const std::string path = WriteNoiseRecording(dir, Noise(3000, 2.0, 0.0, 12), "deg/h", 10.0);
+  const auto csv = RunFogpipe("allan " + Quote(path) + " --csv --taus decade:5");
+  ASSERT_EQ(csv.exit_code, 0) << csv.output;
+  std::istringstream lines(csv.output);
+  std::string line;
+  std::getline(lines, line);
+  std::getline(lines, line);
+  EXPECT_EQ(line,
+            "tau_s,m,sigma_deg_h,ci_low_deg_h,ci_high_deg_h,edf,edf_source,alpha,alpha_method,"
+            "count");
+}
+
 TEST(AllanCommand, CsvAndTextCarryTheSameNumbersInTheRecordingUnitAndInDegPerHour) {
   testing::TempDir dir;
   const std::vector<double> y = Noise(3000, 0.01, 0.0, 11);  // rad/s
