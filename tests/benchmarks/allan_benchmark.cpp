@@ -38,6 +38,24 @@ const Eigen::VectorXd& Rate() {
   return rate;
 }
 
+// Differenced white noise (white PM, quantization-like): every row is read as phase noise, so
+// every EDF and the few-average laws come from phase_noise_law.h, the intervals' costliest path.
+const Eigen::VectorXd& WhitePmRate() {
+  static const Eigen::VectorXd rate = [] {
+    std::mt19937_64 engine(43);
+    std::normal_distribution<double> normal;
+    Eigen::VectorXd y(kSamples);
+    double previous = normal(engine);
+    for (long long i = 0; i < kSamples; ++i) {
+      const double x = normal(engine);
+      y[i] = x - previous;
+      previous = x;
+    }
+    return y;
+  }();
+  return rate;
+}
+
 // 64 distinct log-spaced averaging factors from 1 to the maximum.
 std::vector<long long> LogSpacedFactors(long long max_m, int count) {
   for (int points = count;; ++points) {
@@ -51,8 +69,8 @@ std::vector<long long> LogSpacedFactors(long long max_m, int count) {
 }
 
 void RunAllan(benchmark::State& state, Deviation deviation, bool ci,
-              NoiseIdRule rule = NoiseIdRule::kCalibrated, int threads = 1) {
-  const Eigen::VectorXd& rate = Rate();
+              NoiseIdRule rule = NoiseIdRule::kCalibrated, int threads = 1,
+              const Eigen::VectorXd& rate = Rate()) {
   AllanOptions options;
   options.threads = threads;
   options.noise_id = rule;
@@ -76,6 +94,9 @@ void BM_Oadev64TausWithCiTwoThreads(benchmark::State& s) {
 // The Stable32 rule, for the cost of the calibrated rule's R(n) passes (noise_id.h).
 void BM_Oadev64TausWithCiStable32Rule(benchmark::State& s) {
   RunAllan(s, Deviation::kOverlappingAllan, true, NoiseIdRule::kStable32);
+}
+void BM_Oadev64TausWithCiWhitePm(benchmark::State& s) {
+  RunAllan(s, Deviation::kOverlappingAllan, true, NoiseIdRule::kCalibrated, 1, WhitePmRate());
 }
 void BM_Oadev64TausNoCi(benchmark::State& s) { RunAllan(s, Deviation::kOverlappingAllan, false); }
 void BM_Adev64TausWithCi(benchmark::State& s) { RunAllan(s, Deviation::kAllan, true); }
@@ -142,6 +163,7 @@ void BM_FitNoiseTerms100TausRejected(benchmark::State& s) { RunFit100(s, 0.3); }
 void BM_FitNoiseTermsAndModelEdf100Taus(benchmark::State& s) { RunFit100(s, 0.0, true); }
 
 BENCHMARK(BM_Oadev64TausWithCi)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Oadev64TausWithCiWhitePm)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Oadev64TausWithCiTwoThreads)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Oadev64TausWithCiStable32Rule)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Oadev64TausNoCi)->Unit(benchmark::kMillisecond)->UseRealTime();
