@@ -79,7 +79,7 @@ std::vector<double> OverlappingAllanBelow30Averages(const Eigen::VectorXd& phase
 // noise, phase_noise_law.h for phase noise); empty where chi-square serves.
 WeightedChiSquareLaw FewAveragesLaw(int d, int alpha, long long m, long long count) {
   if (alpha == 1 || alpha == 2) return PhaseNoiseLaw(d, alpha, m, count);
-  if (alpha < -2) return {};
+  if (alpha > 2 || alpha < -2) return {};
   std::array<double, 4> theta{};
   theta[static_cast<size_t>(1 - alpha)] = 1.0;  // 0 -> N, -1 -> B, -2 -> K
   return OverlappingLawWeights(d, theta, m, count);
