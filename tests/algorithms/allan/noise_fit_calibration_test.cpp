@@ -180,8 +180,8 @@ void ExpectCalibrated(const Scenario& s, const Calibration& c) {
 // estimate there is so precise (relative sd 0.34 % at m = 1 on 2^18 samples) that Kasdin's excess
 // over the IEEE floor (1.44x at m = 1, 1.15x at 2, 1.05x at 4) is 0.45 sd at m = 1, a rise at
 // short tau that the fit reads as quantization: by the GLS normal equations it moves Q^2 by
-// +0.17 of its standard error in the navigation scenario, where Q's false alarms were 4.2 % of
-// 1000 held-out records against 2.4 % with the integrated flicker (docs/allan-noise-fit.md). Every
+// +0.17 of its standard error in the navigation scenario and doubles Q's false alarms there
+// (docs/allan-noise-fit.md). Every
 // scenario's flicker must have the floor at m = 1, 2, 4, 8: the mean over records of sigma^2(m) /
 // floor within 4 standard errors of 1.
 TEST(NoiseFitCalibration, SimulatedBiasInstabilityHasTheIeeeFloorAtShortTau) {
