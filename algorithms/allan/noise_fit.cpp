@@ -350,13 +350,8 @@ Eigen::VectorXd ThetaVariances(const Eigen::MatrixXd& aw, const std::vector<int>
 std::string Engineering(int term, double si) {
   NoiseTerms t;
   *Amplitude(&t, term) = si;
-  const NoiseTermsEngineering e = ToEngineeringUnits(t);
-  const double values[kTerms] = {e.q_arcsec, e.n_deg_sqrt_h, e.b_deg_h, e.k_deg_h_sqrt_h,
-                                 e.r_deg_h2};
-  const char* unit[kTerms] = {units::kQuantizationUnit, units::kArwUnit, units::kBiasUnit,
-                              units::kRrwUnit, units::kRampUnit};
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%.3g %s", values[term], unit[term]);
+  std::snprintf(buf, sizeof buf, "%.3g %s", EngineeringValue(t, term), EngineeringUnit(term));
   return buf;
 }
 
@@ -552,6 +547,18 @@ NoiseFitResult AssessNoiseTerms(const AllanTable& table, const NoiseTerms& terms
 const char* TermSymbol(int term) {
   static const char* kSymbols[kTerms] = {"Q", "N", "B", "K", "R"};
   return term >= 0 && term < kTerms ? kSymbols[term] : "?";
+}
+
+double EngineeringValue(const NoiseTerms& terms, int term) {
+  const NoiseTermsEngineering e = ToEngineeringUnits(terms);
+  const double v[kTerms] = {e.q_arcsec, e.n_deg_sqrt_h, e.b_deg_h, e.k_deg_h_sqrt_h, e.r_deg_h2};
+  return v[term];
+}
+
+const char* EngineeringUnit(int term) {
+  static const char* kUnits[kTerms] = {units::kQuantizationUnit, units::kArwUnit, units::kBiasUnit,
+                                       units::kRrwUnit, units::kRampUnit};
+  return kUnits[term];
 }
 
 std::string FormatTauRanges(const std::vector<TauRange>& ranges) {

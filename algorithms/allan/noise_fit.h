@@ -117,6 +117,10 @@ struct NoiseFitSummary {
 constexpr int kNoiseTermCount = 5;
 /// "Q", "N", "B", "K", "R".
 const char* TermSymbol(int term);
+/// Amplitude of term j of `terms` in its engineer's unit (ToEngineeringUnits), and that unit
+/// (units.h: arcsec, deg/sqrt(h), deg/h, deg/h/sqrt(h), deg/h^2).
+double EngineeringValue(const NoiseTerms& terms, int term);
+const char* EngineeringUnit(int term);
 
 /// Reliability of one fitted term.
 struct TermAssessment {

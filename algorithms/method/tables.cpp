@@ -4,7 +4,6 @@
 #include <limits>
 
 #include "algorithms/ar/diagnostics.h"
-#include "algorithms/common/units.h"
 #include "algorithms/method/method.h"
 
 namespace fogpipe::method {
@@ -86,8 +85,6 @@ std::string FormatTable3(const std::vector<FitRow>& rows) {
 std::string FormatTable5(const std::vector<NoiseRow>& rows) {
   // Each term's slope read-off (IEEE 952 Annex C) beside it: a term that disagrees with it beyond
   // the noise fit's checks is marked '*' with the reason below the table.
-  static const char* kUnits[5] = {units::kQuantizationUnit, units::kArwUnit, units::kBiasUnit,
-                                  units::kRrwUnit, units::kRampUnit};
   std::string out, symbols, term_units;
   char cell[64];
   std::snprintf(cell, sizeof(cell), "%-14s", "signal");
@@ -98,7 +95,8 @@ std::string FormatTable5(const std::vector<NoiseRow>& rows) {
     std::snprintf(cell, sizeof(cell), " %13s  %13s", allan::TermSymbol(j),
                   (std::string(allan::TermSymbol(j)) + " read-off").c_str());
     symbols += cell;
-    std::snprintf(cell, sizeof(cell), " %13s  %13s", kUnits[j], kUnits[j]);
+    std::snprintf(cell, sizeof(cell), " %13s  %13s", allan::EngineeringUnit(j),
+                  allan::EngineeringUnit(j));
     term_units += cell;
   }
   std::snprintf(cell, sizeof(cell), " %9s %9s\n", "chi2/dof", "p-value");

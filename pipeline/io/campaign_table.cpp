@@ -13,7 +13,7 @@
 #include <optional>
 #include <sstream>
 
-#include "algorithms/common/units.h"
+#include "algorithms/allan/noise_fit.h"
 #include "pipeline/hdf5/atomic_output_file.h"
 #include "pipeline/hdf5/file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
@@ -28,8 +28,6 @@ namespace {
 namespace fs = std::filesystem;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kResultsSuffix = ".fogpipe.h5";
-constexpr std::array<const char*, 5> kTermUnits = {
-    units::kQuantizationUnit, units::kArwUnit, units::kBiasUnit, units::kRrwUnit, units::kRampUnit};
 
 std::string Normal(const std::string& path) {
   std::error_code ec;
@@ -165,11 +163,11 @@ std::vector<Column> Columns() {
   for (std::size_t s = 0; s < kCampaignSignals.size(); ++s) {
     for (std::size_t t = 0; t < kCampaignTerms.size(); ++t) {
       const std::string name = std::string(kCampaignSignals[s]) + "_" + kCampaignTerms[t];
-      columns.push_back(
-          {name, kTermUnits[t], nullptr, [s, t](const CampaignRow& r) { return r.term[s][t]; }});
-      columns.push_back({name + "_std_error", kTermUnits[t], nullptr,
+      columns.push_back({name, allan::EngineeringUnit(static_cast<int>(t)), nullptr,
+                         [s, t](const CampaignRow& r) { return r.term[s][t]; }});
+      columns.push_back({name + "_std_error", allan::EngineeringUnit(static_cast<int>(t)), nullptr,
                          [s, t](const CampaignRow& r) { return r.term_std_error[s][t]; }});
-      columns.push_back({name + "_readoff", kTermUnits[t], nullptr,
+      columns.push_back({name + "_readoff", allan::EngineeringUnit(static_cast<int>(t)), nullptr,
                          [s, t](const CampaignRow& r) { return r.term_readoff[s][t]; }});
     }
     const std::string signal = kCampaignSignals[s];

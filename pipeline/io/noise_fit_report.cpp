@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <iomanip>
 
-#include "algorithms/common/units.h"
 
 namespace fogpipe::io {
 namespace {
@@ -31,24 +30,10 @@ double ToEngineering(int term, double si) {
   double* a[allan::kNoiseTermCount] = {&t.q_rad, &t.n_rad_sqrt_s, &t.b_rad_s, &t.k_rad_s_sqrt_s,
                                        &t.r_rad_s2};
   *a[term] = si;
-  return EngineeringValue(t, term);
+  return allan::EngineeringValue(t, term);
 }
 
 }  // namespace
-
-double EngineeringValue(const allan::NoiseTerms& terms, int term) {
-  const allan::NoiseTermsEngineering e = allan::ToEngineeringUnits(terms);
-  const double v[allan::kNoiseTermCount] = {e.q_arcsec, e.n_deg_sqrt_h, e.b_deg_h, e.k_deg_h_sqrt_h,
-                                            e.r_deg_h2};
-  return v[term];
-}
-
-const char* EngineeringUnit(int term) {
-  static const char* kUnits[allan::kNoiseTermCount] = {units::kQuantizationUnit, units::kArwUnit,
-                                                       units::kBiasUnit, units::kRrwUnit,
-                                                       units::kRampUnit};
-  return kUnits[term];
-}
 
 std::string NoiseTypeCrossCheckLine(const allan::AllanTable& table,
                                     const allan::NoiseFitResult& fit) {
@@ -96,7 +81,7 @@ void PrintNoiseFitText(std::ostream& out, const allan::NoiseFitResult& fit) {
          "  verdict\n";
   for (int j = 0; j < allan::kNoiseTermCount; ++j) {
     const allan::TermAssessment& a = fit.assessment[j];
-    const double value = EngineeringValue(fit.terms, j);
+    const double value = allan::EngineeringValue(fit.terms, j);
     std::string verdict =
         !std::isfinite(a.z) ? ""
         : a.significant
@@ -106,8 +91,8 @@ void PrintNoiseFitText(std::ostream& out, const allan::NoiseFitResult& fit) {
     out << "  " << allan::TermSymbol(j) << "  " << std::left << std::setw(18) << kNames[j]
         << std::right << std::setw(13) << Format(value, "%.4e") << " +- " << std::left
         << std::setw(10) << Format(StandardErrorValue(fit.terms, j), "%.2e") << std::setw(15)
-        << EngineeringUnit(j) << std::right << std::setw(10)
-        << Format(EngineeringValue(fit.slope_readoff, j), "%.3e") << std::setw(7)
+        << allan::EngineeringUnit(j) << std::right << std::setw(10)
+        << Format(allan::EngineeringValue(fit.slope_readoff, j), "%.3e") << std::setw(7)
         << Format(a.z, "%.1f") << "  " << verdict << "\n";
     if (!a.reliable) out << "       " << allan::TermSymbol(j) << ": " << a.reason << "\n";
   }
@@ -127,11 +112,11 @@ nlohmann::json NoiseFitAssessmentJson(const allan::NoiseFitResult& fit) {
   for (int j = 0; j < allan::kNoiseTermCount; ++j) {
     const allan::TermAssessment& a = fit.assessment[j];
     terms.push_back({{"symbol", allan::TermSymbol(j)},
-                     {"unit", EngineeringUnit(j)},
+                     {"unit", allan::EngineeringUnit(j)},
                      {"z", Number(a.z)},
                      {"significant", a.significant},
                      {"upper_limit", Number(ToEngineering(j, a.upper_limit))},
-                     {"readoff", Number(EngineeringValue(fit.slope_readoff, j))},
+                     {"readoff", Number(allan::EngineeringValue(fit.slope_readoff, j))},
                      {"reliable", a.reliable},
                      {"reason", a.reason}});
   }

@@ -31,8 +31,4 @@ std::string UnreliableTermSymbols(const allan::NoiseFitResult& fit);
 std::string NoiseTypeCrossCheckLine(const allan::AllanTable& table,
                                     const allan::NoiseFitResult& fit);
 
-/// Amplitude of term j (0..4: Q, N, B, K, R) in its engineer's unit (units.h), and that unit.
-double EngineeringValue(const allan::NoiseTerms& terms, int term);
-const char* EngineeringUnit(int term);
-
 }  // namespace fogpipe::io

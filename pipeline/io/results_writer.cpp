@@ -175,15 +175,15 @@ void WriteNoiseTerms(Group& noise, const allan::NoiseFitResult& fit) {
   for (int j = 0; j < allan::kNoiseTermCount; ++j) {
     const allan::TermAssessment& a = fit.assessment[j];
     const std::string t = allan::TermSymbol(j);
-    const char* unit = io::EngineeringUnit(j);
+    const char* unit = allan::EngineeringUnit(j);
     allan::NoiseTerms limit;
     double* amp[allan::kNoiseTermCount] = {&limit.q_rad, &limit.n_rad_sqrt_s, &limit.b_rad_s,
                                            &limit.k_rad_s_sqrt_s, &limit.r_rad_s2};
     *amp[j] = a.upper_limit;
     WriteScalar(noise, t + "_z", a.z, "1");
     WriteCount(noise, t + "_significant", a.significant ? 1 : 0, "1");
-    WriteScalar(noise, t + "_upper_limit", io::EngineeringValue(limit, j), unit);
-    WriteScalar(noise, t + "_readoff", io::EngineeringValue(fit.slope_readoff, j), unit);
+    WriteScalar(noise, t + "_upper_limit", allan::EngineeringValue(limit, j), unit);
+    WriteScalar(noise, t + "_readoff", allan::EngineeringValue(fit.slope_readoff, j), unit);
     WriteCount(noise, t + "_reliable", a.reliable ? 1 : 0, "1");
     noise.WriteStringAttribute(t + "_reason", a.reason);
   }
