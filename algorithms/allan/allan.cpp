@@ -87,6 +87,31 @@ WeightedChiSquareLaw FewAveragesLaw(int d, int alpha, long long m, long long cou
 
 }  // namespace
 
+NoiseTypeInterval IntervalForNoiseType(const AllanOptions& options, int alpha, long long m,
+                                       long long count, long long n, double sigma) {
+  NoiseTypeInterval out;
+  const int d = DifferenceOrder(options.deviation);
+  // The estimate's own law with few averages (estimate_law.h) belongs to the calibrated rule;
+  // Stable32's rule keeps its chi-square bounds.
+  const bool law_applies = (options.deviation == Deviation::kOverlappingAllan ||
+                            options.deviation == Deviation::kOverlappingHadamard) &&
+                           options.noise_id == NoiseIdRule::kCalibrated &&
+                           options.sampled_phase_edf;
+  // Phase noise under the calibrated rule: the EDF of the sampled process's own covariance
+  // (phase_noise_law.h), which for flicker PM is above Greenhall's kernel's.
+  out.edf = law_applies && (alpha == 1 || alpha == 2)
+                ? PhaseNoiseEdf(d, alpha, m, count)
+                : DeviationEdf(options.deviation, alpha, m, n, options.sampled_phase_edf);
+  if (!(out.edf > 0.0)) return out;
+  const WeightedChiSquareLaw law =
+      law_applies ? FewAveragesLaw(d, alpha, m, count) : WeightedChiSquareLaw();
+  if (!law.empty())
+    LawBounds(sigma, law, options.confidence, &out.ci_low, &out.ci_high);
+  else
+    ConfidenceBounds(sigma, out.edf, options.confidence, &out.ci_low, &out.ci_high);
+  return out;
+}
+
 AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double sample_rate_hz,
                          const AllanOptions& options) {
   AllanResult result;
@@ -139,35 +164,18 @@ AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double s
   if (options.confidence_intervals) {
     const std::vector<double> b1_avar =
         OverlappingAllanBelow30Averages(phase, options.deviation, table.m, variance);
-    // The estimate's own law with few averages (estimate_law.h) belongs to the calibrated rule;
-    // Stable32's rule keeps its chi-square bounds.
-    const bool law_applies = (options.deviation == Deviation::kOverlappingAllan ||
-                              options.deviation == Deviation::kOverlappingHadamard) &&
-                             options.noise_id == NoiseIdRule::kCalibrated &&
-                             options.sampled_phase_edf;
     const std::vector<NoiseId> ids = IdentifyNoiseTypes(
         phase, table.m, table.count, b1_avar, DifferenceOrder(options.deviation), options.noise_id);
     for (size_t k = 0; k < rows; ++k) {
       table.alpha[k] = ids[k].alpha;
       table.alpha_method[k] = ids[k].method;
-      // Phase noise under the calibrated rule: the EDF of the sampled process's own covariance
-      // (phase_noise_law.h), which for flicker PM is above Greenhall's kernel's.
-      table.edf[k] = law_applies && (ids[k].alpha == 1 || ids[k].alpha == 2)
-                         ? PhaseNoiseEdf(DifferenceOrder(options.deviation), ids[k].alpha,
-                                         table.m[k], table.count[k])
-                         : DeviationEdf(options.deviation, ids[k].alpha, table.m[k], n,
-                                        options.sampled_phase_edf);
-      if (!(table.edf[k] > 0.0)) continue;
+      const NoiseTypeInterval interval = IntervalForNoiseType(options, ids[k].alpha, table.m[k],
+                                                              table.count[k], n, table.sigma[k]);
+      table.edf[k] = interval.edf;
+      if (!(interval.edf > 0.0)) continue;
       table.edf_source[k] = EdfSource::kNoiseType;
-      const WeightedChiSquareLaw law =
-          law_applies ? FewAveragesLaw(DifferenceOrder(options.deviation), ids[k].alpha, table.m[k],
-                                       table.count[k])
-                      : WeightedChiSquareLaw();
-      if (!law.empty())
-        LawBounds(table.sigma[k], law, options.confidence, &table.ci_low[k], &table.ci_high[k]);
-      else
-        ConfidenceBounds(table.sigma[k], table.edf[k], options.confidence, &table.ci_low[k],
-                         &table.ci_high[k]);
+      table.ci_low[k] = interval.ci_low;
+      table.ci_high[k] = interval.ci_high;
     }
   }
   summary.taus = static_cast<long long>(rows);

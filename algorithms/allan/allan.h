@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -88,6 +89,19 @@ struct AllanResult {
 /// off, ci_low / ci_high / edf are NaN, alpha is 0, alpha_method and edf_source kNone. Every EDF
 /// is that of the identified noise type; ApplyModelEdf (model_edf.h) replaces it with the fitted
 /// model's where that model describes the curve.
+/// The EDF and the confidence bounds ComputeAllan gives a row of `options.deviation` at factor m
+/// (`count` differences of n rate samples, deviation sigma) whose noise type is alpha: chi-square
+/// with the type's EDF, or under the calibrated rule for OADEV and OHDEV the estimate's own law
+/// with few averages (estimate_law.h, phase_noise_law.h). edf is NaN or <= 0, and the bounds NaN,
+/// where the type has no EDF there.
+struct NoiseTypeInterval {
+  double edf = std::numeric_limits<double>::quiet_NaN();
+  double ci_low = std::numeric_limits<double>::quiet_NaN();   ///< Same unit as sigma.
+  double ci_high = std::numeric_limits<double>::quiet_NaN();  ///< Same unit as sigma.
+};
+NoiseTypeInterval IntervalForNoiseType(const AllanOptions& options, int alpha, long long m,
+                                       long long count, long long n, double sigma);
+
 AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double sample_rate_hz,
                          const AllanOptions& options);
 

@@ -60,30 +60,28 @@ class PhaseDifference {
   }
   // c(l) at an integer lag.
   double Exact(long long lag) const {
-    double c = 0.0;
-    for (size_t p = 0; p < weights_.size(); ++p)
-      for (size_t q = 0; q < weights_.size(); ++q) {
-        const long long u = lag + (static_cast<long long>(q) - static_cast<long long>(p)) * m_;
-        const double r =
-            alpha_ == 2 ? (u == 0 ? 1.0 : 0.0) : -0.5 * FlickerStructure(static_cast<double>(u));
-        c += weights_[p] * weights_[q] * r;
-      }
-    return c;
+    if (alpha_ == 1) return Smooth(static_cast<double>(lag));  // V(0) = 0: no spike of its own
+    return Combine(static_cast<double>(lag), [](double u) { return u == 0.0 ? 1.0 : 0.0; });
   }
   // c(x) away from the spikes, at a real lag (flicker PM; white PM has nothing there).
   double Smooth(double lag) const {
     if (alpha_ == 2) return 0.0;
+    return Combine(lag, [](double u) { return -0.5 * FlickerStructure(u); });
+  }
+
+ private:
+  // sum_{p,q} w_p w_q Rx(lag + (q - p) m) for the phase's generalised autocovariance Rx.
+  template <class Rx>
+  double Combine(double lag, const Rx& rx) const {
     double c = 0.0;
     for (size_t p = 0; p < weights_.size(); ++p)
       for (size_t q = 0; q < weights_.size(); ++q) {
-        const double u =
-            lag + static_cast<double>((static_cast<long long>(q) - static_cast<long long>(p)) * m_);
-        c += weights_[p] * weights_[q] * -0.5 * FlickerStructure(u);
+        const long long shift = (static_cast<long long>(q) - static_cast<long long>(p)) * m_;
+        c += weights_[p] * weights_[q] * rx(lag + static_cast<double>(shift));
       }
     return c;
   }
 
- private:
   int alpha_;
   long long m_;
   std::vector<double> weights_;

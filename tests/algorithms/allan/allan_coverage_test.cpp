@@ -11,7 +11,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -23,7 +22,6 @@
 #include "algorithms/allan/edf.h"
 #include "algorithms/allan/model_edf.h"
 #include "algorithms/allan/noise_fit.h"
-#include "algorithms/allan/phase_noise_law.h"
 #include "tests/algorithms/allan/power_law_noise.h"
 
 namespace fogpipe::allan {
@@ -93,30 +91,6 @@ double TrueVariance(const PowerLawNoise& noise, Deviation deviation, long long m
   }
 }
 
-// Bounds from the true noise type as the calibrated rule would make them for OADEV and OHDEV: the
-// law with few averages, otherwise chi-square with the phase noises' own EDF or Greenhall's.
-void TrueTypeBounds(const AllanOptions& options, int alpha, long long m, long long count,
-                    long long n, double sigma, double* low, double* high) {
-  const int d = options.deviation == Deviation::kOverlappingHadamard ? 3 : 2;
-  const bool phase = alpha == 1 || alpha == 2;
-  const bool kind = options.deviation == Deviation::kOverlappingAllan ||
-                    options.deviation == Deviation::kOverlappingHadamard;
-  *low = *high = std::numeric_limits<double>::quiet_NaN();
-  if (!kind) return;
-  WeightedChiSquareLaw law;
-  if (phase) {
-    law = PhaseNoiseLaw(d, alpha, m, count);
-  } else if (alpha <= 0 && alpha >= -2) {
-    std::array<double, 4> theta{};
-    theta[static_cast<size_t>(1 - alpha)] = 1.0;
-    law = OverlappingLawWeights(d, theta, m, count);
-  }
-  if (!law.empty()) return LawBounds(sigma, law, options.confidence, low, high);
-  const double edf = phase ? PhaseNoiseEdf(d, alpha, m, count)
-                           : DeviationEdf(options.deviation, alpha, m, n, true);
-  ConfidenceBounds(sigma, edf, options.confidence, low, high);
-}
-
 // Coverage of each option set in `variants` on the same realisations.
 std::vector<std::vector<CoverageRow>> Coverage(const NoiseCase& c, long long n, int realisations,
                                                std::uint64_t first_seed,
@@ -154,9 +128,10 @@ std::vector<std::vector<CoverageRow>> Coverage(const NoiseCase& c, long long n, 
         if (t.alpha[k] >= -2 && t.alpha[k] <= 2) ++rows[k].alpha_count[2 - t.alpha[k]];
         if (true_alpha == 99) continue;
         {
-          double low = 0.0, high = 0.0;
-          TrueTypeBounds(options, true_alpha, t.m[k], t.count[k], n, t.sigma[k], &low, &high);
-          rows[k].covered_true_law += low <= truth[k] && truth[k] <= high;
+          // The interval the product's rule would make from the true type.
+          const NoiseTypeInterval i =
+              IntervalForNoiseType(options, true_alpha, t.m[k], t.count[k], n, t.sigma[k]);
+          rows[k].covered_true_law += i.ci_low <= truth[k] && truth[k] <= i.ci_high;
         }
         if (t.alpha[k] == true_alpha) {
           ++rows[k].identified_true;
