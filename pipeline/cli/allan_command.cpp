@@ -77,6 +77,8 @@ int RunAllan(const AllanArgs& args) {
     report.sample_rate_hz = info.sample_rate_hz;
     report.samples = info.samples;
     report.nan_bridged = read_report.nan.bridged_samples;
+    report.data_warning =
+        io::DescribeRepeatedRun(read_report.repeats, info.sample_rate_hz, info.rate_units);
   } catch (const io::RecordingError& e) {
     std::cerr << "fogpipe allan: " << e.what() << " [" << e.kind() << "]\n";
     return 1;

@@ -77,10 +77,13 @@ int RunCampaignCommand(CLI::App* cmd, graph::RunConfig* config) {
     }
     return report.failed > 0 ? 1 : 0;
   }
-  std::cerr << "fogpipe run: " << report.ok << " ok, " << report.failed << " failed, "
-            << report.skipped << " skipped" << (report.interrupted ? " (interrupted)" : "")
-            << "; results in " << options.output_dir << ", status in " << options.output_dir
-            << "/status.jsonl\n";
+  std::cerr << "fogpipe run: " << report.ok << " ok"
+            << (report.ok_with_warnings > 0 ? " (" + std::to_string(report.ok_with_warnings) +
+                                                  " with data warnings in status.jsonl)"
+                                            : "")
+            << ", " << report.failed << " failed, " << report.skipped << " skipped"
+            << (report.interrupted ? " (interrupted)" : "") << "; results in " << options.output_dir
+            << ", status in " << options.output_dir << "/status.jsonl\n";
   return report.ExitCode();
 }
 

@@ -75,6 +75,7 @@ struct AxisWork {
   FileJob* job = nullptr;
   int axis = 0;
   Eigen::VectorXd rate_rad_s;
+  io::ReadReport read_report;  ///< what the reader found in the column (repeated runs)
   method::MethodResult result;
   std::string error;  ///< empty while all is well
   bool interrupted = false;
@@ -83,6 +84,23 @@ struct AxisWork {
   bool failed() const { return interrupted || !error.empty(); }
 };
 using AxisPtr = std::shared_ptr<AxisWork>;
+
+/// "warning: axis NAME: ..." and a line feed for a column whose repeated run is flagged, else "".
+std::string DataWarning(const FileJob& job, const AxisWork& w) {
+  const std::string text =
+      io::DescribeRepeatedRun(w.read_report.repeats, job.info.sample_rate_hz, job.info.rate_units);
+  return text.empty() ? "" : "warning: axis " + job.info.axis_names[w.axis] + ": " + text + "\n";
+}
+
+/// The data warnings of a file's axes, for its status line.
+std::vector<std::string> DataWarnings(const FileJob& job) {
+  std::vector<std::string> out;
+  for (const auto& w : job.arrived) {
+    std::string line = DataWarning(job, *w);
+    if (!line.empty()) out.push_back(line.substr(0, line.size() - 1));
+  }
+  return out;
+}
 
 /// Runs `body` on `work` unless it already failed or a stop was requested; converts every
 /// exception into a failure of this axis.
@@ -166,6 +184,9 @@ class CampaignRunner {
 
   void Record(FileOutcome outcome, std::size_t index) {
     if (outcome.status == FileStatus::kOk) ++report_->ok;
+    if (outcome.status == FileStatus::kOk &&
+        outcome.message.find("warning: axis ") != std::string::npos)
+      ++report_->ok_with_warnings;
     if (outcome.status == FileStatus::kFailed) ++report_->failed;
     if (outcome.status == FileStatus::kSkipped) ++report_->skipped;
     if (const int error = log_->Append(outcome); error != 0) {
@@ -262,6 +283,7 @@ void CampaignRunner::Finish(FileJob* job) {
         a.index = w->axis;
         a.sample_rate_hz = job->info.sample_rate_hz;
         a.input_units = job->info.rate_units;
+        a.repeats = w->read_report.repeats;
         a.result = &w->result;
         axes.push_back(a);
       }
@@ -274,6 +296,9 @@ void CampaignRunner::Finish(FileJob* job) {
       outcome.status = FileStatus::kOk;
       outcome.output = final_path.string();
       if (!job->rerun_reason.empty()) outcome.message = "rerun: " + job->rerun_reason;
+      for (const std::string& warning : DataWarnings(*job)) {
+        outcome.message += (outcome.message.empty() ? "" : "; ") + warning;
+      }
       if (options_.tables_stream != nullptr) {
         for (const AxisPtr& w : job->arrived) {
           tables_text_ += "\n" + job->input.path + "  axis " + job->info.axis_names[w->axis] +
@@ -281,7 +306,7 @@ void CampaignRunner::Finish(FileJob* job) {
                           method::FormatTable5(method::Table5(w->result)) +
                           method::PreprocessingNote(w->result.preprocessed.summary.dropped_samples,
                                                     w->result.preprocessed.summary.outliers) +
-                          "\n";
+                          "\n" + DataWarning(*job, *w);
         }
       }
     } catch (const std::exception& e) {
@@ -498,8 +523,8 @@ void ReadRecording(FileJob* job, const CampaignOptions& options,
     work->error = file_error;
     if (a == 0) work->stage_seconds[kRead] += hash_seconds;
     Guarded(*work, kRead, [&] {
-      work->rate_rad_s = io::ReadAxisRadPerSecondIsolated(job->info, std::to_string(a),
-                                                          options.read, nullptr, ReadLimits());
+      work->rate_rad_s = io::ReadAxisRadPerSecondIsolated(
+          job->info, std::to_string(a), options.read, &work->read_report, ReadLimits());
     });
     send(work);
   }

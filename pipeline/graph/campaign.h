@@ -69,6 +69,7 @@ struct CampaignOptions {
 struct CampaignReport {
   std::vector<FileOutcome> outcomes;  ///< In input order.
   int ok = 0, failed = 0, skipped = 0;
+  int ok_with_warnings = 0;  ///< ok files whose status message carries data warnings
   bool interrupted = false;
   int files_in_flight = 0;  ///< The limiter's capacity.
   std::uint64_t bytes_per_file = 0;

@@ -21,7 +21,9 @@ struct FileOutcome {
   int axes = 0;        ///< Axes analysed (or found in the results file when skipped).
   FileStatus status = FileStatus::kFailed;
   double seconds = 0.0;  ///< Wall time spent on this file in this run.
-  std::string message;   ///< Why it failed, or what was skipped; empty when ok.
+  /// Why it failed, or what was skipped; when ok, empty or the data's warnings ("warning: axis
+  /// x: ...", a flagged run of one repeated value: pipeline/io/repeated_samples.h).
+  std::string message;
 };
 
 class StatusLog {

@@ -88,6 +88,7 @@ void PrintAllanText(std::ostream& out, const AllanReport& r) {
       << "  " << r.samples << " samples at " << r.sample_rate_hz << " Hz ("
       << Fixed(r.samples / r.sample_rate_hz / 3600.0, "%.3f") << " h), rate in " << r.rate_units;
   if (r.nan_bridged > 0) out << ", " << r.nan_bridged << " missing samples bridged";
+  if (!r.data_warning.empty()) out << "\n  warning: " << r.data_warning;
   out << "\n  " << allan::ToString(t.deviation) << " on the " << r.taus << " grid, "
       << Fixed(100.0 * r.confidence, "%.1f") << " % confidence interval (Stable32 convention), "
       << "noise types by the " << allan::ToString(t.noise_id_rule) << " rule\n"
@@ -127,6 +128,7 @@ void PrintAllanCsv(std::ostream& out, const AllanReport& r) {
       << r.sample_rate_hz << " Hz, " << allan::ToString(t.deviation) << ", " << r.taus
       << " taus, CI " << r.confidence << ", noise types by the " << allan::ToString(t.noise_id_rule)
       << " rule\n";
+  if (!r.data_warning.empty()) out << "# warning: " << r.data_warning << "\n";
   // A recording in the engineering unit (deg/h) has one sigma column, not two of the same name.
   const bool both = UnitToken(du.primary) != e;
   out << "tau_s,m," << (both ? "sigma_" + UnitToken(du.primary) + "," : "") << "sigma_" << e
@@ -187,6 +189,7 @@ nlohmann::json AllanReportJson(const AllanReport& r) {
       {"sample_rate_hz", r.sample_rate_hz},
       {"samples", r.samples},
       {"nan_bridged", r.nan_bridged},
+      {"data_warning", r.data_warning},
       {"deviation", allan::ToString(t.deviation)},
       {"deviation_units", du.primary},
       {"taus", r.taus},

@@ -41,6 +41,8 @@ struct AllanReport {
   double sample_rate_hz = 0.0;
   long long samples = 0;
   long long nan_bridged = 0;
+  /// "" or why the column is suspect: a flagged run of one repeated value (repeated_samples.h).
+  std::string data_warning;
   std::string taus;           ///< the grid as asked, e.g. "octave"
   double confidence = 0.683;  ///< of ci_low / ci_high
   allan::AllanTable table;    ///< SI: sigma, ci_low, ci_high in rad/s (TDEV: rad)

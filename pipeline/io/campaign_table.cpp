@@ -103,6 +103,9 @@ ResultsRows ReadResultsRows(const fs::path& path) {
       if (n.HasAttribute("misfit_tau_ranges"))
         row.misfit_tau_ranges[s] = n.ReadStringAttribute("misfit_tau_ranges");
     }
+    const hdf5::Group pre = g.OpenGroup("preprocessing");
+    if (pre.HasAttribute("repeat_warning"))
+      row.data_warning = pre.ReadStringAttribute("repeat_warning");
     // A model history (fogpipe compare) is not part of fogpipe-results-v1 yet.
     if (g.Exists("model_history/loop_rms_error")) {
       row.model_loop_error = Scalar(g, "model_history/loop_rms_error");
@@ -184,6 +187,8 @@ std::vector<Column> Columns() {
   }
   columns.push_back({"model_loop_error", "deg/h", nullptr,
                      [](const CampaignRow& r) { return r.model_loop_error; }});
+  columns.push_back(
+      {"data_warning", "", [](const CampaignRow& r) { return r.data_warning; }, nullptr});
   columns.push_back({"status", "", [](const CampaignRow& r) { return r.status; }, nullptr});
   columns.push_back({"message", "", [](const CampaignRow& r) { return r.message; }, nullptr});
   return columns;

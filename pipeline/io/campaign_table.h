@@ -55,6 +55,9 @@ struct CampaignRow {
   /// RMS error of the model loop (fogpipe compare) when the results file has a model history;
   /// NaN otherwise (fogpipe-results-v1 has none yet).
   double model_loop_error = 0.0;
+  /// Why the recorded column is suspect though it was analysed ("" when not): the results
+  /// file's preprocessing/repeat_warning (a run of one repeated value, repeated_samples.h).
+  std::string data_warning;
   std::string status;   ///< "ok", "failed" (status.jsonl) or "missing" (in the manifest only).
   std::string message;  ///< Why it failed, from status.jsonl.
 };

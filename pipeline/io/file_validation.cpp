@@ -24,7 +24,7 @@ std::string FormatTag(const hdf5::File& file) {
 }
 
 /// The reader's checks beyond the layout: every axis and aux channel readable, NaN runs short
-/// enough, no infinity, no constant axis.
+/// enough, no infinity, no constant axis; a flagged run of one repeated value is a warning.
 void CheckRecordingData(const FileValidationOptions& options, FileValidation* result) {
   RecordingReader reader(result->file);
   ReadOptions read;
@@ -32,7 +32,14 @@ void CheckRecordingData(const FileValidationOptions& options, FileValidation* re
   read.min_samples = options.min_samples;
   for (int axis = 0; axis < reader.info().axis_count; ++axis) {
     try {
-      result->samples_checked += reader.ReadAxisNative(axis, read).size();
+      ReadReport report;
+      result->samples_checked += reader.ReadAxisNative(axis, read, &report).size();
+      const std::string repeats = DescribeRepeatedRun(report.repeats, reader.info().sample_rate_hz,
+                                                      reader.info().rate_units);
+      if (!repeats.empty()) {
+        result->warnings.push_back({"/rate axis '" + reader.info().axis_names[axis] + "'",
+                                    repeats + " (`run` flags it too)"});
+      }
     } catch (const RecordingError& e) {
       result->problems.push_back({"/rate", e.problem() + " [" + e.kind() + "]"});
     }

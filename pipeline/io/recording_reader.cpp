@@ -232,6 +232,20 @@ void CheckMagnitudes(const Eigen::VectorXd& x, const std::string& what, const st
   }
 }
 
+/// The value HDF5 returns for elements never written (0 when the writer set none, or when it
+/// cannot be read as a double).
+double FillValue(const hdf5::Dataset& dataset) {
+  double fill = 0.0;
+  const hid_t plist = H5Dget_create_plist(dataset.id());
+  if (plist < 0) return fill;
+  H5D_fill_value_t status = H5D_FILL_VALUE_ERROR;
+  if (H5Pfill_value_defined(plist, &status) >= 0 && status == H5D_FILL_VALUE_USER_DEFINED) {
+    if (H5Pget_fill_value(plist, H5T_NATIVE_DOUBLE, &fill) < 0) fill = 0.0;
+  }
+  H5Pclose(plist);
+  return fill;
+}
+
 bool IsConstant(const Eigen::VectorXd& x) {
   for (Eigen::Index i = 1; i < x.size(); ++i) {
     if (x[i] != x[0]) return false;
@@ -576,6 +590,7 @@ Eigen::VectorXd RecordingReader::ReadColumn(const hdf5::Dataset& dataset, int co
                              (r.longest_run == n ? " (every sample is NaN)" : ""));
   }
   CheckMagnitudes(x, what, info_.path);
+  local.repeats = FindRepeatedRun(x, FillValue(dataset));
   if (reject_constant && IsConstant(x)) {
     std::ostringstream value;
     value << x[0];

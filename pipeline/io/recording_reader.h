@@ -24,6 +24,7 @@
 #include "pipeline/hdf5/file.h"
 #include "pipeline/io/missing_samples.h"
 #include "pipeline/io/recording_error.h"
+#include "pipeline/io/repeated_samples.h"
 
 namespace fogpipe::io {
 
@@ -78,6 +79,7 @@ struct ReadOptions {
 /// What a read found and repaired.
 struct ReadReport {
   BridgeReport nan;
+  RepeatedRunReport repeats;  ///< the longest run of one value, in the column's own units
   long long blocks_read = 0;  ///< hyperslab reads issued
 };
 

@@ -122,6 +122,8 @@ ResultsSummary ReadResultsSummary(const std::string& path) {
     axis.dropped_samples = static_cast<long long>(Scalar(pre, "dropped_samples"));
     axis.outliers = static_cast<long long>(pre.OpenDataset("outlier_indices").size());
     axis.mean_removed_rad_s = Scalar(pre, "mean_removed");
+    if (pre.HasAttribute("repeat_warning"))
+      axis.data_warning = pre.ReadStringAttribute("repeat_warning");
     ReadFitRows(g.OpenGroup("signals/method2_model"), "raw (method 2)", &axis.table3);
     ReadFitRows(g.OpenGroup("models"), "", &axis.table3);
     const Group allan = g.OpenGroup("allan");
@@ -274,6 +276,7 @@ std::string FormatSummary(const ResultsSummary& summary) {
         << method::FormatTable3(axis.table3) << "Table 5: Allan noise terms\n"
         << method::FormatTable5(axis.table5)
         << method::PreprocessingNote(axis.dropped_samples, axis.outliers) << "\n";
+    if (!axis.data_warning.empty()) out << "warning: " << axis.data_warning << "\n";
   }
   return out.str();
 }

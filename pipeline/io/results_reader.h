@@ -19,6 +19,7 @@ struct AxisSummary {
   long long dropped_samples = 0;
   long long outliers = 0;
   double mean_removed_rad_s = 0.0;
+  std::string data_warning;              ///< preprocessing/repeat_warning ("" when none or absent)
   std::vector<method::FitRow> table3;    ///< method 2's model first, then IMFs and residue
   std::vector<method::NoiseRow> table5;  ///< raw, method 1, method 2
 };

@@ -203,3 +203,34 @@ if __name__ == "__main__":
     os.makedirs(sys.argv[1], exist_ok=True)
     for path, kind in sorted(write_corpus(sys.argv[1]).items()):
         print(f"{path}\t{kind}")
+
+
+def write_suspects(folder):
+    """Valid files whose samples are suspect: analysed, and flagged with a warning naming where.
+    Returns {path: a phrase the warning must contain}."""
+    suspect = {}
+
+    def name(n):
+        return os.path.join(folder, n)
+
+    # One chunk, or contiguous storage, only partly filled: nothing in the metadata shows it, the
+    # unwritten tail reads as the fill value (0, or what the writer set).
+    for label, chunks, fill in (("one_chunk", (2000,), None), ("contiguous", None, None),
+                                ("one_chunk_fill_7", (2000,), 7.0)):
+        p = name(f"partly_filled_{label}.h5")
+        with h5py.File(p, "w") as f:
+            f.attrs["sample_rate_hz"] = 100.0
+            d = f.create_dataset("rate", shape=(2000,), dtype="f8", chunks=chunks, fillvalue=fill)
+            d[:1500] = np.random.default_rng(12).standard_normal(1500)
+            d.attrs["units"] = "deg/h"
+        suspect[p] = "samples 1500..1999 (t = 15..20 s) all equal"
+    # A frozen output in the middle of the record.
+    p = name("frozen_output.h5")
+    write_valid(p, 13)
+    with h5py.File(p, "a") as f:
+        x = f["rate"][...]
+        x[700:900] = x[699]
+        f["rate"][...] = x
+    suspect[p] = "samples 699..899 (t = 6.99..9 s)"
+    return suspect
+

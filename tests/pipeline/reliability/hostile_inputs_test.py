@@ -8,6 +8,7 @@ status.jsonl and campaign.csv symlinks are refused; overlapping runs into one fo
 
 Usage: hostile_inputs_test.py FOGPIPE_BINARY [TRIALS]   (TRIALS: overlapping-run trials, default 3)
 """
+import csv
 import json
 import os
 import resource
@@ -47,6 +48,7 @@ def campaign(tmp):
     folder = os.path.join(tmp, "corpus")
     os.makedirs(folder)
     bad = hostile_corpus.write_corpus(folder)
+    suspect = hostile_corpus.write_suspects(folder)
     valid = [os.path.join(folder, f"valid_{i}.h5") for i in range(3)]
     for i, p in enumerate(valid):
         hostile_corpus.write_valid(p, 200 + i)
@@ -59,10 +61,20 @@ def campaign(tmp):
         outdir = os.path.join(tmp, "out")
         r = run(["run", folder, "-o", outdir, "--threads", "2"])
         check(r.returncode == 1, f"{attempt}: exit code 1 (some files failed), got {r.returncode}")
-        lines = {line["file"]: line for line in status_lines(outdir)[-len(bad) - len(valid):]}
+        count = len(bad) + len(valid) + len(suspect)
+        lines = {line["file"]: line for line in status_lines(outdir)[-count:]}
         for p in valid:
             status = lines.get(p, {}).get("status")
             check(status in ("ok", "skipped"), f"{attempt}: {os.path.basename(p)} finished ({status})")
+        for p, phrase in sorted(suspect.items()):
+            line = lines.get(p, {})
+            if attempt == "first run":
+                check(line.get("status") == "ok" and "warning: axis" in line.get("message", "")
+                      and phrase in line.get("message", ""),
+                      f"{attempt}: {os.path.basename(p)} analysed with a warning naming "
+                      f"'{phrase}' ({line})")
+            else:
+                check(line.get("status") == "skipped", f"{attempt}: {os.path.basename(p)} skipped")
         for p, kind in sorted(bad.items()):
             line = lines.get(p, {})
             check(line.get("status") == "failed" and p in line.get("message", ""),
@@ -80,6 +92,31 @@ def campaign(tmp):
         check(expected in block, f"validate names {os.path.basename(p)}: {expected}")
         check("missing required" not in block,
               f"validate does not call a link it did not follow missing ({os.path.basename(p)})")
+    # The warning reaches the campaign table, `info` and `allan`.
+    outdir = os.path.join(tmp, "out")
+    csv_path = os.path.join(tmp, "campaign.csv")
+    run(["merge", outdir, "-o", os.path.join(tmp, "campaign.h5"), "--csv", csv_path])
+    with open(csv_path) as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    for p, phrase in sorted(suspect.items()):
+        row = [r for r in rows if r["input_path"] == p]
+        check(len(row) == 1 and phrase in row[0]["data_warning"],
+              f"the campaign table's data_warning names {os.path.basename(p)}: '{phrase}'")
+    valid_rows = [r for r in rows if r["input_path"] in valid]
+    check(len(valid_rows) == len(valid) and all(r["data_warning"] == "" for r in valid_rows),
+          "the campaign table warns of no valid file")
+    frozen = os.path.join(folder, "frozen_output.h5")
+    info = run(["info", os.path.join(outdir, "frozen_output.fogpipe.h5")])
+    check("warning: " + suspect[frozen] in info.stdout, "info prints the warning")
+    a = run(["allan", frozen, "--json"])
+    check(a.returncode == 0 and suspect[frozen] in json.loads(a.stdout)["data_warning"],
+          "allan --json carries the warning")
+    v = run(["validate"] + sorted(suspect), timeout=600)
+    check(v.returncode == 0, f"validate calls the suspect files valid (rc {v.returncode})")
+    for p, phrase in sorted(suspect.items()):
+        block = "\n".join(l for l in v.stdout.splitlines() if p in l)
+        check("warning" in block and phrase in block,
+              f"validate warns of {os.path.basename(p)}: '{phrase}'")
     fifo_path = os.path.join(folder, "fifo.h5")
     r = run(["run", fifo_path, valid[0], "-o", os.path.join(tmp, "out_fifo")], timeout=60)
     line = [l for l in status_lines(os.path.join(tmp, "out_fifo")) if l["file"] == fifo_path]
