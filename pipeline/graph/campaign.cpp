@@ -283,7 +283,7 @@ void CampaignRunner::Finish(FileJob* job) {
         a.index = w->axis;
         a.sample_rate_hz = job->info.sample_rate_hz;
         a.input_units = job->info.rate_units;
-        a.repeats = w->read_report.repeats;
+        a.read = w->read_report;
         a.result = &w->result;
         axes.push_back(a);
       }

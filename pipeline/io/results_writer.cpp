@@ -238,14 +238,16 @@ void WriteAxis(Group axes, const AxisResults& axis, const ResultsOptions& option
   WriteCount(p, "window_samples", pre.window_samples, "samples");
   p.WriteDataset("window_mean", pre.window_mean, results::kRateUnits);
   p.WriteDataset("window_variance", pre.window_variance, results::kRateVarianceUnits);
-  WriteCount(p, "longest_repeat_start", axis.repeats.start, "samples");
-  WriteCount(p, "longest_repeat_samples", axis.repeats.samples, "samples");
+  WriteCount(p, "nan_bridged_samples", axis.read.nan.bridged_samples, "samples");
+  WriteCount(p, "longest_repeat_start", axis.read.repeats.start, "samples");
+  WriteCount(p, "longest_repeat_samples", axis.read.repeats.samples, "samples");
   const std::optional<units::RateUnit> input_unit = units::ParseRateUnit(axis.input_units);
   WriteScalar(p, "longest_repeat_value",
-              input_unit ? axis.repeats.value * units::ToRadPerSecond(*input_unit) : kNaN,
+              input_unit ? axis.read.repeats.value * units::ToRadPerSecond(*input_unit) : kNaN,
               results::kRateUnits);
-  p.WriteStringAttribute("repeat_warning",
-                         DescribeRepeatedRun(axis.repeats, axis.sample_rate_hz, axis.input_units));
+  p.WriteStringAttribute(
+      "repeat_warning",
+      DescribeRepeatedRun(axis.read.repeats, axis.sample_rate_hz, axis.input_units));
 
   const emd::EmdResult& e = r.decomposition;
   const int num_imfs = static_cast<int>(e.imfs.size());

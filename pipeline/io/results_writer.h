@@ -9,7 +9,7 @@
 #include "algorithms/allan/noise_fit.h"
 #include "algorithms/method/method.h"
 #include "pipeline/hdf5/group.h"
-#include "pipeline/io/repeated_samples.h"
+#include "pipeline/io/recording_reader.h"
 
 namespace fogpipe::io {
 
@@ -58,8 +58,8 @@ struct AxisResults {
   std::string name;  ///< group name under /axes
   int index = 0;     ///< column in /rate
   double sample_rate_hz = 0.0;
-  std::string input_units;    ///< units of /rate in the recording
-  RepeatedRunReport repeats;  ///< the column's longest run of one value (input_units)
+  std::string input_units;  ///< units of /rate in the recording
+  ReadReport read;          ///< what the reader found: NaN runs bridged, the longest repeated run
   const method::MethodResult* result = nullptr;
 };
 

@@ -149,6 +149,19 @@ def case_campaign(tmp):
                 comp = g["models/fit_one_step_percent"][:]
                 check(bool(np.all(comp >= raw)), f"Table 3 shape in {name}/{axis}: every component "
                       f"fits >= raw ({np.min(comp):.2f} >= {raw:.2f} %)")
+    # A short gap the reader bridges is counted in the results file.
+    gap = os.path.join(tmp, "gap")
+    os.makedirs(gap)
+    write_recording(os.path.join(gap, "gap.h5"), 14)
+    with h5py.File(os.path.join(gap, "gap.h5"), "a") as f:
+        f["rate"][100:103] = np.nan
+    g = run(["run", gap, "-o", os.path.join(tmp, "out_gap")])
+    with h5py.File(os.path.join(tmp, "out_gap", "gap.fogpipe.h5"), "r") as f:
+        bridged = int(f["axes/axis0/preprocessing/nan_bridged_samples"][0])
+    check(g.returncode == 0 and bridged == 3, f"the 3 missing samples bridged are stored ({bridged})")
+    with h5py.File(os.path.join(out, "good1.fogpipe.h5"), "r") as f:
+        check(int(f["axes/axis0/preprocessing/nan_bridged_samples"][0]) == 0,
+              "a record without gaps stores 0 bridged")
     check("Table" in r.stdout or "fit 1-step" in r.stdout, "run prints Tables 3 and 5")
     c = subprocess.run(["/usr/bin/python3", CHECKER] + [os.path.join(out, o) for o in outputs(out)],
                        capture_output=True, text=True)
