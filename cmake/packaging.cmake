@@ -3,7 +3,7 @@
 #
 #   <prefix>/bin/fogpipe
 #   <prefix>/share/fogpipe/schemas/         the layouts `fogpipe validate` checks against
-#   <prefix>/share/fogpipe/scripts/         report.py, plot_sweep.py, slurm/
+#   <prefix>/share/fogpipe/scripts/         report.py, plot_sweep.py, campaign_report.py, slurm/
 #   <prefix>/share/doc/fogpipe/             LICENSE, copyright (Debian format), README.md
 set(FOGPIPE_INSTALL_DATADIR "${CMAKE_INSTALL_DATADIR}/fogpipe")
 # `cmake --install` and `cpack` install what is built and do not first build every test and
@@ -13,6 +13,7 @@ set(CMAKE_SKIP_INSTALL_ALL_DEPENDENCY ON)
 install(TARGETS fogpipe RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/schemas/ DESTINATION ${FOGPIPE_INSTALL_SCHEMASDIR})
 install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/report.py ${PROJECT_SOURCE_DIR}/scripts/plot_sweep.py
+                 ${PROJECT_SOURCE_DIR}/scripts/campaign_report.py
         DESTINATION ${FOGPIPE_INSTALL_DATADIR}/scripts)
 install(PROGRAMS
           ${PROJECT_SOURCE_DIR}/scripts/slurm/submit_campaign.sh

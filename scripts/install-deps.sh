@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Installs everything fogpipe needs to build, test and plot, from Debian 12 packages only.
+# --test adds what only the tests need: chromium, which renders the campaign HTML report headless.
 set -euo pipefail
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
@@ -10,6 +11,7 @@ PACKAGES=(
   nlohmann-json3-dev
   python3 python3-numpy python3-h5py python3-matplotlib
 )
+if [ "${1:-}" = "--test" ]; then PACKAGES+=(chromium); fi
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

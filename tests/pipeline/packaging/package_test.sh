@@ -27,6 +27,7 @@ echo "package: $(basename "$deb") ($(stat -c %s "$deb") bytes)"
 dpkg-deb -c "$deb" | awk '{print $6}' | sed 's|^\./|/|' >"$work/contents"
 expected=(/usr/bin/fogpipe /usr/share/doc/fogpipe/copyright /usr/share/doc/fogpipe/LICENSE
           /usr/share/fogpipe/scripts/report.py /usr/share/fogpipe/scripts/plot_sweep.py
+          /usr/share/fogpipe/scripts/campaign_report.py
           /usr/share/fogpipe/scripts/slurm/submit_campaign.sh
           /usr/share/fogpipe/scripts/slurm/fogpipe_array.sbatch
           /usr/share/fogpipe/scripts/slurm/fogpipe_merge.sbatch)
