@@ -3,9 +3,10 @@
 //   (1) for every term present in the truth, z = (estimate - truth) / SE has standard deviation
 //       in [0.8, 1.25];
 //   (2) a term absent from the truth is significant (theta / se(theta) > 2) in <= 5 % of records.
-// The CI tests use 80 records per scenario (seeds 20000+); the study behind docs/allan-noise-fit.md
-// is the DISABLED_ test with 250 records per scenario on other seeds (40000+), and 1000 navigation
-// records on held-out seeds (60000+) for Q's false alarms. Run them with
+// The CI tests use 80 records per scenario (seeds 20000-24079); the study behind
+// docs/allan-noise-fit.md is the DISABLED_ test with 250 records per scenario on other seeds
+// (40000+), and 1000 navigation records on held-out seeds (60000+) for Q's false alarms. Run them
+// with
 //   allan_noise_fit_calibration_test --gtest_also_run_disabled_tests --gtest_filter=*Study*
 #include <gtest/gtest.h>
 
@@ -78,7 +79,9 @@ struct TermStats {
   int held_at_zero = 0;   // records where the term is fitted as 0
   int significant = 0;    // absent terms: false alarms; present terms: detections
   int unreliable = 0;     // records where the term is flagged unreliable (all false alarms here)
-  int readoff_above_limit = 0;  // not significant, slope read-off > 2x the upper limit
+  int readoff_above_limit = 0;     // not significant, slope read-off > 2x the upper limit
+  int truth_below_limit = 0;       // present terms: truth <= the reported upper limit
+  int held_truth_below_limit = 0;  // ... among the records where the term is held at 0
 };
 struct Calibration {
   TermStats term[kNoiseTermCount];
@@ -124,6 +127,10 @@ Calibration Simulate(const Scenario& s, int records, unsigned seed_base, bool co
       }
       if (!(est > 0.0)) ++t.held_at_zero;
       if (truth > 0.0 && est > 0.0) t.z.push_back((est - truth) / Value(fit.terms, j, true));
+      if (truth > 0.0 && truth <= fit.assessment[j].upper_limit) {
+        ++t.truth_below_limit;
+        if (!(est > 0.0)) ++t.held_truth_below_limit;
+      }
     }
   }
   return c;
@@ -136,9 +143,10 @@ void Print(const Scenario& s, const Calibration& c, const char* fit) {
     if (TruthOf(s.truth, j) > 0.0)
       std::printf(
           "  %s present: sd(z) %.3f mean(z) %+.3f, held at 0 in %d, significant %d, "
-          "unreliable %d\n",
+          "unreliable %d, truth below the upper limit in %d (of the held: %d)\n",
           TermSymbol(j), t.z.size() > 1 ? StandardDeviation(t.z) : NAN,
-          t.z.empty() ? NAN : Mean(t.z), t.held_at_zero, t.significant, t.unreliable);
+          t.z.empty() ? NAN : Mean(t.z), t.held_at_zero, t.significant, t.unreliable,
+          t.truth_below_limit, t.held_truth_below_limit);
     else
       std::printf(
           "  %s absent: significant in %d (%.1f %%), held at 0 in %d, unreliable %d, read-off "
@@ -157,12 +165,19 @@ void Print(const Scenario& s, const Calibration& c, const char* fit) {
 // white N 1.97, navigation K 2.13). False alarms: the claim is p <= 0.05; with 80 records the
 // count is binomial, 8 or more (10 %) has probability 0.047 at p = 0.05, so 8 fails (a true rate
 // of 0.15 passes with probability 0.07 only).
+// A present term that the record does not determine is held at 0 in some records (the five-term
+// scenario's R: 17 %), where z has no Gaussian meaning; those records are judged by the upper
+// limit instead, sqrt(theta + 2 se(theta)), a one-sided 97.7 % bound for a calibrated theta, over
+// every record (held or not): with 80 records the count of misses is binomial with mean 1.8 and
+// sd 1.3, so 7 or more (coverage below 0.92) has probability 0.003 at 97.7 % and fails. The sd(z)
+// tolerance above uses the records where the term is positive, of which at least 40 are required.
 void ExpectCalibrated(const Scenario& s, const Calibration& c) {
-  const double k = 2.0 * std::sqrt(4.0 / (4.0 * c.records));
   for (int j = 0; j < kNoiseTermCount; ++j) {
     const TermStats& t = c.term[j];
     if (TruthOf(s.truth, j) > 0.0) {
-      ASSERT_GE(t.z.size(), 0.9 * c.records) << s.name << " " << TermSymbol(j);
+      EXPECT_GE(t.truth_below_limit, 0.92 * c.records) << s.name << " " << TermSymbol(j);
+      ASSERT_GE(t.z.size(), 40u) << s.name << " " << TermSymbol(j);
+      const double k = 2.0 * std::sqrt(4.0 / (4.0 * t.z.size()));
       const double sd = StandardDeviation(t.z);
       EXPECT_GT(sd, 0.8 / (1.0 + k)) << s.name << " " << TermSymbol(j);
       EXPECT_LT(sd, 1.25 * (1.0 + k)) << s.name << " " << TermSymbol(j);
@@ -211,6 +226,15 @@ TEST(NoiseFitCalibration, SimulatedBiasInstabilityHasTheIeeeFloorAtShortTau) {
 TEST(NoiseFitCalibration, WhiteNoiseGivesCalibratedArwAndNoSpuriousTerms) {
   const Scenario s = Scenarios()[0];
   const Calibration c = Simulate(s, 80, 20000, true);
+  Print(s, c, "GLS");
+  ExpectCalibrated(s, c);
+}
+
+// All five terms together, R at the edge of what a 7.3 h record determines (held at 0 in about a
+// sixth of the records): sd(z) where fitted, the upper limit's coverage over every record.
+TEST(NoiseFitCalibration, FiveTermsTogetherGiveCalibratedTerms) {
+  const Scenario s = Scenarios()[1];
+  const Calibration c = Simulate(s, 80, 24000, true);
   Print(s, c, "GLS");
   ExpectCalibrated(s, c);
 }
