@@ -164,8 +164,9 @@ AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double s
   if (options.confidence_intervals) {
     const std::vector<double> b1_avar =
         OverlappingAllanBelow30Averages(phase, options.deviation, table.m, variance);
-    const std::vector<NoiseId> ids = IdentifyNoiseTypes(
-        phase, table.m, table.count, b1_avar, DifferenceOrder(options.deviation), options.noise_id);
+    const std::vector<NoiseId> ids =
+        IdentifyNoiseTypes(phase, table.m, table.count, b1_avar, DifferenceOrder(options.deviation),
+                           options.noise_id, options.threads);
     for (size_t k = 0; k < rows; ++k) {
       table.alpha[k] = ids[k].alpha;
       table.alpha_method[k] = ids[k].method;

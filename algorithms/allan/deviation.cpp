@@ -1,9 +1,9 @@
 #include "algorithms/allan/deviation.h"
 
 #include <algorithm>
-#include <atomic>
-#include <thread>
 #include <vector>
+
+#include "algorithms/allan/workers.h"
 
 namespace fogpipe::allan {
 namespace {
@@ -205,19 +205,7 @@ std::vector<double> DeviationVariances(const Eigen::VectorXd& phase, Deviation d
         }
       }
     };
-    const int workers = static_cast<int>(std::min<Eigen::Index>(std::max(threads, 1), chunks));
-    if (workers <= 1) {
-      for (Eigen::Index c = 0; c < chunks; ++c) sweep_chunk(c);
-    } else {
-      std::atomic<Eigen::Index> next{0};
-      auto work = [&] {
-        for (Eigen::Index c = next++; c < chunks; c = next++) sweep_chunk(c);
-      };
-      std::vector<std::thread> pool;
-      for (int t = 1; t < workers; ++t) pool.emplace_back(work);
-      work();
-      for (std::thread& t : pool) t.join();
-    }
+    internal::ShareAmongThreads(threads, chunks, sweep_chunk);
     for (Eigen::Index c = 0; c < chunks; ++c)
       for (size_t k = 0; k < m.size(); ++k)
         sums[k] += partial[static_cast<size_t>(c) * m.size() + k];

@@ -1,6 +1,7 @@
 #include "algorithms/allan/noise_id.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -8,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "algorithms/allan/workers.h"
 #include "algorithms/common/lanes.h"
 #include "algorithms/common/units.h"
 
@@ -136,18 +138,94 @@ double ExpectedB1(double n, int mu) {
   return kNaN;
 }
 
-// Overlapping Allan variance at factor m from the phase (tau0 units), and R(n) = Mod AVAR / AVAR.
+// Mod AVAR's window sums of m second differences D_i are third differences of block sums,
+// sum_{i=j}^{j+m-1} D_i = S_{j+2m} - 2 S_{j+m} + S_j with S_k = x_k + ... + x_{k+m-1}, and the
+// three block sums slide by one sample per window: four loads per window. The state at window j:
+// its three block sums and the sum of the squared window sums before it.
+struct ModifiedWindows {
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0, sum = 0.0;
+};
+
+ModifiedWindows FirstModifiedWindow(const double* x, long long m) {
+  ModifiedWindows w;
+  for (long long i = 0; i < m; ++i) w.s0 += x[i], w.s1 += x[i + m], w.s2 += x[i + 2 * m];
+  return w;
+}
+
+// Adds the squared window sums of windows j, j + 1, ..., windows - 1 to w (at window j).
+void AddModifiedWindows(const double* x, long long m, long long j, long long windows,
+                        ModifiedWindows* w) {
+  double s0 = w->s0, s1 = w->s1, s2 = w->s2, sum = w->sum;
+  for (;; ++j) {
+    const double v = s2 - 2.0 * s1 + s0;
+    sum += v * v;
+    if (j + 1 >= windows) break;
+    const double a = x[j], b = x[j + m], c = x[j + 2 * m], e = x[j + 3 * m];
+    s0 += b - a, s1 += c - b, s2 += e - c;
+  }
+  *w = {s0, s1, s2, sum};
+}
+
+Lanes4 Broadcast(double v) { return Lanes4{v, v, v, v}; }
+
+// The windows of up to four factors (increasing, so with non-increasing window counts; each with
+// at least one window) side by side, one factor per vector element: the chain of additions of one
+// factor has to stay in order, and four of them side by side fill the vector units that one
+// leaves idle. Every element computes exactly what AddModifiedWindows computes for its factor
+// (lanes.h). Four windows at a time, each stream's four values transposed into the four windows'
+// vectors; a factor whose windows end takes its last window from AddModifiedWindows and its
+// element then follows the first factor's streams, discarded.
+void AddModifiedWindowsSideBySide(const double* x, const long long* m, int count, long long n_phase,
+                                  ModifiedWindows* out) {
+  Lanes4 s0{}, s1{}, s2{}, sum{};
+  const double* stream[3][4];
+  long long windows[4];
+  for (int k = 0; k < 4; ++k) {
+    const long long mk = m[std::min(k, count - 1)];
+    const ModifiedWindows first = FirstModifiedWindow(x, mk);
+    s0[k] = first.s0, s1[k] = first.s1, s2[k] = first.s2;
+    for (int i = 0; i < 3; ++i) stream[i][k] = x + (i + 1) * mk;
+    windows[k] = n_phase - 3 * mk + 1;
+  }
+  const auto step = [&](Lanes4 b, Lanes4 c, Lanes4 e, double a) {
+    const Lanes4 v = s2 - 2.0 * s1 + s0;
+    sum += v * v;
+    s0 += b - Broadcast(a), s1 += c - b, s2 += e - c;
+  };
+  long long j = 0;
+  for (int done = count; done > 0; --done) {
+    const int k_end = done - 1;  // the factor whose windows end next
+    const long long last = windows[k_end] - 1;
+    for (; j + 4 <= last; j += 4) {
+      const std::array<Lanes4, 4> b = LoadColumns4(stream[0], j), c = LoadColumns4(stream[1], j),
+                                  e = LoadColumns4(stream[2], j);
+      for (int u = 0; u < 4; ++u) step(b[u], c[u], e[u], x[j + u]);
+    }
+    for (; j < last; ++j) {
+      Lanes4 b, c, e;
+      for (int k = 0; k < 4; ++k)
+        b[k] = stream[0][k][j], c[k] = stream[1][k][j], e[k] = stream[2][k][j];
+      step(b, c, e, x[j]);
+    }
+    ModifiedWindows w{s0[k_end], s1[k_end], s2[k_end], sum[k_end]};
+    AddModifiedWindows(x, m[k_end], j, windows[k_end], &w);
+    out[k_end] = w;
+    for (int k = k_end; k < 4; ++k)
+      for (int i = 0; i < 3; ++i) stream[i][k] = stream[i][0];
+  }
+}
+
+// Overlapping Allan variance at factor m from the phase (tau0 units), and Mod AVAR from the sum of
+// its squared window sums.
 struct AllanAndModified {
   double avar = kNaN;
   double mvar = kNaN;
 };
 
 // `avar_m` > 0 is taken as the overlapping Allan variance (the caller has it); otherwise it is
-// summed here. Mod AVAR's window sums of m second differences D_i are third differences of block
-// sums, sum_{i=j}^{j+m-1} D_i = S_{j+2m} - 2 S_{j+m} + S_j with S_k = x_k + ... + x_{k+m-1}, and
-// the three block sums slide by one sample per window: four loads per window.
+// summed here. `modified` holds the windows' sums (AddModifiedWindows) where m has windows.
 AllanAndModified OverlappingAllanAndModified(const Eigen::VectorXd& phase, long long m,
-                                             double avar_m) {
+                                             double avar_m, const ModifiedWindows& modified) {
   AllanAndModified out;
   const long long n_phase = phase.size();
   const long long count = n_phase - 2 * m;  // second differences D_i, i < count
@@ -166,18 +244,12 @@ AllanAndModified OverlappingAllanAndModified(const Eigen::VectorXd& phase, long 
     out.avar = avar_sum / (2.0 * md * md * static_cast<double>(count));
   }
   if (windows < 1) return out;
-  double s0 = 0.0, s1 = 0.0, s2 = 0.0;
-  for (long long i = 0; i < m; ++i) s0 += x[i], s1 += x[i + m], s2 += x[i + 2 * m];
-  double mvar_sum = 0.0;
-  for (long long j = 0;; ++j) {
-    const double w = s2 - 2.0 * s1 + s0;
-    mvar_sum += w * w;
-    if (j + 1 >= windows) break;
-    const double a = x[j], b = x[j + m], c = x[j + 2 * m], e = x[j + 3 * m];
-    s0 += b - a, s1 += c - b, s2 += e - c;
-  }
-  out.mvar = mvar_sum / (2.0 * md * md * md * md * static_cast<double>(windows));
+  out.mvar = modified.sum / (2.0 * md * md * md * md * static_cast<double>(windows));
   return out;
+}
+
+double RatioOf(const AllanAndModified& allan) {
+  return allan.avar > 0.0 ? allan.mvar / allan.avar : kNaN;
 }
 
 // Ratio of the N-sample variance of the `averages` m-averages to the Allan variance at m
@@ -236,22 +308,45 @@ bool RnSaysFrequencyNoise(double rn, long long m) { return rn > std::sqrt(0.5 * 
 // would otherwise make one O(n) pass per row, O(n^2) in all. R(n) changes slowly with m (its
 // expectations move by ~ln(m) for flicker PM, 1/m for white PM, not at all for FM), far less
 // than the distances between the classes it separates.
+//
+// The rules consult it twice (IdentifyNoiseTypes): first it records the factors they ask for and
+// answers NaN (whether a rule asks at a row never depends on an R(n) value, only on the lag-1 or
+// B1 reading of that row), then Compute finds all of them in shared passes and it answers those.
 class RnMemo {
  public:
   explicit RnMemo(const Eigen::VectorXd& phase) : phase_(phase) {}
   double Get(long long m, double allan_variance_m) {
-    if (m < 16) return ModifiedToAllanRatio(phase_, m, allan_variance_m);
-    const long long bucket = std::llround(std::floor(2.0 * std::log2(static_cast<double>(m))));
-    const auto found = memo_.find(bucket);
+    const long long key =
+        m < 16 ? -m : std::llround(std::floor(2.0 * std::log2(static_cast<double>(m))));
+    const auto found = memo_.find(key);
     if (found != memo_.end()) return found->second;
-    const double rn = ModifiedToAllanRatio(phase_, m, allan_variance_m);
-    memo_.emplace(bucket, rn);
-    return rn;
+    memo_.emplace(key, kNaN);
+    asked_.push_back({m, allan_variance_m, key});
+    return kNaN;
+  }
+  /// Computes every R(n) asked for so far (false: none was).
+  bool Compute(int threads) {
+    if (asked_.empty()) return false;
+    std::sort(asked_.begin(), asked_.end(),
+              [](const Asked& a, const Asked& b) { return a.m < b.m; });
+    std::vector<long long> m;
+    std::vector<double> avar;
+    for (const Asked& a : asked_) m.push_back(a.m), avar.push_back(a.avar);
+    const std::vector<double> rn = ModifiedToAllanRatios(phase_, m, avar, threads);
+    for (size_t k = 0; k < asked_.size(); ++k) memo_[asked_[k].key] = rn[k];
+    asked_.clear();
+    return true;
   }
 
  private:
+  struct Asked {
+    long long m;
+    double avar;
+    long long key;
+  };
   const Eigen::VectorXd& phase_;
   std::map<long long, double> memo_;
+  std::vector<Asked> asked_;
 };
 
 // Barnes' textbook B1 with expectations at the number of averages, R(n) for phase noise.
@@ -281,8 +376,8 @@ NoiseId Carried(const NoiseId& previous) {
 
 // Stable32's rule (see noise_id.h).
 NoiseId Stable32Rule(const Eigen::VectorXd& phase, long long m, long long averages, long long count,
-                     int d, const NoiseId* previous, RnMemo* rn_memo) {
-  if (averages >= kMinAcfPoints) return Lag1Method(phase, m, averages, d);
+                     int d, const NoiseId& lag1, const NoiseId* previous, RnMemo* rn_memo) {
+  if (averages >= kMinAcfPoints) return lag1;
   if (previous != nullptr && (averages < 9 || count < 9)) return Carried(*previous);
   if (averages < 4) return previous ? Carried(*previous) : NoiseId{0, kNaN, NoiseIdMethod::kNone};
   return B1Method(phase, m, averages, d, kNaN, static_cast<double>(count), rn_memo);
@@ -292,10 +387,11 @@ NoiseId Stable32Rule(const Eigen::VectorXd& phase, long long m, long long averag
 constexpr long long kRnConfirmBelow = 1000;  // lag-1 misreadings vanish above ~300 averages
 constexpr long long kMinB1Averages = 8;
 NoiseId CalibratedRule(const Eigen::VectorXd& phase, long long m, long long averages, int d,
-                       double overlapping_avar, const NoiseId* previous, RnMemo* rn_memo) {
+                       double overlapping_avar, const NoiseId& lag1, const NoiseId* previous,
+                       RnMemo* rn_memo) {
   NoiseId id;
   if (averages >= kMinAcfPoints) {
-    id = Lag1Method(phase, m, averages, d);
+    id = lag1;
     if (id.alpha >= 1 && m >= kMinRnFactor) {
       const double rn = rn_memo->Get(m, overlapping_avar);
       const bool frequency = RnSaysFrequencyNoise(rn, m);
@@ -372,8 +468,37 @@ bool ParseNoiseIdRule(const std::string& name, NoiseIdRule* rule) {
 }
 
 double ModifiedToAllanRatio(const Eigen::VectorXd& phase, long long m, double allan_variance_m) {
-  const AllanAndModified allan = OverlappingAllanAndModified(phase, m, allan_variance_m);
-  return allan.avar > 0.0 ? allan.mvar / allan.avar : kNaN;
+  ModifiedWindows windows;
+  if (m >= 1 && phase.size() - 3 * m + 1 >= 1) {
+    windows = FirstModifiedWindow(phase.data(), m);
+    AddModifiedWindows(phase.data(), m, 0, phase.size() - 3 * m + 1, &windows);
+  }
+  return RatioOf(OverlappingAllanAndModified(phase, m, allan_variance_m, windows));
+}
+
+std::vector<double> ModifiedToAllanRatios(const Eigen::VectorXd& phase,
+                                          const std::vector<long long>& m,
+                                          const std::vector<double>& allan_variance_m,
+                                          int threads) {
+  const long long n_phase = phase.size();
+  std::vector<long long> with_windows;
+  for (long long mk : m)
+    if (mk >= 1 && n_phase - 3 * mk + 1 >= 1) with_windows.push_back(mk);
+  std::vector<ModifiedWindows> windows(with_windows.size());
+  const long long groups = (static_cast<long long>(with_windows.size()) + 3) / 4;
+  internal::ShareAmongThreads(threads, groups, [&](long long g) {
+    const int count = static_cast<int>(std::min<long long>(4, with_windows.size() - 4 * g));
+    AddModifiedWindowsSideBySide(phase.data(), with_windows.data() + 4 * g, count, n_phase,
+                                 windows.data() + 4 * g);
+  });
+  std::vector<double> rn(m.size());
+  size_t next = 0;
+  for (size_t k = 0; k < m.size(); ++k) {
+    const bool has = next < with_windows.size() && with_windows[next] == m[k];
+    rn[k] = RatioOf(OverlappingAllanAndModified(phase, m[k], allan_variance_m[k],
+                                                has ? windows[next++] : ModifiedWindows()));
+  }
+  return rn;
 }
 
 NoiseId IdentifyNoise(const Eigen::VectorXd& phase, long long m, int d, double allan_variance_m) {
@@ -395,25 +520,35 @@ std::vector<NoiseId> IdentifyNoiseTypes(const Eigen::VectorXd& phase,
                                         const std::vector<long long>& m,
                                         const std::vector<long long>& count,
                                         const std::vector<double>& overlapping_avar, int d,
-                                        NoiseIdRule rule) {
+                                        NoiseIdRule rule, int threads) {
   std::vector<NoiseId> out(m.size());
   const long long n = phase.size() - 1;
   if (d < 1 || d > kMaxDifferences) {
     for (NoiseId& id : out) id.alpha_estimate = kNaN;
     return out;
   }
-  const NoiseId* previous = nullptr;
-  RnMemo rn_memo(phase);
-  for (size_t k = 0; k < m.size(); ++k) {
+  // Both rules read the lag-1 method wherever there are 30 averages.
+  std::vector<NoiseId> lag1(m.size());
+  internal::ShareAmongThreads(threads, static_cast<long long>(m.size()), [&](long long k) {
     const long long averages = m[k] >= 1 ? n / m[k] : 0;
-    const double avar = k < overlapping_avar.size() ? overlapping_avar[k] : kNaN;
-    const long long c = k < count.size() ? count[k] : averages;
-    NoiseId id = rule == NoiseIdRule::kStable32
-                     ? Stable32Rule(phase, m[k], averages, c, d, previous, &rn_memo)
-                     : CalibratedRule(phase, m[k], averages, d, avar, previous, &rn_memo);
-    id.alpha = std::clamp(id.alpha, 2 - 2 * d, 2);
-    out[k] = id;
-    if (id.method != NoiseIdMethod::kNone) previous = &out[k];
+    if (averages >= kMinAcfPoints) lag1[k] = Lag1Method(phase, m[k], averages, d);
+  });
+  RnMemo rn_memo(phase);
+  for (int round = 0; round < 2; ++round) {  // RnMemo: the R(n) asked for, then their values
+    if (round == 1 && !rn_memo.Compute(threads)) break;
+    const NoiseId* previous = nullptr;
+    for (size_t k = 0; k < m.size(); ++k) {
+      const long long averages = m[k] >= 1 ? n / m[k] : 0;
+      const double avar = k < overlapping_avar.size() ? overlapping_avar[k] : kNaN;
+      const long long c = k < count.size() ? count[k] : averages;
+      NoiseId id =
+          rule == NoiseIdRule::kStable32
+              ? Stable32Rule(phase, m[k], averages, c, d, lag1[k], previous, &rn_memo)
+              : CalibratedRule(phase, m[k], averages, d, avar, lag1[k], previous, &rn_memo);
+      id.alpha = std::clamp(id.alpha, 2 - 2 * d, 2);
+      out[k] = id;
+      if (id.method != NoiseIdMethod::kNone) previous = &out[k];
+    }
   }
   return out;
 }

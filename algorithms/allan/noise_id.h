@@ -101,14 +101,24 @@ NoiseId IdentifyNoise(const Eigen::VectorXd& phase, long long m, int d,
 double ModifiedToAllanRatio(const Eigen::VectorXd& phase, long long m,
                             double allan_variance_m = std::numeric_limits<double>::quiet_NaN());
 
+/// ModifiedToAllanRatio at each factor of `m` (increasing; `allan_variance_m[k]` as its argument
+/// for m[k]), bit for bit: four factors side by side in each pass over the phase (one factor's
+/// additions form a chain that has to stay in order, about 4 cycles a window; four such chains
+/// share the vector units), the passes shared among `threads` threads.
+std::vector<double> ModifiedToAllanRatios(const Eigen::VectorXd& phase,
+                                          const std::vector<long long>& m,
+                                          const std::vector<double>& allan_variance_m,
+                                          int threads = 1);
+
 /// Noise types along a grid of averaging factors `m` (increasing) by `rule`. `count[k]` is the
 /// deviation's number of difference terms at m[k] (Stable32's "#"); `overlapping_avar[k]` the
 /// overlapping Allan variance at m[k] in (phase units / m)^2, NaN where not computed (kCalibrated
-/// uses it for B1 below 30 averages). d as for IdentifyNoise.
+/// uses it for B1 below 30 averages). d as for IdentifyNoise. `threads` share the lag-1 readings
+/// and the R(n) passes; the result does not depend on it.
 std::vector<NoiseId> IdentifyNoiseTypes(const Eigen::VectorXd& phase,
                                         const std::vector<long long>& m,
                                         const std::vector<long long>& count,
                                         const std::vector<double>& overlapping_avar, int d,
-                                        NoiseIdRule rule);
+                                        NoiseIdRule rule, int threads = 1);
 
 }  // namespace fogpipe::allan

@@ -98,6 +98,9 @@ void BM_Oadev64TausWithCiStable32Rule(benchmark::State& s) {
 void BM_Oadev64TausWithCiWhitePm(benchmark::State& s) {
   RunAllan(s, Deviation::kOverlappingAllan, true, NoiseIdRule::kCalibrated, 1, WhitePmRate());
 }
+void BM_Oadev64TausWithCiWhitePmTwoThreads(benchmark::State& s) {
+  RunAllan(s, Deviation::kOverlappingAllan, true, NoiseIdRule::kCalibrated, 2, WhitePmRate());
+}
 void BM_Oadev64TausNoCi(benchmark::State& s) { RunAllan(s, Deviation::kOverlappingAllan, false); }
 void BM_Adev64TausWithCi(benchmark::State& s) { RunAllan(s, Deviation::kAllan, true); }
 void BM_Ohdev64TausWithCi(benchmark::State& s) {
@@ -164,6 +167,7 @@ void BM_FitNoiseTermsAndModelEdf100Taus(benchmark::State& s) { RunFit100(s, 0.0,
 
 BENCHMARK(BM_Oadev64TausWithCi)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Oadev64TausWithCiWhitePm)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Oadev64TausWithCiWhitePmTwoThreads)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Oadev64TausWithCiTwoThreads)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Oadev64TausWithCiStable32Rule)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Oadev64TausNoCi)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "algorithms/allan/deviation.h"
 #include "algorithms/allan/phase.h"
 #include "tests/algorithms/allan/power_law_noise.h"
 #include "tests/algorithms/allan/simulated_gyro.h"
@@ -216,6 +217,52 @@ TEST(ModifiedToAllanRatio, EqualsThePlainSumsOfItsDefinition) {
     EXPECT_NEAR(ModifiedToAllanRatio(x, m), expected, 1e-9 * expected) << "m " << m;
     EXPECT_NEAR(ModifiedToAllanRatio(x, m, static_cast<double>(avar)), expected, 1e-9 * expected)
         << "m " << m;
+  }
+}
+
+// The side-by-side passes give every factor's R(n) bit for bit as the single pass does: groups of
+// four, three and one factor (windows ending at different places), factors without windows, the
+// Allan variance passed or summed, one or two threads.
+TEST(ModifiedToAllanRatios, EqualsModifiedToAllanRatioBitForBit) {
+  testing::GyroTruth truth;
+  truth.n_rad_sqrt_s = 1.0;
+  truth.k_rad_s_sqrt_s = 0.01;
+  const Eigen::VectorXd x = MeanRemovedPhase(testing::SimulateGyro(truth, 3000, 1.0, 6));
+  const std::vector<long long> m = {1, 2, 3, 5, 8, 13, 64, 333, 700, 998, 1000, 1001, 1500};
+  for (bool given : {false, true}) {
+    std::vector<double> avar(m.size(), NAN);
+    if (given) avar = DeviationVariances(x, Deviation::kOverlappingAllan, m);
+    for (int threads : {1, 2}) {
+      const std::vector<double> rn = ModifiedToAllanRatios(x, m, avar, threads);
+      ASSERT_EQ(rn.size(), m.size());
+      for (size_t k = 0; k < m.size(); ++k) {
+        const double single = ModifiedToAllanRatio(x, m[k], avar[k]);
+        if (std::isnan(single)) {
+          EXPECT_TRUE(std::isnan(rn[k])) << "m " << m[k];
+        } else {
+          EXPECT_EQ(rn[k], single) << "m " << m[k] << " threads " << threads;
+        }
+      }
+    }
+  }
+}
+
+// The noise types do not depend on the number of threads.
+TEST(IdentifyNoiseTypes, DoNotDependOnTheThreads) {
+  const long long n = 1 << 14;
+  const testing::PowerLawNoise noise({{2, 1.0}, {1, 0.3}}, n);
+  const Eigen::VectorXd phase = MeanRemovedPhase(noise.Draw(7));
+  const std::vector<long long> m = OctaveFactors(n);
+  std::vector<long long> count;
+  for (long long k : m) count.push_back(n + 1 - 2 * k);
+  const std::vector<double> avar = DeviationVariances(phase, Deviation::kOverlappingAllan, m);
+  for (NoiseIdRule rule : {NoiseIdRule::kCalibrated, NoiseIdRule::kStable32}) {
+    const std::vector<NoiseId> one = IdentifyNoiseTypes(phase, m, count, avar, 2, rule, 1);
+    const std::vector<NoiseId> two = IdentifyNoiseTypes(phase, m, count, avar, 2, rule, 2);
+    for (size_t k = 0; k < m.size(); ++k) {
+      EXPECT_EQ(one[k].alpha, two[k].alpha) << "m " << m[k];
+      EXPECT_EQ(one[k].method, two[k].method) << "m " << m[k];
+    }
   }
 }
 
