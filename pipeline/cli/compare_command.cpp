@@ -108,19 +108,7 @@ void PrintText(const model::CompareResult& r) {
 }
 
 int PrintHistory(const std::string& results) {
-  const auto steps = io::ReadHistory(results);
-  std::printf("%-5s %-10s %-11s %-18s %s\n", "step", "error", "consistent", "next suggestion",
-              "terms");
-  double prev = 0;
-  for (const auto& s : steps) {
-    std::string terms;
-    for (const auto& t : s.terms) terms += (terms.empty() ? "" : ",") + t;
-    std::printf("%-5d %-10.4g %-11s %-18s %s", s.index, s.error, s.consistent ? "yes" : "no",
-                s.first_suggestion.empty() ? "-" : s.first_suggestion.c_str(), terms.c_str());
-    if (s.index > 0 && s.error > 0) std::printf("   (error x%.2g)", s.error / prev);
-    std::printf("\n");
-    prev = s.error;
-  }
+  std::cout << io::FormatHistory(io::ReadHistory(results)) << std::flush;
   return 0;
 }
 

@@ -55,19 +55,12 @@ int RunMerge(const MergeConfig& config) {
   }
 
   for (const std::string& p : table.problems) std::cerr << "fogpipe merge: " << p << "\n";
-  int ok = 0, failed = 0, missing = 0;
-  std::string last;
-  for (const io::CampaignRow& row : table.rows) {
-    if (row.input_path == last) continue;
-    last = row.input_path;
-    ok += row.status == "ok";
-    failed += row.status == "failed";
-    missing += row.status == "missing";
-  }
-  std::cerr << "fogpipe merge: " << table.recordings << " recordings (" << ok << " ok, " << failed
-            << " failed, " << missing << " missing), " << table.rows.size() << " rows, "
-            << table.duplicate_results << " duplicate results files ignored -> " << output << "\n";
-  return failed + missing > 0 || !table.problems.empty() ? 1 : 0;
+  const io::CampaignCounts counts = io::CountRecordings(table);
+  std::cerr << "fogpipe merge: " << table.recordings << " recordings (" << counts.ok << " ok, "
+            << counts.failed << " failed, " << counts.missing << " missing), " << table.rows.size()
+            << " rows, " << table.duplicate_results << " duplicate results files ignored -> "
+            << output << "\n";
+  return counts.failed + counts.missing > 0 || !table.problems.empty() ? 1 : 0;
 }
 
 }  // namespace

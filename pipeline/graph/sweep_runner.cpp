@@ -1,4 +1,4 @@
-// Sweep file layout (<stem>.sweep.h5, format "fogpipe-sweep-v1"):
+// Sweep file layout (<stem>.sweep.h5, format "fogpipe-sweep-v1", schemas/sweep-v1.json):
 //   /                                   fogpipe_format, recording, rank_by
 //   /axes/<axis>/emd_sifts_<S>/         one row per grid setting, one 1-D dataset per metric with a
 //                                       `units` attribute (see Columns()); attributes num_imfs,
@@ -7,7 +7,8 @@
 //     ar_order_used [settings, components] (the order each filter ran; ar::SelectStationaryOrder)
 //     ranking                           row indices, best first by rank_by
 //   /reference/<axis>/emd_sifts_<S>/    the reference filters scored like settings, one row each:
-//                                       name, parameter (+ parameter_units), the Columns() terms
+//                                       name, parameter (+ parameter_name, parameter_units), the
+//                                       Columns() terms
 //                                       that apply (Q..R with std errors, rms_error, seconds),
 //                                       grid_rank (grid settings ranked strictly better; -1: none)
 #include "pipeline/graph/sweep_runner.h"
@@ -25,7 +26,9 @@
 #include "algorithms/common/units.h"
 #include "pipeline/graph/tbb_for_each.h"
 #include "pipeline/hdf5/atomic_output_file.h"
+#include "pipeline/hdf5/file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/file_validation.h"
 #include "pipeline/io/isolated_reader.h"
 #include "pipeline/io/recording_reader.h"
 #include "pipeline/io/recording_writer.h"
@@ -101,17 +104,19 @@ void WriteReferenceRows(hdf5::Group root, const SweepTable& table, const std::st
   if (refs.empty()) return;
   hdf5::Group g =
       root.CreateGroup("reference/" + table.axis + "/emd_sifts_" + std::to_string(table.emd_sifts));
-  std::vector<std::string> names, parameter_units, status;
+  std::vector<std::string> names, parameter_names, parameter_units, status;
   std::vector<double> parameter;
   std::vector<long long> grid_rank;
   for (const auto& r : refs) {
     names.push_back(r.name);
+    parameter_names.push_back(r.parameter_name);
     parameter_units.push_back(r.parameter_units);
     parameter.push_back(r.parameter);
     status.push_back(HasResult(r.point.termination) ? "ok" : r.point.message);
     grid_rank.push_back(method::RankAmongGrid(table.result.points, r.point, by));
   }
   g.WriteStringDataset("name", names);
+  g.WriteStringDataset("parameter_name", parameter_names);
   g.WriteStringDataset("parameter_units", parameter_units);
   g.WriteDataset("parameter", parameter, "see parameter_units");
   g.WriteStringDataset("status", status);
@@ -188,7 +193,7 @@ bool SweepRecording(const std::string& recording, const SweepRunOptions& options
     return false;
   }
   if (options.report_stream != nullptr) {
-    std::fputs(FormatSweepRanking(*tables, options.rank_by, options.top).c_str(),
+    std::fputs(FormatSweepRanking(SummarizeSweep(*tables, options.rank_by, options.top)).c_str(),
                options.report_stream);
   }
   return true;
@@ -199,7 +204,7 @@ void WriteSweepHdf5(const std::string& path, const std::vector<SweepTable>& tabl
   auto lock = hdf5::LockHdf5();
   hdf5::AtomicOutputFile out{fs::absolute(path)};
   hdf5::Group root = out.Root();
-  root.WriteStringAttribute("fogpipe_format", "fogpipe-sweep-v1");
+  root.WriteStringAttribute("fogpipe_format", kSweepFormat);
   root.WriteStringAttribute("recording", tables.empty() ? "" : tables.front().recording);
   root.WriteStringAttribute("rank_by", rank_by);
   const std::vector<Column> columns = Columns();
@@ -269,62 +274,183 @@ std::string FormatSweepCsv(const std::vector<SweepTable>& tables) {
   return out.str();
 }
 
-std::string FormatSweepRanking(const std::vector<SweepTable>& tables, const std::string& rank_by,
-                               int top) {
-  std::ostringstream out;
+namespace {
+
+/// The rows shown for comparison beside the top of the ranking: `fogpipe run`'s rule and the
+/// hardest filtering (smallest q / R), each at the best-ranked AR order among its own settings
+/// (-1 when there is none).
+std::pair<int, int> DefaultAndHardest(const std::vector<int>& ranking,
+                                      const std::vector<method::SweepSetting>& settings) {
+  int default_best = -1, hardest_best = -1;
+  double hardest_ratio = std::numeric_limits<double>::infinity();
+  for (const auto& s : settings) {
+    if (!s.default_rule) hardest_ratio = std::min(hardest_ratio, s.q_scale / s.r_scale);
+  }
+  for (int i : ranking) {
+    const auto& s = settings[i];
+    if (default_best < 0 && s.default_rule) default_best = i;
+    if (hardest_best < 0 && !s.default_rule && s.q_scale / s.r_scale == hardest_ratio) {
+      hardest_best = i;
+    }
+  }
+  return {default_best, hardest_best};
+}
+
+/// The lines of one table's summary: the top of `ranking`, then the comparison rows.
+std::vector<SweepRankedLine> RankedLines(const std::vector<int>& ranking,
+                                         const std::vector<method::SweepSetting>& settings, int top,
+                                         const std::function<SweepRankedLine(int)>& line) {
+  std::vector<SweepRankedLine> lines;
+  for (int r = 0; r < static_cast<int>(ranking.size()) && r < top; ++r) {
+    lines.push_back(line(ranking[r]));
+    lines.back().label = std::to_string(r + 1);
+  }
+  const auto [default_best, hardest_best] = DefaultAndHardest(ranking, settings);
+  if (default_best >= 0) lines.push_back(line(default_best)), lines.back().label = "dflt";
+  if (hardest_best >= 0) lines.push_back(line(hardest_best)), lines.back().label = "hard";
+  return lines;
+}
+
+}  // namespace
+
+std::vector<SweepTableSummary> SummarizeSweep(const std::vector<SweepTable>& tables,
+                                              const std::string& rank_by, int top) {
+  std::vector<SweepTableSummary> out;
   for (const SweepTable& table : tables) {
     const auto& points = table.result.points;
-    const std::string by = EffectiveRankBy(table, rank_by);
-    out << table.recording << "  axis " << table.axis << "  emd_sifts " << table.emd_sifts << "  ("
-        << table.result.summary.num_imfs << " IMFs, EMD "
-        << Format(table.result.summary.decompose_seconds) << " s; ranked by " << by << ")\n";
+    SweepTableSummary s;
+    s.recording = table.recording;
+    s.axis = table.axis;
+    s.emd_sifts = table.emd_sifts;
+    s.num_imfs = table.result.summary.num_imfs;
+    s.decompose_seconds = table.result.summary.decompose_seconds;
+    s.rank_by = EffectiveRankBy(table, rank_by);
+    s.settings = static_cast<int>(points.size());
+    std::vector<method::SweepSetting> settings;
+    for (const auto& p : points) settings.push_back(p.setting);
+    s.lines = RankedLines(method::RankSweep(points, s.rank_by), settings, top, [&](int i) {
+      const auto& p = points[i];
+      return SweepRankedLine{"",
+                             p.setting,
+                             method::CriterionValue(p, "fit"),
+                             method::CriterionValue(p, "n"),
+                             method::CriterionValue(p, "k"),
+                             units::RadPerSecondToDegPerHour(p.rms_error)};
+    });
+    for (const method::SweepReference& r : table.result.reference) {
+      s.references.push_back({r.name, r.parameter_name, r.parameter_units, r.parameter,
+                              method::CriterionValue(r.point, "n"),
+                              method::CriterionValue(r.point, "k"),
+                              units::RadPerSecondToDegPerHour(r.point.rms_error),
+                              method::RankAmongGrid(points, r.point, s.rank_by)});
+    }
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+std::vector<SweepTableSummary> ReadSweepSummary(const std::string& path, int top) {
+  auto lock = hdf5::LockHdf5();
+  const hdf5::File file = hdf5::File::OpenReadOnly(path);
+  const hdf5::Group root = file.Root();
+  io::RequireFormatTag(root, path, kSweepFormat);
+  const std::string recording = root.ReadStringAttribute("recording");
+  std::vector<SweepTableSummary> out;
+  const hdf5::Group axes = root.OpenGroup("axes");
+  for (const std::string& axis : axes.ChildNames()) {
+    for (const std::string& sifts : axes.OpenGroup(axis).ChildNames()) {
+      const hdf5::Group g = axes.OpenGroup(axis + "/" + sifts);
+      SweepTableSummary s;
+      s.recording = recording;
+      s.axis = axis;
+      s.emd_sifts = static_cast<int>(g.ReadInt64Attribute("emd_sifts"));
+      s.num_imfs = static_cast<int>(g.ReadInt64Attribute("num_imfs"));
+      s.decompose_seconds = g.ReadDoubleAttribute("decompose_seconds");
+      s.rank_by = g.OpenDataset("ranking").ReadStringAttribute("rank_by");
+      auto column = [&](const char* name) { return g.OpenDataset(name).ReadDoubles(); };
+      const std::vector<double> order = column("ar_order"), rule = column("default_rule"),
+                                q = column("q_scale"), r = column("r_scale"),
+                                fit = column("fit_one_step_mean_percent"), n = column("N"),
+                                k = column("K"), rms = column("rms_error");
+      s.settings = static_cast<int>(order.size());
+      std::vector<method::SweepSetting> settings(order.size());
+      for (std::size_t i = 0; i < order.size(); ++i) {
+        settings[i].ar_order = static_cast<int>(order[i]);
+        settings[i].default_rule = i < rule.size() && rule[i] != 0.0;
+        // The file stores NaN scales for the default rule, whose scales are 1 and unused.
+        settings[i].q_scale = settings[i].default_rule || i >= q.size() ? 1.0 : q[i];
+        settings[i].r_scale = settings[i].default_rule || i >= r.size() ? 1.0 : r[i];
+      }
+      std::vector<int> ranking;
+      for (double i : g.OpenDataset("ranking").ReadDoubles()) {
+        if (i < 0 || i >= static_cast<double>(order.size())) {
+          throw std::runtime_error(path + ": " + g.path() + "/ranking names row " + Format(i) +
+                                   " of " + std::to_string(order.size()));
+        }
+        ranking.push_back(static_cast<int>(i));
+      }
+      auto at = [](const std::vector<double>& v, int i) {
+        return i < static_cast<int>(v.size()) ? v[i] : kNaN;
+      };
+      s.lines = RankedLines(ranking, settings, top, [&](int i) {
+        return SweepRankedLine{"", settings[i], at(fit, i), at(n, i), at(k, i), at(rms, i)};
+      });
+      const std::string reference = "reference/" + axis + "/" + sifts;
+      if (root.KindOf(reference) == hdf5::ObjectKind::kGroup) {
+        const hdf5::Group ref = root.OpenGroup(reference);
+        const std::vector<std::string> names = ref.OpenDataset("name").ReadStrings();
+        // Optional in the layout: a table without it shows the value and units alone.
+        const std::vector<std::string> parameter_names =
+            ref.KindOf("parameter_name") == hdf5::ObjectKind::kDataset
+                ? ref.OpenDataset("parameter_name").ReadStrings()
+                : std::vector<std::string>{};
+        const std::vector<std::string> parameter_units =
+            ref.OpenDataset("parameter_units").ReadStrings();
+        const std::vector<double> parameter = ref.OpenDataset("parameter").ReadDoubles(),
+                                  ref_n = ref.OpenDataset("N").ReadDoubles(),
+                                  ref_k = ref.OpenDataset("K").ReadDoubles(),
+                                  ref_rms = ref.OpenDataset("rms_error").ReadDoubles(),
+                                  grid_rank = ref.OpenDataset("grid_rank").ReadDoubles();
+        for (std::size_t i = 0; i < names.size(); ++i) {
+          const int j = static_cast<int>(i);
+          s.references.push_back({names[i], i < parameter_names.size() ? parameter_names[i] : "",
+                                  i < parameter_units.size() ? parameter_units[i] : "",
+                                  at(parameter, j), at(ref_n, j), at(ref_k, j), at(ref_rms, j),
+                                  i < grid_rank.size() ? static_cast<int>(grid_rank[i]) : -1});
+        }
+      }
+      out.push_back(std::move(s));
+    }
+  }
+  return out;
+}
+
+std::string FormatSweepRanking(const std::vector<SweepTableSummary>& summaries) {
+  std::ostringstream out;
+  for (const SweepTableSummary& s : summaries) {
+    out << s.recording << "  axis " << s.axis << "  emd_sifts " << s.emd_sifts << "  ("
+        << s.settings << " settings, " << s.num_imfs << " IMFs, EMD " << Format(s.decompose_seconds)
+        << " s; ranked by " << s.rank_by << ")\n";
     out << "  rank  order  q_scale  r_scale  fit% (mean)   N [deg/sqrt(h)]   K [deg/h/sqrt(h)]"
         << "   RMS error vs truth [deg/h]\n";
-    auto line = [&](const std::string& label, int i) {
-      const auto& p = points[i];
+    for (const SweepRankedLine& l : s.lines) {
       char text[200];
       std::snprintf(text, sizeof(text), "  %-5s %5d  %7s  %7s  %11.4g  %16.5g  %18.5g  %27.5g\n",
-                    label.c_str(), p.setting.ar_order,
-                    p.setting.default_rule ? "rule" : Format(p.setting.q_scale).c_str(),
-                    p.setting.default_rule ? "rule" : Format(p.setting.r_scale).c_str(),
-                    method::CriterionValue(p, "fit"), method::CriterionValue(p, "n"),
-                    method::CriterionValue(p, "k"), units::RadPerSecondToDegPerHour(p.rms_error));
+                    l.label.c_str(), l.setting.ar_order,
+                    l.setting.default_rule ? "rule" : Format(l.setting.q_scale).c_str(),
+                    l.setting.default_rule ? "rule" : Format(l.setting.r_scale).c_str(),
+                    l.fit_percent, l.n, l.k, l.rms_error_deg_h);
       out << text;
-    };
-    const std::vector<int> ranking = method::RankSweep(points, by);
-    for (int r = 0; r < static_cast<int>(ranking.size()) && r < top; ++r) {
-      line(std::to_string(r + 1), ranking[r]);
     }
-    // For comparison: `fogpipe run`'s rule and the hardest filtering (smallest q / R), each at
-    // the best-ranked AR order among its own settings.
-    int default_best = -1, hardest_best = -1;
-    double hardest_ratio = std::numeric_limits<double>::infinity();
-    for (const auto& p : points) {
-      if (!p.setting.default_rule) {
-        hardest_ratio = std::min(hardest_ratio, p.setting.q_scale / p.setting.r_scale);
-      }
-    }
-    for (int i : ranking) {
-      const auto& s = points[i].setting;
-      if (default_best < 0 && s.default_rule) default_best = i;
-      if (hardest_best < 0 && !s.default_rule && s.q_scale / s.r_scale == hardest_ratio) {
-        hardest_best = i;
-      }
-    }
-    if (default_best >= 0) line("dflt", default_best);
-    if (hardest_best >= 0) line("hard", hardest_best);
     // The reference filters, tuned without the truth, with their place among the grid.
-    for (const method::SweepReference& r : table.result.reference) {
-      const auto& p = r.point;
-      const int place = method::RankAmongGrid(points, p, by);
+    for (const SweepReferenceLine& r : s.references) {
       char text[240];
       std::snprintf(text, sizeof(text),
                     "  ref   %-14s %s = %-10.4g %-7s  N %.5g  K %.5g  RMS vs truth %.5g deg/h  "
                     "(ranks %s of the grid)\n",
                     r.name.c_str(), r.parameter_name.c_str(), r.parameter,
-                    r.parameter_units.c_str(), method::CriterionValue(p, "n"),
-                    method::CriterionValue(p, "k"), units::RadPerSecondToDegPerHour(p.rms_error),
-                    place < 0 ? "-" : std::to_string(place + 1).c_str());
+                    r.parameter_units.c_str(), r.n, r.k, r.rms_error_deg_h,
+                    r.grid_rank < 0 ? "-" : std::to_string(r.grid_rank + 1).c_str());
       out << text;
     }
   }

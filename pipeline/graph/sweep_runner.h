@@ -49,9 +49,46 @@ void WriteSweepHdf5(const std::string& path, const std::vector<SweepTable>& tabl
                     const std::string& rank_by);
 /// One CSV line per setting of every table, header first, units in the header.
 std::string FormatSweepCsv(const std::vector<SweepTable>& tables);
-/// The ranked summary (top `top` settings per table) as text, with the default setting
-/// (q_scale = r_scale = 1) and the hardest filtering (smallest q_scale / r_scale) for comparison.
-std::string FormatSweepRanking(const std::vector<SweepTable>& tables, const std::string& rank_by,
-                               int top);
+/// Root `fogpipe_format` of a sweep file (schemas/sweep-v1.json).
+inline constexpr const char* kSweepFormat = "fogpipe-sweep-v1";
+
+/// One setting in the ranked summary, with the scores it is ranked by.
+struct SweepRankedLine {
+  std::string label;  ///< its rank ("1", "2", ...), "dflt" or "hard"
+  method::SweepSetting setting;
+  double fit_percent = 0.0;      ///< mean one-step fit, %
+  double n = 0.0;                ///< N, deg/sqrt(h)
+  double k = 0.0;                ///< K, deg/h/sqrt(h)
+  double rms_error_deg_h = 0.0;  ///< against the truth (NaN without one)
+};
+
+/// A reference filter in the ranked summary.
+struct SweepReferenceLine {
+  std::string name, parameter_name, parameter_units;
+  double parameter = 0.0;
+  double n = 0.0, k = 0.0, rms_error_deg_h = 0.0;
+  int grid_rank = -1;  ///< grid settings ranked strictly better; -1: none
+};
+
+/// What the ranked summary shows of one table.
+struct SweepTableSummary {
+  std::string recording, axis;
+  int emd_sifts = 0, num_imfs = 0, settings = 0;
+  double decompose_seconds = 0.0;
+  std::string rank_by;  ///< the criterion used (rms_error becomes n without a truth)
+  /// The top settings, then `fogpipe run`'s rule ("dflt") and the hardest filtering ("hard",
+  /// smallest q_scale / r_scale), each at its best-ranked AR order.
+  std::vector<SweepRankedLine> lines;
+  std::vector<SweepReferenceLine> references;
+};
+
+/// The ranked summary of swept tables (top `top` settings per table).
+std::vector<SweepTableSummary> SummarizeSweep(const std::vector<SweepTable>& tables,
+                                              const std::string& rank_by, int top);
+/// The same summary read back from a sweep file (takes the HDF5 lock). Throws hdf5::Error, or
+/// std::runtime_error naming the file when it is not a sweep file.
+std::vector<SweepTableSummary> ReadSweepSummary(const std::string& path, int top);
+/// The ranked summary as text, the lines `fogpipe sweep` prints and `fogpipe info` shows.
+std::string FormatSweepRanking(const std::vector<SweepTableSummary>& summaries);
 
 }  // namespace fogpipe::graph

@@ -3,7 +3,9 @@
 #include <H5Lpublic.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -11,6 +13,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include "algorithms/allan/noise_fit.h"
@@ -151,47 +154,69 @@ std::map<std::string, StatusLine> ReadStatusLog(const fs::path& path,
 struct Column {
   std::string name;
   std::string units;  ///< empty for text columns
-  std::function<std::string(const CampaignRow&)> text;
-  std::function<double(const CampaignRow&)> number;
+  // The row's field itself, so that one list of columns both writes and reads the table.
+  std::function<std::string&(CampaignRow&)> text;
+  std::function<double&(CampaignRow&)> number;
 };
 
 std::vector<Column> Columns() {
   std::vector<Column> columns = {
-      {"input_path", "", [](const CampaignRow& r) { return r.input_path; }, nullptr},
-      {"results_file", "", [](const CampaignRow& r) { return r.results_file; }, nullptr},
-      {"axis", "", [](const CampaignRow& r) { return r.axis; }, nullptr},
-      {"serial", "", [](const CampaignRow& r) { return r.serial; }, nullptr},
-      {"instrument", "", [](const CampaignRow& r) { return r.instrument; }, nullptr},
-      {"duration_s", "s", nullptr, [](const CampaignRow& r) { return r.duration_s; }}};
+      {"input_path", "", [](CampaignRow& r) -> std::string& { return r.input_path; }, nullptr},
+      {"results_file", "", [](CampaignRow& r) -> std::string& { return r.results_file; }, nullptr},
+      {"axis", "", [](CampaignRow& r) -> std::string& { return r.axis; }, nullptr},
+      {"serial", "", [](CampaignRow& r) -> std::string& { return r.serial; }, nullptr},
+      {"instrument", "", [](CampaignRow& r) -> std::string& { return r.instrument; }, nullptr},
+      {"duration_s", "s", nullptr, [](CampaignRow& r) -> double& { return r.duration_s; }}};
   for (std::size_t s = 0; s < kCampaignSignals.size(); ++s) {
     for (std::size_t t = 0; t < kCampaignTerms.size(); ++t) {
       const std::string name = std::string(kCampaignSignals[s]) + "_" + kCampaignTerms[t];
       columns.push_back({name, allan::EngineeringUnit(static_cast<int>(t)), nullptr,
-                         [s, t](const CampaignRow& r) { return r.term[s][t]; }});
+                         [s, t](CampaignRow& r) -> double& { return r.term[s][t]; }});
       columns.push_back({name + "_std_error", allan::EngineeringUnit(static_cast<int>(t)), nullptr,
-                         [s, t](const CampaignRow& r) { return r.term_std_error[s][t]; }});
+                         [s, t](CampaignRow& r) -> double& { return r.term_std_error[s][t]; }});
       columns.push_back({name + "_readoff", allan::EngineeringUnit(static_cast<int>(t)), nullptr,
-                         [s, t](const CampaignRow& r) { return r.term_readoff[s][t]; }});
+                         [s, t](CampaignRow& r) -> double& { return r.term_readoff[s][t]; }});
     }
     const std::string signal = kCampaignSignals[s];
     columns.push_back({signal + "_unreliable_terms", "",
-                       [s](const CampaignRow& r) { return r.unreliable_terms[s]; }, nullptr});
+                       [s](CampaignRow& r) -> std::string& { return r.unreliable_terms[s]; },
+                       nullptr});
     columns.push_back({signal + "_unreliable_reasons", "",
-                       [s](const CampaignRow& r) { return r.unreliable_reasons[s]; }, nullptr});
+                       [s](CampaignRow& r) -> std::string& { return r.unreliable_reasons[s]; },
+                       nullptr});
     columns.push_back({signal + "_noise_fit_chi2_per_dof", "1", nullptr,
-                       [s](const CampaignRow& r) { return r.noise_fit_chi2_per_dof[s]; }});
+                       [s](CampaignRow& r) -> double& { return r.noise_fit_chi2_per_dof[s]; }});
     columns.push_back({signal + "_noise_fit_p_value", "1", nullptr,
-                       [s](const CampaignRow& r) { return r.noise_fit_p_value[s]; }});
+                       [s](CampaignRow& r) -> double& { return r.noise_fit_p_value[s]; }});
     columns.push_back({signal + "_noise_fit_misfit_tau_ranges", "",
-                       [s](const CampaignRow& r) { return r.misfit_tau_ranges[s]; }, nullptr});
+                       [s](CampaignRow& r) -> std::string& { return r.misfit_tau_ranges[s]; },
+                       nullptr});
   }
   columns.push_back({"model_loop_error", "deg/h", nullptr,
-                     [](const CampaignRow& r) { return r.model_loop_error; }});
+                     [](CampaignRow& r) -> double& { return r.model_loop_error; }});
   columns.push_back(
-      {"data_warning", "", [](const CampaignRow& r) { return r.data_warning; }, nullptr});
-  columns.push_back({"status", "", [](const CampaignRow& r) { return r.status; }, nullptr});
-  columns.push_back({"message", "", [](const CampaignRow& r) { return r.message; }, nullptr});
+      {"data_warning", "", [](CampaignRow& r) -> std::string& { return r.data_warning; }, nullptr});
+  columns.push_back(
+      {"status", "", [](CampaignRow& r) -> std::string& { return r.status; }, nullptr});
+  columns.push_back(
+      {"message", "", [](CampaignRow& r) -> std::string& { return r.message; }, nullptr});
   return columns;
+}
+
+// A table cell: 4 significant digits, "-" where there is no value (NaN).
+std::string FormatNumber(double value) {
+  if (std::isnan(value)) return "-";
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.4g", value);
+  return text;
+}
+
+// A column's value in a row that is only read.
+double NumberOf(const Column& column, const CampaignRow& row) {
+  return column.number(const_cast<CampaignRow&>(row));
+}
+const std::string& TextOf(const Column& column, const CampaignRow& row) {
+  return column.text(const_cast<CampaignRow&>(row));
 }
 
 std::string CsvField(const std::string& text) {
@@ -331,18 +356,18 @@ void WriteCampaignTable(const std::string& path, const CampaignTable& table) {
   auto lock = hdf5::LockHdf5();
   hdf5::AtomicOutputFile out(final_path);
   hdf5::Group root = out.Root();
-  root.WriteStringAttribute("fogpipe_format", "fogpipe-campaign-v1");
+  root.WriteStringAttribute("fogpipe_format", kCampaignFormat);
   root.WriteInt64Attribute("rows", static_cast<long long>(table.rows.size()));
   root.WriteStringAttribute("source_folder", table.source_folder);
   hdf5::Group campaign = root.CreateGroup("campaign");
   for (const Column& column : Columns()) {
     if (column.number) {
       std::vector<double> values;
-      for (const CampaignRow& row : table.rows) values.push_back(column.number(row));
+      for (const CampaignRow& row : table.rows) values.push_back(NumberOf(column, row));
       campaign.WriteDataset(column.name, values, column.units);
     } else {
       std::vector<std::string> values;
-      for (const CampaignRow& row : table.rows) values.push_back(column.text(row));
+      for (const CampaignRow& row : table.rows) values.push_back(TextOf(column, row));
       campaign.WriteStringDataset(column.name, values);
     }
   }
@@ -377,12 +402,99 @@ std::string FormatCampaignCsv(const CampaignTable& table) {
     for (std::size_t c = 0; c < columns.size(); ++c) {
       if (c) out << ",";
       if (columns[c].number) {
-        out << columns[c].number(row);
+        out << NumberOf(columns[c], row);
       } else {
-        out << CsvField(columns[c].text(row));
+        out << CsvField(TextOf(columns[c], row));
       }
     }
     out << "\n";
+  }
+  return out.str();
+}
+
+CampaignTable ReadCampaignTable(const std::string& path) {
+  auto lock = hdf5::LockHdf5();
+  const hdf5::File file = hdf5::File::OpenReadOnly(path);
+  const hdf5::Group root = file.Root();
+  RequireFormatTag(root, path, kCampaignFormat);
+  CampaignTable table;
+  table.source_folder = root.ReadStringAttribute("source_folder");
+  const long long rows = root.ReadInt64Attribute("rows");
+  table.rows.resize(static_cast<std::size_t>(std::max(rows, 0ll)));
+  const hdf5::Group campaign = root.OpenGroup("campaign");
+  for (const Column& column : Columns()) {
+    const hdf5::Dataset dataset = campaign.OpenDataset(column.name);
+    const std::size_t length = dataset.dims().empty() ? 0 : dataset.dims()[0];
+    if (length != table.rows.size()) {
+      throw std::runtime_error(path + ": " + dataset.path() + " has " + std::to_string(length) +
+                               " rows, the table " + std::to_string(rows));
+    }
+    if (column.number) {
+      const std::vector<double> values = dataset.ReadDoubles();
+      for (std::size_t i = 0; i < length; ++i) column.number(table.rows[i]) = values.at(i);
+    } else {
+      const std::vector<std::string> values = dataset.ReadStrings();
+      for (std::size_t i = 0; i < length; ++i) column.text(table.rows[i]) = values.at(i);
+    }
+  }
+  std::set<std::string> inputs;
+  for (const CampaignRow& row : table.rows) inputs.insert(row.input_path);
+  table.recordings = static_cast<int>(inputs.size());
+  return table;
+}
+
+CampaignCounts CountRecordings(const CampaignTable& table) {
+  CampaignCounts counts;
+  std::string last;
+  for (const CampaignRow& row : table.rows) {
+    // Rows are sorted by input path: a recording's axes are adjacent and share its status.
+    if (row.input_path == last) continue;
+    last = row.input_path;
+    counts.ok += row.status == "ok";
+    counts.failed += row.status == "failed";
+    counts.missing += row.status == "missing";
+  }
+  return counts;
+}
+
+std::string FormatCampaignSummary(const std::string& path, const CampaignTable& table) {
+  const CampaignCounts counts = CountRecordings(table);
+  std::ostringstream out;
+  out << path << "\n"
+      << "  source     " << table.source_folder << "\n"
+      << "  table      " << table.rows.size() << " rows, " << table.recordings << " recordings ("
+      << counts.ok << " ok, " << counts.failed << " failed, " << counts.missing << " missing)\n";
+  // The raw signal's N, B and K: the terms a campaign compares across units.
+  constexpr std::size_t kRaw = 0;
+  constexpr std::array<std::size_t, 3> kTerms = {1, 2, 3};
+  char text[512];
+  std::snprintf(text, sizeof(text), "\n%-28s %-8s %-7s", "recording", "axis", "status");
+  out << text;
+  for (std::size_t t : kTerms) {
+    const std::string head = std::string(kCampaignSignals[kRaw]) + " " + kCampaignTerms[t] + " [" +
+                             allan::EngineeringUnit(static_cast<int>(t)) + "]";
+    std::snprintf(text, sizeof(text), " %-24s", head.c_str());
+    out << text;
+  }
+  out << " flags\n";
+  for (const CampaignRow& row : table.rows) {
+    const std::string name = fs::path(row.input_path).filename().string();
+    std::snprintf(text, sizeof(text), "%-28s %-8s %-7s", name.c_str(),
+                  row.axis.empty() ? "-" : row.axis.c_str(), row.status.c_str());
+    out << text;
+    for (std::size_t t : kTerms) {
+      std::snprintf(
+          text, sizeof(text), " %-24s",
+          (FormatNumber(row.term[kRaw][t]) + " +- " + FormatNumber(row.term_std_error[kRaw][t]))
+              .c_str());
+      out << text;
+    }
+    std::string flags;
+    auto add = [&flags](const std::string& flag) { flags += (flags.empty() ? "" : "; ") + flag; };
+    if (!row.unreliable_terms[kRaw].empty()) add("unreliable " + row.unreliable_terms[kRaw]);
+    if (!row.data_warning.empty()) add("data warning: " + row.data_warning);
+    if (!row.message.empty()) add(row.message);
+    out << " " << (flags.empty() ? "-" : flags) << "\n";
   }
   return out.str();
 }

@@ -1,7 +1,7 @@
 // The campaign table written by `fogpipe merge OUTDIR -o campaign.h5`: one row per recording and
 // axis, gathered from the results files (fogpipe-results-v1) and OUTDIR/status.jsonl.
 //
-// Layout of campaign.h5 (fogpipe-campaign-v1):
+// Layout of campaign.h5 (fogpipe-campaign-v1, schemas/campaign-v1.json):
 //   /                 attributes fogpipe_format, rows, source_folder
 //   /campaign/<col>   one 1-D dataset per column, numeric ones with a `units` attribute:
 //                     input_path, results_file, axis, serial, instrument, duration_s; per signal S
@@ -24,6 +24,9 @@
 #include <vector>
 
 namespace fogpipe::io {
+
+/// Root `fogpipe_format` of a campaign table (schemas/campaign-v1.json).
+inline constexpr const char* kCampaignFormat = "fogpipe-campaign-v1";
 
 /// The signals whose noise terms are tabulated, as named under /axes/<axis>/allan.
 inline constexpr std::array<const char*, 3> kCampaignSignals = {"raw", "method1", "method2"};
@@ -83,5 +86,21 @@ void WriteCampaignTable(const std::string& path, const CampaignTable& table);
 
 /// The table as CSV (header line, one line per row), the same columns as /campaign.
 std::string FormatCampaignCsv(const CampaignTable& table);
+
+/// Reads a campaign table back (rows, source folder, recordings; takes the HDF5 lock). Throws
+/// hdf5::Error, or std::runtime_error naming the file when it is not a campaign table or a
+/// column is missing or of another length.
+CampaignTable ReadCampaignTable(const std::string& path);
+
+/// Recordings by status; a recording counts once, whatever its number of axes.
+struct CampaignCounts {
+  int ok = 0, failed = 0, missing = 0;
+};
+CampaignCounts CountRecordings(const CampaignTable& table);
+
+/// What `fogpipe info` shows of a campaign table: rows and counts, then per row the recording,
+/// axis, status, the raw signal's N, B and K with standard errors and units, and the flags
+/// (unreliable terms, data warnings, failure messages).
+std::string FormatCampaignSummary(const std::string& path, const CampaignTable& table);
 
 }  // namespace fogpipe::io

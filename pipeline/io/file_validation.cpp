@@ -1,11 +1,13 @@
 #include "pipeline/io/file_validation.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cstdint>
 #include <new>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/recording_check.h"
@@ -14,9 +16,8 @@
 namespace fogpipe::io {
 namespace {
 
-/// The `fogpipe_format` tag of an open file ("" when absent or not a string).
-std::string FormatTag(const hdf5::File& file) {
-  const hdf5::Group root = file.Root();
+/// The `fogpipe_format` tag of an open file's root ("" when absent or not a string).
+std::string FormatTag(const hdf5::Group& root) {
   if (!root.HasAttribute(kFormatAttribute)) return "";
   const hdf5::AttributeInfo info = root.DescribeAttribute(kFormatAttribute);
   if (info.type.type_class != hdf5::TypeClass::kString || info.size() != 1) return "";
@@ -58,6 +59,18 @@ void CheckRecordingData(const FileValidationOptions& options, FileValidation* re
 
 }  // namespace
 
+std::string ReadFormatTag(const std::string& path) {
+  auto lock = hdf5::LockHdf5();
+  return FormatTag(OpenHdf5ReadOnly(path).Root());
+}
+
+void RequireFormatTag(const hdf5::Group& root, const std::string& path, const std::string& format) {
+  if (FormatTag(root) != format) {
+    throw std::runtime_error(path + ": not a " + format +
+                             " file (root attribute fogpipe_format missing or different)");
+  }
+}
+
 std::string SchemaNameForFormat(const std::string& format_tag) {
   if (format_tag.empty()) return kRecordingSchemaName;
   const std::string prefix = "fogpipe-";
@@ -66,7 +79,9 @@ std::string SchemaNameForFormat(const std::string& format_tag) {
 
 namespace {
 
-constexpr const char* kResultsSchemaName = "results-v1";
+/// The layouts of the files fogpipe writes, which ship with it (schemas/).
+constexpr std::array<const char*, 4> kOutputSchemaNames = {"results-v1", "campaign-v1", "sweep-v1",
+                                                           "compare-v1"};
 
 /// A plain schema name ("results-v1"): what a file's own `fogpipe_format` may select. Anything
 /// else (a path, "..") is the file's problem: a file never chooses what else is read.
@@ -102,13 +117,20 @@ std::optional<Schema> UserSchema(const std::string& name, const FileValidationOp
 std::optional<Schema> TaggedSchema(const std::string& tag, const FileValidationOptions& options,
                                    FileValidation* result) {
   const std::string name = SchemaNameForFormat(tag);
-  // The results layout ships with fogpipe: not finding it is an installation problem.
-  if (name == kResultsSchemaName) return UserSchema(name, options, result);
+  // The layouts of fogpipe's own outputs ship with it: not finding one is an installation
+  // problem, not the file's.
+  if (std::find(kOutputSchemaNames.begin(), kOutputSchemaNames.end(), name) !=
+      kOutputSchemaNames.end()) {
+    return UserSchema(name, options, result);
+  }
   if (IsPlainSchemaName(name)) result->schema_path = FindSchemaFile(name, options.schemas_dir);
   if (result->schema_path.empty()) {
-    result->problems.push_back(
-        {"/", "attribute 'fogpipe_format' is '" + tag +
-                  "', which names no fogpipe file format with a schema here (known: results-v1)"});
+    std::string known;
+    for (const char* n : kOutputSchemaNames) known += (known.empty() ? "" : ", ") + std::string(n);
+    result->problems.push_back({"/", "attribute 'fogpipe_format' is '" + tag +
+                                         "', which names no fogpipe file format with a schema "
+                                         "here (known: " +
+                                         known + ")"});
     return std::nullopt;
   }
   return Schema::FromFile(result->schema_path);
@@ -124,7 +146,7 @@ FileValidation ValidateFile(const std::string& path, const FileValidationOptions
     const hdf5::File file = OpenHdf5ReadOnly(path);
     std::string tag;
     try {
-      tag = FormatTag(file);
+      tag = FormatTag(file.Root());
     } catch (const hdf5::Error& e) {
       result.problems.push_back({"/", std::string("cannot read the root attributes: ") + e.what()});
       return result;

@@ -59,6 +59,15 @@ FileValidation ValidateFile(const std::string& path, const FileValidationOptions
 FileValidation ValidateFileIsolated(const std::string& path, const FileValidationOptions& options,
                                     const IsolationLimits& limits);
 
+/// The `fogpipe_format` tag of a file ("" when absent or not a string: a recording). Takes the
+/// HDF5 lock. Throws RecordingError when the file cannot be opened as HDF5.
+std::string ReadFormatTag(const std::string& path);
+
+/// Throws std::runtime_error naming `path` unless `root` (of that file) carries the
+/// `fogpipe_format` tag `format`: what every reader of a fogpipe output checks first. Caller
+/// holds LockHdf5().
+void RequireFormatTag(const hdf5::Group& root, const std::string& path, const std::string& format);
+
 /// The schema name for a `fogpipe_format` tag: "fogpipe-results-v1" -> "results-v1"; "" (no
 /// tag) -> "recording-v1".
 std::string SchemaNameForFormat(const std::string& format_tag);

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstring>
 #include <sstream>
+#include <stdexcept>
 
 #include "pipeline/hdf5/hdf5_lock.h"
 
@@ -174,6 +175,32 @@ IsolatedOutcome RunIsolatedLockingHdf5(const std::function<int(std::string* outp
         return body(output);
       },
       limits);
+}
+
+std::string SummarizeIsolated(const std::string& path,
+                              const std::function<std::string()>& summarize) {
+  constexpr int kReadError = 1;
+  const IsolationLimits limits;
+  const IsolatedOutcome outcome = RunIsolatedLockingHdf5(
+      [&](std::string* out) {
+        try {
+          *out = summarize();
+          return 0;
+        } catch (const std::exception& e) {
+          *out = e.what();
+          return kReadError;
+        }
+      },
+      limits);
+  using End = IsolatedOutcome::End;
+  if (outcome.end == End::kExited && outcome.exit_code == 0) return outcome.output;
+  if (outcome.end == End::kExited && outcome.exit_code == kReadError) {
+    throw std::runtime_error(outcome.output);
+  }
+  if (outcome.Interrupted()) throw std::runtime_error(path + ": interrupted");
+  throw std::runtime_error(path + ": reading it, the HDF5 library " + outcome.Describe(limits) +
+                           " (damaged HDF5 metadata); the failure was contained in a child "
+                           "process");
 }
 
 }  // namespace fogpipe::io

@@ -56,4 +56,12 @@ IsolatedOutcome RunIsolated(const std::function<int(std::string* output)>& body,
 IsolatedOutcome RunIsolatedLockingHdf5(const std::function<int(std::string* output)>& body,
                                        const IsolationLimits& limits);
 
+/// `summarize()` in a child process, for a command that prints one file's summary (`info`): a
+/// damaged file that crashes or hangs the HDF5 library is reported by name, and the caller goes
+/// on. Returns the text; throws std::runtime_error with the message of what `summarize` threw,
+/// or naming `path` and how the child ended. `summarize` takes the HDF5 lock itself; take no
+/// lock around it.
+std::string SummarizeIsolated(const std::string& path,
+                              const std::function<std::string()>& summarize);
+
 }  // namespace fogpipe::io

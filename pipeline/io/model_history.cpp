@@ -289,13 +289,17 @@ int AppendHistory(const std::string& results, const std::string& recording, cons
   int index = 0;
   try {
     std::unique_ptr<H5::H5File> file;
-    if (fs::exists(final_path)) {
+    const bool appending = fs::exists(final_path);
+    if (appending) {
       fs::copy_file(final_path, tmp, fs::copy_options::overwrite_existing);
       file = std::make_unique<H5::H5File>(tmp.string(), H5F_ACC_RDWR);
     } else {
       file = std::make_unique<H5::H5File>(tmp.string(), H5F_ACC_EXCL);
     }
     hdf5::Group root(tmp.string(), "/", file->openGroup("/"));
+    // A file of its own is tagged so that `validate` and `info` know it; a results file the
+    // history is appended to keeps its own tag.
+    if (!appending) root.WriteStringAttribute("fogpipe_format", kCompareFormat);
     hdf5::Group compare = root.RequireGroup("compare");
     index =
         compare.HasAttribute("steps") ? static_cast<int>(compare.ReadInt64Attribute("steps")) : 0;
@@ -359,6 +363,30 @@ std::vector<HistoryStep> ReadHistory(const std::string& results) {
     const auto text = s.OpenDataset("model_json").ReadStrings();
     h.model_json = text.empty() ? "" : text[0];
     out.push_back(h);
+  }
+  return out;
+}
+
+std::string FormatHistory(const std::vector<HistoryStep>& steps) {
+  std::string out;
+  char line[512];
+  std::snprintf(line, sizeof(line), "%-5s %-10s %-11s %-18s %s\n", "step", "error", "consistent",
+                "next suggestion", "terms");
+  out += line;
+  double prev = 0;
+  for (const auto& s : steps) {
+    std::string terms;
+    for (const auto& t : s.terms) terms += (terms.empty() ? "" : ",") + t;
+    std::snprintf(line, sizeof(line), "%-5d %-10.4g %-11s %-18s ", s.index, s.error,
+                  s.consistent ? "yes" : "no",
+                  s.first_suggestion.empty() ? "-" : s.first_suggestion.c_str());
+    out += line + terms;
+    if (s.index > 0 && s.error > 0) {
+      std::snprintf(line, sizeof(line), "   (error x%.2g)", s.error / prev);
+      out += line;
+    }
+    out += "\n";
+    prev = s.error;
   }
   return out;
 }

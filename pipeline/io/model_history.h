@@ -37,6 +37,9 @@ void WriteModelFile(const std::string& path, const model::Evaluation& evaluation
 /// Reads a model file. Throws std::runtime_error naming the file and the problem.
 ModelFile ReadModelFile(const std::string& path);
 
+/// Root `fogpipe_format` of a file `compare -o` creates (schemas/compare-v1.json).
+inline constexpr const char* kCompareFormat = "fogpipe-compare-v1";
+
 /// One step of the history as stored.
 struct HistoryStep {
   int index = 0;
@@ -48,14 +51,19 @@ struct HistoryStep {
   std::string model_json;  ///< the "model" object
 };
 
-/// Appends the comparison as the next step under /compare in `results` (created if missing),
-/// with the views' arrays for the report (scripts/report.py). Atomic: the new file is written
-/// under a temporary name in the same folder and renamed over `results`. Takes the HDF5 lock.
+/// Appends the comparison as the next step under /compare in `results` (created if missing,
+/// then tagged kCompareFormat), with the views' arrays for the report (scripts/report.py).
+/// Atomic: the new file is written under a temporary name in the same folder and renamed over
+/// `results`. Takes the HDF5 lock.
 /// Returns the new step's index. Throws hdf5::Error / std::runtime_error.
 int AppendHistory(const std::string& results, const std::string& recording, const std::string& axis,
                   const model::CompareResult& result);
 
 /// Reads every step (takes the HDF5 lock). Throws on a file without /compare.
 std::vector<HistoryStep> ReadHistory(const std::string& results);
+
+/// The history as a table, one line per step: error, consistent, the next suggestion, the terms
+/// and the error's change from the step before.
+std::string FormatHistory(const std::vector<HistoryStep>& steps);
 
 }  // namespace fogpipe::io

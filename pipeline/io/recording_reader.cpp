@@ -648,6 +648,27 @@ Eigen::VectorXd RecordingReader::ReadAux(const std::string& name, const ReadOpti
   }
 }
 
+std::string FormatRecordingSummary(const RecordingInfo& info) {
+  std::ostringstream out;
+  out << info.path << "\n"
+      << "  recording  " << info.samples << " samples at " << info.sample_rate_hz << " Hz ("
+      << info.duration_s() << " s), " << info.file_size_bytes << " bytes\n"
+      << "  rate       " << info.axis_count << (info.axis_count == 1 ? " axis" : " axes") << " (";
+  for (std::size_t i = 0; i < info.axis_names.size(); ++i) {
+    out << (i ? ", " : "") << info.axis_names[i];
+  }
+  out << ") in " << info.rate_units << ", " << info.rate_dtype << ", "
+      << (info.rate_chunk.empty() ? "contiguous" : "chunked") << "\n";
+  if (info.start_time_utc) out << "  start      " << *info.start_time_utc << "\n";
+  if (info.instrument) out << "  instrument " << *info.instrument << "\n";
+  if (info.serial) out << "  serial     " << *info.serial << "\n";
+  if (info.latitude_deg) out << "  latitude   " << *info.latitude_deg << " deg\n";
+  for (const AuxChannelInfo& aux : info.aux) {
+    out << "  aux        " << aux.name << " in " << aux.units << ", " << aux.dtype << "\n";
+  }
+  return out.str();
+}
+
 hdf5::File OpenHdf5ReadOnly(const std::string& path) {
   long long size_bytes = 0;
   CheckReadable(path, &size_bytes);

@@ -125,6 +125,10 @@ bool IsValidAxisName(const std::string& name);
 void CheckDatasetStorage(const hdf5::Dataset& dataset, unsigned long long values,
                          std::size_t element_bytes, long long file_size_bytes);
 
+/// What `fogpipe info` shows of a recording: samples, rate and duration, the axes with their
+/// units and storage, the optional attributes and the aux channels.
+std::string FormatRecordingSummary(const RecordingInfo& info);
+
 /// Opens any HDF5 file read-only after the checks every reader of fogpipe files needs, each with
 /// its RecordingError kind: missing_file, unreadable_file, empty_file, not_hdf5, truncated_file,
 /// corrupt_file. Caller holds LockHdf5().

@@ -19,14 +19,6 @@ namespace {
 
 using hdf5::Group;
 
-void CheckFormat(const Group& root, const std::string& path) {
-  if (!root.HasAttribute(results::kFormatAttribute) ||
-      root.ReadStringAttribute(results::kFormatAttribute) != results::kFormat) {
-    throw std::runtime_error(path + ": not a " + std::string(results::kFormat) +
-                             " file (root attribute fogpipe_format missing or different)");
-  }
-}
-
 double Scalar(const Group& g, const std::string& name) {
   const std::vector<double> v = g.OpenDataset(name).ReadDoubles();
   return v.empty() ? 0.0 : v[0];
@@ -91,7 +83,7 @@ ResultsSummary ReadResultsSummary(const std::string& path) {
   auto lock = hdf5::LockHdf5();
   hdf5::File file = hdf5::File::OpenReadOnly(path);
   const Group root = file.Root();
-  CheckFormat(root, path);
+  RequireFormatTag(root, path, results::kFormat);
   ResultsSummary out;
   out.path = path;
   const Group p = root.OpenGroup("provenance");
@@ -142,7 +134,7 @@ std::optional<std::string> ReadConfigHash(const std::string& path) {
     auto lock = hdf5::LockHdf5();
     hdf5::File file = hdf5::File::OpenReadOnly(path);
     const Group root = file.Root();
-    CheckFormat(root, path);
+    RequireFormatTag(root, path, results::kFormat);
     return root.OpenGroup("provenance").ReadStringAttribute(results::kConfigHashAttribute);
   } catch (const std::exception&) {
     return std::nullopt;
@@ -186,7 +178,7 @@ RecordedInput ReadRecordedInput(const std::string& output_path) {
     auto lock = hdf5::LockHdf5();
     hdf5::File file = hdf5::File::OpenReadOnly(output_path);
     const Group root = file.Root();
-    CheckFormat(root, output_path);
+    RequireFormatTag(root, output_path, results::kFormat);
     const Group p = root.OpenGroup("provenance");
     r.config_sha256 = p.ReadStringAttribute(results::kConfigHashAttribute);
     r.path = p.ReadStringAttribute("input_path");
@@ -279,31 +271,6 @@ std::string FormatSummary(const ResultsSummary& summary) {
     if (!axis.data_warning.empty()) out << "warning: " << axis.data_warning << "\n";
   }
   return out.str();
-}
-
-std::string FormatResultsSummaryIsolated(const std::string& path) {
-  constexpr int kReadError = 1;
-  const IsolationLimits limits;
-  const IsolatedOutcome outcome = RunIsolatedLockingHdf5(
-      [&](std::string* out) {
-        try {
-          *out = FormatSummary(ReadResultsSummary(path));
-          return 0;
-        } catch (const std::exception& e) {
-          *out = e.what();
-          return kReadError;
-        }
-      },
-      limits);
-  using End = IsolatedOutcome::End;
-  if (outcome.end == End::kExited && outcome.exit_code == 0) return outcome.output;
-  if (outcome.end == End::kExited && outcome.exit_code == kReadError) {
-    throw std::runtime_error(outcome.output);
-  }
-  if (outcome.Interrupted()) throw std::runtime_error(path + ": interrupted");
-  throw std::runtime_error(path + ": reading it, the HDF5 library " + outcome.Describe(limits) +
-                           " (damaged HDF5 metadata); the failure was contained in a child "
-                           "process");
 }
 
 }  // namespace fogpipe::io

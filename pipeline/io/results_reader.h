@@ -68,9 +68,4 @@ std::string ResultsOfAnotherInput(const std::string& output_path, const std::str
 /// Human-readable summary: provenance, then per axis Table 3 and Table 5 with units.
 std::string FormatSummary(const ResultsSummary& summary);
 
-/// FormatSummary(ReadResultsSummary(path)) in a child process (isolated_call.h): a damaged
-/// results file that crashes or hangs the HDF5 library is reported by name, and the caller goes
-/// on. Throws std::runtime_error naming the file. Take no lock around it.
-std::string FormatResultsSummaryIsolated(const std::string& path);
-
 }  // namespace fogpipe::io

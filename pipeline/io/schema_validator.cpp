@@ -73,9 +73,16 @@ struct DatasetRule : ObjectRule {
   std::string same_length_as;
 };
 
+/// An external link among a group's children: accepted as a reference to another file, never
+/// followed (a validator of one file reads nothing else).
+struct LinkRule : ObjectRule {
+  std::optional<std::string> target;  ///< the object path inside the linked file
+};
+
 struct GroupRule : ObjectRule {
   std::vector<GroupRule> groups;
   std::vector<DatasetRule> datasets;
+  std::vector<LinkRule> links;
   bool forbid_additional = false;
 };
 
@@ -286,10 +293,21 @@ class Parser {
     return rule;
   }
 
+  LinkRule ParseLink(const std::string& key, const Json& node, const std::string& where) {
+    CheckKeys(node, where, {"description", "required", "min_count", "max_count", "target"});
+    LinkRule rule;
+    ParseCommon(key, node, where, &rule);
+    if (node.contains("target")) {
+      if (!node["target"].is_string()) Fail(where, "'target' must be a path");
+      rule.target = node["target"].get<std::string>();
+    }
+    return rule;
+  }
+
   GroupRule ParseGroup(const std::string& key, const Json& node, const std::string& where) {
     CheckKeys(node, where,
               {"description", "required", "min_count", "max_count", "attributes",
-               "additional_attributes", "groups", "datasets", "additional"});
+               "additional_attributes", "groups", "datasets", "links", "additional"});
     GroupRule rule;
     ParseCommon(key, node, where, &rule);
     rule.forbid_additional = ParseAdditional(node, "additional", where);
@@ -303,6 +321,12 @@ class Parser {
       if (!node["datasets"].is_object()) Fail(where, "'datasets' must be an object");
       for (const auto& item : node["datasets"].items()) {
         rule.datasets.push_back(ParseDataset(item.key(), item.value(), where + "/" + item.key()));
+      }
+    }
+    if (node.contains("links")) {
+      if (!node["links"].is_object()) Fail(where, "'links' must be an object");
+      for (const auto& item : node["links"].items()) {
+        rule.links.push_back(ParseLink(item.key(), item.value(), where + "/" + item.key()));
       }
     }
     return rule;
@@ -478,12 +502,18 @@ class Validator {
       CheckUnits(dataset, rule->units_required, rule->units_allowed);
     }
     if (!rule->same_length_as.empty() && !dims.empty()) {
-      if (root_.TraceLinks(rule->same_length_as).end == hdf5::LinkTrace::End::kInFile &&
-          root_.KindOf(rule->same_length_as) == ObjectKind::kDataset) {
-        const std::vector<hsize_t> other = root_.OpenDataset(rule->same_length_as).dims();
+      // A name without '/' is a sibling: the columns of a table inside a repeated group.
+      const std::string& own = dataset.path();
+      const std::string parent = own.substr(0, std::max<std::size_t>(own.rfind('/'), 1));
+      const std::string other_path = rule->same_length_as[0] == '/'
+                                         ? rule->same_length_as
+                                         : JoinPath(parent, rule->same_length_as);
+      if (root_.TraceLinks(other_path).end == hdf5::LinkTrace::End::kInFile &&
+          root_.KindOf(other_path) == ObjectKind::kDataset) {
+        const std::vector<hsize_t> other = root_.OpenDataset(other_path).dims();
         if (!other.empty() && other[0] != dims[0]) {
-          Problem(dataset.path(), "has " + std::to_string(dims[0]) + " rows but " +
-                                      rule->same_length_as + " has " + std::to_string(other[0]));
+          Problem(dataset.path(), "has " + std::to_string(dims[0]) + " rows but " + other_path +
+                                      " has " + std::to_string(other[0]));
         }
       }
     }
@@ -520,6 +550,45 @@ class Validator {
     };
     for (const GroupRule& g : rule->groups) check_count(g, "group");
     for (const DatasetRule& d : rule->datasets) check_count(d, "dataset");
+    for (const LinkRule& l : rule->links) check_count(l, "external link");
+  }
+
+  /// The link rule of `rule` matching `child`, exact names first; nullptr when none.
+  static const LinkRule* LinkRuleNamed(const GroupRule* rule, const std::string& child) {
+    if (!rule) return nullptr;
+    for (bool patterns : {false, true}) {
+      for (const LinkRule& l : rule->links) {
+        if (l.name.is_pattern == patterns && l.name.Matches(child)) return &l;
+      }
+    }
+    return nullptr;
+  }
+
+  /// An external link the schema describes: counted and its target checked, not followed.
+  /// False when `child` is no external link or no rule describes it.
+  bool CheckDescribedLink(const hdf5::Group& group, const std::string& child,
+                          const std::string& path, const GroupRule* rule,
+                          std::map<const ObjectRule*, long long>* counts) {
+    const LinkRule* link_rule = LinkRuleNamed(rule, child);
+    if (!link_rule) return false;
+    H5L_info_t info;
+    if (H5Lget_info(group.id(), child.c_str(), &info, H5P_DEFAULT) < 0 ||
+        info.type != H5L_TYPE_EXTERNAL)
+      return false;
+    ++report_->objects_checked;
+    ++(*counts)[link_rule];
+    std::vector<char> value(info.u.val_size);
+    const char* file_name = nullptr;
+    const char* object = nullptr;
+    unsigned flags = 0;
+    if (H5Lget_val(group.id(), child.c_str(), value.data(), value.size(), H5P_DEFAULT) < 0 ||
+        H5Lunpack_elink_val(value.data(), value.size(), &flags, &file_name, &object) < 0) {
+      Problem(path, "external link that cannot be read");
+    } else if (link_rule->target && *link_rule->target != object) {
+      Problem(path, "external link to '" + std::string(object) + "' in " + file_name +
+                        ", expected '" + *link_rule->target + "'");
+    }
+    return true;
   }
 
   /// The rule of `rule` whose name matches `child`, of either kind, exact names first.
@@ -542,6 +611,9 @@ class Validator {
     // file reads nothing else, so such a link is reported, never followed.
     // The tags are the reader's error kinds for the same links (recording_error.h).
     const hdf5::LinkTrace trace = root_.TraceLinks(path);
+    if (trace.end == hdf5::LinkTrace::End::kLeavesFile && trace.link == path &&
+        CheckDescribedLink(group, child, path, rule, counts))
+      return;
     if (trace.end != hdf5::LinkTrace::End::kInFile) {
       if (trace.end == hdf5::LinkTrace::End::kLeavesFile) {
         Problem(path, "is reached through an external link (" + trace.link +

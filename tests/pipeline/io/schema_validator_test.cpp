@@ -455,6 +455,62 @@ TEST_F(SchemaEngine, CountsRepeatedObjectsMatchedByAPattern) {
       << report;
 }
 
+// A table of files (fogpipe merge's /results) links to them: a described external link is
+// counted and its target checked without opening the file; an undescribed one stays a problem.
+// Columns of a table inside a repeated group are compared with a sibling.
+TEST(SchemaLinks, DescribedExternalLinksAreCountedNotFollowedAndSiblingLengthsCompared) {
+  hdf5::SilenceHdf5ErrorPrinter();
+  TempDir dir;
+  const std::string fifo = dir.File("blocks.h5");  // opening it would block
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  const std::string path = dir.File("table.h5");
+  {
+    RawFile f(path);
+    f.Group("/results");
+    for (const char* name : {"a", "b", "c"}) {
+      ASSERT_GE(
+          H5Lcreate_external(fifo.c_str(), std::string(name) == "c" ? "/other" : "/", f.id(),
+                             (std::string("/results/") + name).c_str(), H5P_DEFAULT, H5P_DEFAULT),
+          0);
+    }
+    ASSERT_GE(H5Lcreate_external(fifo.c_str(), "/", f.id(), "/stray", H5P_DEFAULT, H5P_DEFAULT), 0);
+    f.Dataset("/rows/x/first", {10}, Signal(10));
+    f.StringAttribute("/rows/x/first", "units", "1");
+    f.Dataset("/rows/x/second", {9}, Signal(9));
+    f.StringAttribute("/rows/x/second", "units", "1");
+  }
+  const Schema schema = Schema::FromJsonText(R"({
+    "format": "fogpipe-schema-v1", "name": "links",
+    "root": {"groups": {
+      "results": {"required": true, "links": {"<name>": {"min_count": 4, "target": "/"}}},
+      "rows": {"groups": {"<row>": {"datasets": {
+        "first": {"required": true},
+        "second": {"required": true, "same_length_as": "first"}}}}}}}})",
+                                             "links.json");
+  auto lock = hdf5::LockHdf5();
+  const std::string report = Lines(schema.Validate(hdf5::File::OpenReadOnly(path)).problems);
+  EXPECT_NE(report.find("/results/c: external link to '/other' in " + fifo + ", expected '/'"),
+            std::string::npos)
+      << report;
+  EXPECT_NE(report.find("/results: has 3 external link '<name>', expected at least 4"),
+            std::string::npos)
+      << report;
+  EXPECT_NE(report.find("/stray: is reached through an external link"), std::string::npos)
+      << report;
+  EXPECT_NE(report.find("/rows/x/second: has 9 rows but /rows/x/first has 10"), std::string::npos)
+      << report;
+  EXPECT_EQ(report.find("/results/a"), std::string::npos) << report;
+}
+
+// The layouts of every HDF5 file fogpipe writes ship with it and parse.
+TEST(ShippedSchemas, EveryOutputLayoutLoads) {
+  for (const char* name : {"recording-v1", "results-v1", "campaign-v1", "sweep-v1", "compare-v1"}) {
+    const std::string file = FindSchemaFile(name, kSchemasDir);
+    ASSERT_FALSE(file.empty()) << name;
+    EXPECT_EQ(Schema::FromFile(file).name(), name);
+  }
+}
+
 TEST_F(SchemaEngine, ForbidsUnknownObjectsWhereTheSchemaSaysSoAndRequiresUnitsEverywhere) {
   const std::string report = Report([](RawFile& f) {
     f.IntAttribute("/", "version", 3);
