@@ -14,11 +14,13 @@
 // Exit codes: 0 compared (consistent or not) or history printed; 1 a read/fit/write failed;
 // 2 invalid options.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <string>
 #include <vector>
 
+#include "algorithms/common/units.h"
 #include "algorithms/model/compare.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/graph/tbb_for_each.h"
@@ -73,6 +75,12 @@ void PrintText(const model::CompareResult& r) {
   for (const auto& f : v.failures) {
     if (f.domain == "aux")
       std::printf("  fails in aux: channel %s, severity %.3g\n", f.channel.c_str(), f.severity);
+    else if (f.domain == "frequency")
+      std::printf(
+          "  fails in frequency: band %.4g .. %.4g Hz (centre %.4g, peak %.4g Hz at %.3gx the "
+          "model psd, %d failing bins), excess power %.3g (deg/h)^2, severity %.3g\n",
+          f.from, f.to, f.center_hz, f.peak_hz, f.peak_ratio, f.failing_bins,
+          f.excess_power * std::pow(units::RadPerSecondToDegPerHour(1.0), 2), f.severity);
     else
       std::printf("  fails in %s: %.4g .. %.4g %s, severity %.3g\n", f.domain.c_str(), f.from, f.to,
                   f.domain == "frequency" ? "Hz" : "s", f.severity);

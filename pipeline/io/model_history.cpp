@@ -78,6 +78,27 @@ void WriteViews(hdf5::Group& g, const model::Evaluation& e) {
   f.WriteDataset("model_psd", v.frequency.model_psd, "(rad/s)^2/Hz");
   f.WriteDataset("line_frequency_hz", v.frequency.line_frequency_hz, "Hz");
   f.WriteDataset("line_z", v.frequency.line_z, "1");
+  // The failing bands (one per frequency failure, views.h).
+  std::vector<double> from, to, center, peak, ratio, excess;
+  std::vector<long long> bins;
+  for (const auto& fl : v.failures) {
+    if (fl.domain != "frequency") continue;
+    from.push_back(fl.from);
+    to.push_back(fl.to);
+    center.push_back(fl.center_hz);
+    peak.push_back(fl.peak_hz);
+    ratio.push_back(fl.peak_ratio);
+    excess.push_back(fl.excess_power);
+    bins.push_back(fl.failing_bins);
+  }
+  hdf5::Group bands = f.CreateGroup("bands");
+  bands.WriteDataset("from_hz", from, "Hz");
+  bands.WriteDataset("to_hz", to, "Hz");
+  bands.WriteDataset("center_hz", center, "Hz");
+  bands.WriteDataset("peak_hz", peak, "Hz");
+  bands.WriteDataset("peak_ratio", ratio, "1");
+  bands.WriteDataset("excess_power", excess, "(rad/s)^2");
+  bands.WriteDataset("failing_bins", bins, "1");
   f.WriteDoubleAttribute("statistic", v.frequency.statistic);
   f.WriteDoubleAttribute("critical", v.frequency.critical);
   f.WriteDoubleAttribute("dof", v.frequency.dof);
@@ -200,6 +221,13 @@ json CompareJson(const model::CompareResult& r) {
     } else {
       o["from"] = Number(f.from);
       o["to"] = Number(f.to);
+    }
+    if (f.domain == "frequency") {
+      o["center_hz"] = Number(f.center_hz);
+      o["peak_hz"] = Number(f.peak_hz);
+      o["peak_ratio"] = Number(f.peak_ratio);
+      o["excess_power_rad2_per_s2"] = Number(f.excess_power);
+      o["failing_bins"] = f.failing_bins;
     }
     failures.push_back(o);
   }
