@@ -470,12 +470,27 @@ Views ComputeViews(const Eigen::VectorXd& r, double fs, const std::vector<Prepar
   ComputeTimeView(r, fs, dec, m, o, av, &v.time, &v.failures);
   if (has_aux) ComputeAuxView(r, fs, dec, aux, m, o, av, &v.aux, &v.failures);
   auto sq = [](double x) { return x * x; };
-  v.error = std::max({sq(v.allan.statistic / v.allan.critical),
-                      sq(v.frequency.statistic / v.frequency.critical),
-                      sq(v.time.statistic / v.time.critical),
-                      has_aux ? sq(v.aux.statistic / v.aux.critical) : 0.0});
+  v.view_errors = {{"tau", sq(v.allan.statistic / v.allan.critical)},
+                   {"frequency", sq(v.frequency.statistic / v.frequency.critical)},
+                   {"time", sq(v.time.statistic / v.time.critical)}};
+  if (has_aux) v.view_errors.push_back({"aux", sq(v.aux.statistic / v.aux.critical)});
+  v.error = 0;
+  for (const ViewError& e : v.view_errors) v.error = std::max(v.error, e.error);
   v.consistent = v.error <= 1.0;
   return v;
+}
+
+double ViewErrorOf(const Views& v, const std::string& domain) {
+  for (const ViewError& e : v.view_errors)
+    if (e.domain == domain) return e.error;
+  return 0.0;
+}
+
+std::vector<std::string> FailingViews(const Views& v) {
+  std::vector<std::string> out;
+  for (const ViewError& e : v.view_errors)
+    if (e.error > 1.0) out.push_back(e.domain);
+  return out;
 }
 
 }  // namespace fogpipe::model

@@ -165,11 +165,20 @@ struct AuxView {
   double statistic = 0, critical = 1;
 };
 
+/// One scored view's error (S_v / c_v)^2; the overall error is the largest of them.
+struct ViewError {
+  std::string domain;  ///< "tau" | "frequency" | "time" | "aux"
+  double error = 0;
+};
+
 struct Views {
   AllanView allan;
   FrequencyView frequency;
   TimeView time;
   AuxView aux;
+  /// Per scored view, in the order tau, frequency, time, aux (aux only with aux channels): a
+  /// term that fixes one view is credited for it even while another view dominates `error`.
+  std::vector<ViewError> view_errors;
   double error = 0;
   bool consistent = true;
   std::vector<Failure> failures;
@@ -200,6 +209,12 @@ std::vector<PreparedAux> PrepareAux(const std::vector<AuxChannel>& aux, long n,
 Views ComputeViews(const Eigen::VectorXd& residual, double sample_rate_hz,
                    const std::vector<PreparedAux>& aux, const StochasticModel& model,
                    const AllanData& allan, const ViewOptions& options);
+
+/// The error of the view `domain` (0 when it is not scored).
+double ViewErrorOf(const Views& views, const std::string& domain);
+
+/// The scored views whose error exceeds 1 (they fail), in view order.
+std::vector<std::string> FailingViews(const Views& views);
 
 /// Means of consecutive blocks of `block` samples (a trailing partial block is dropped).
 Eigen::VectorXd BlockMeans(const Eigen::VectorXd& x, long block);

@@ -6,10 +6,11 @@
 //   fogpipe compare --history RESULTS
 //
 // Fits the model (algorithms/model/compare.h), prints the error, the failures and the ranked
-// suggestions (or, with --json, one JSON object with exactly error, consistent, failures,
-// suggestions, model), appends the step to RESULTS and optionally writes the model file that
-// `compare --model` and `run --model` read. The trial fits and the IMF view run in parallel
-// (model::Compare with graph::TbbForEach); the numbers do not depend on the thread count.
+// suggestions and the verdict (or, with --json, one JSON object with exactly error, consistent,
+// view_errors, verdict, failures, suggestions, model), appends the step to RESULTS and optionally
+// writes the model file that `compare --model` and `run --model` read. The trial fits and the IMF
+// view run in parallel (model::Compare with graph::TbbForEach); the numbers do not depend on the
+// thread count.
 //
 // Exit codes: 0 compared (consistent or not) or history printed; 1 a read/fit/write failed;
 // 2 invalid options.
@@ -72,6 +73,10 @@ void PrintText(const model::CompareResult& r) {
   const auto& v = r.base.views;
   std::printf("error %.3g (%s; 1 = the family-wise 95 %% band)\n", v.error,
               v.consistent ? "consistent" : "NOT consistent");
+  std::printf("  per view:");
+  for (const auto& e : v.view_errors)
+    std::printf(" %s %.3g%s", e.domain.c_str(), e.error, e.error > 1 ? " (fails)" : "");
+  std::printf("\n");
   for (const auto& f : v.failures) {
     if (f.domain == "aux")
       std::printf("  fails in aux: channel %s, severity %.3g\n", f.channel.c_str(), f.severity);
@@ -85,10 +90,16 @@ void PrintText(const model::CompareResult& r) {
       std::printf("  fails in %s: %.4g .. %.4g %s, severity %.3g\n", f.domain.c_str(), f.from, f.to,
                   f.domain == "frequency" ? "Hz" : "s", f.severity);
   }
+  std::printf("verdict: %s\n", r.verdict.text.c_str());
   for (size_t i = 0; i < r.suggestions.size(); ++i) {
     const auto& s = r.suggestions[i];
-    std::printf("%s %s: error after %.3g, delta BIC %.3g\n  %s\n", i == 0 ? "ADD" : "   ",
-                model::ToString(s.term), s.error_after, s.delta_bic, s.evidence.c_str());
+    std::string fixes;
+    for (const auto& f : s.fixes) fixes += (fixes.empty() ? "" : ", ") + f;
+    const bool add = i == 0 && r.verdict.suggestion && *r.verdict.suggestion == s.term;
+    std::printf("%s %s: error after %.3g, delta BIC %.3g%s%s%s\n  %s\n", add ? "ADD" : "   ",
+                model::ToString(s.term), s.error_after, s.delta_bic,
+                s.bic_rejects ? " (BIC rejects it)" : "", fixes.empty() ? "" : ", fixes ",
+                fixes.c_str(), s.evidence.c_str());
     for (const auto& p : s.parameters)
       std::printf("    %s = %.5g +- %.2g %s\n", p.name.c_str(), p.value, p.standard_error,
                   p.units.c_str());
@@ -117,13 +128,14 @@ void PrintText(const model::CompareResult& r) {
 
 int PrintHistory(const std::string& results) {
   const auto steps = io::ReadHistory(results);
-  std::printf("%-5s %-10s %-11s %-18s %s\n", "step", "error", "consistent", "next suggestion",
-              "terms");
+  std::printf("%-5s %-10s %-11s %-12s %-18s %s\n", "step", "error", "consistent", "verdict",
+              "next suggestion", "terms");
   double prev = 0;
   for (const auto& s : steps) {
     std::string terms;
     for (const auto& t : s.terms) terms += (terms.empty() ? "" : ",") + t;
-    std::printf("%-5d %-10.4g %-11s %-18s %s", s.index, s.error, s.consistent ? "yes" : "no",
+    std::printf("%-5d %-10.4g %-11s %-12s %-18s %s", s.index, s.error, s.consistent ? "yes" : "no",
+                s.verdict.empty() ? "-" : s.verdict.c_str(),
                 s.first_suggestion.empty() ? "-" : s.first_suggestion.c_str(), terms.c_str());
     if (s.index > 0 && s.error > 0) std::printf("   (error x%.2g)", s.error / prev);
     std::printf("\n");

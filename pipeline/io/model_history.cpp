@@ -212,9 +212,15 @@ json ModelJson(const model::Evaluation& e) {
   return {{"terms", terms}, {"fitted", fitted}, {"noise_fit", noise_fit}};
 }
 
-json CompareJson(const model::CompareResult& r) {
+json ViewErrorsJson(const std::vector<model::ViewError>& errors) {
+  json o = json::object();
+  for (const auto& e : errors) o[e.domain] = Number(e.error);
+  return o;
+}
+
+json FailuresJson(const std::vector<model::Failure>& list) {
   json failures = json::array();
-  for (const auto& f : r.base.views.failures) {
+  for (const auto& f : list) {
     json o = {{"domain", f.domain}, {"severity", Number(f.severity)}};
     if (f.domain == "aux") {
       o["channel"] = f.channel;
@@ -231,9 +237,14 @@ json CompareJson(const model::CompareResult& r) {
     }
     failures.push_back(o);
   }
+  return failures;
+}
+
+json CompareJson(const model::CompareResult& r) {
   json model = ModelJson(r.base);
-  // The IMF view lives inside "model": the top level keeps exactly the five documented keys of
-  // `compare --json` (error, consistent, failures, suggestions, model), which scripts rely on.
+  // The IMF view lives inside "model": the top level keeps exactly the seven documented keys of
+  // `compare --json` (error, consistent, view_errors, verdict, failures, suggestions, model), which
+  // scripts rely on.
   model["imf"] = ImfJson(r.base.imf);
   json suggestions = json::array();
   for (const auto& s : r.suggestions)
@@ -241,10 +252,24 @@ json CompareJson(const model::CompareResult& r) {
                            {"error_after", Number(s.error_after)},
                            {"delta_bic", Number(s.delta_bic)},
                            {"parameters", ParametersJson(s.parameters)},
-                           {"evidence", s.evidence}});
+                           {"evidence", s.evidence},
+                           {"view_errors_after", ViewErrorsJson(s.view_errors_after)},
+                           {"fixes", s.fixes},
+                           {"bic_rejects", s.bic_rejects}});
+  const model::Verdict& v = r.verdict;
+  const json verdict = {
+      {"status", v.status},
+      {"suggestion", v.suggestion ? json(model::ToString(*v.suggestion)) : json(nullptr)},
+      {"fixes", v.fixes},
+      {"consistent_with_suggestion", v.consistent_with_suggestion},
+      {"still_failing", FailuresJson(v.still_failing)},
+      {"unexplained", FailuresJson(v.unexplained)},
+      {"text", v.text}};
   return {{"error", Number(r.base.views.error)},
           {"consistent", r.base.views.consistent},
-          {"failures", failures},
+          {"view_errors", ViewErrorsJson(r.base.views.view_errors)},
+          {"verdict", verdict},
+          {"failures", FailuresJson(r.base.views.failures)},
           {"suggestions", suggestions},
           {"model", model}};
 }
@@ -335,6 +360,10 @@ int AppendHistory(const std::string& results, const std::string& recording, cons
     step.WriteStringArrayAttribute("terms", terms);
     step.WriteDoubleAttribute("error", r.base.views.error);
     step.WriteInt64Attribute("consistent", r.base.views.consistent ? 1 : 0);
+    for (const auto& e : r.base.views.view_errors)
+      step.WriteDoubleAttribute("error_" + e.domain, e.error);
+    step.WriteStringAttribute("verdict", r.verdict.status);
+    step.WriteStringAttribute("verdict_text", r.verdict.text);
     step.WriteStringAttribute("first_suggestion",
                               r.suggestions.empty() ? "" : model::ToString(r.suggestions[0].term));
     step.WriteStringAttribute("recording", recording);
@@ -383,6 +412,8 @@ std::vector<HistoryStep> ReadHistory(const std::string& results) {
     h.error = s.ReadDoubleAttribute("error");
     h.consistent = s.ReadInt64Attribute("consistent") != 0;
     h.first_suggestion = s.ReadStringAttribute("first_suggestion");
+    // Steps written before the verdict existed have none.
+    if (s.HasAttribute("verdict")) h.verdict = s.ReadStringAttribute("verdict");
     h.recording = s.ReadStringAttribute("recording");
     const auto text = s.OpenDataset("model_json").ReadStrings();
     h.model_json = text.empty() ? "" : text[0];

@@ -216,6 +216,26 @@ void AddNarrowBand(double f0, double zeta, double peak_ratio, std::uint64_t seed
   y += x * std::sqrt(power / var);
 }
 
+void AddPressureBias(double k, std::uint64_t seed, HiddenCase* c) {
+  Eigen::VectorXd& y = c->recording.rate_rad_s;
+  const long n = y.size();
+  const double fs = c->input.sample_rate_hz;
+  std::mt19937_64 g(seed * 0x9E3779B97F4A7C15ULL + 0x9E55ULL);
+  std::normal_distribution<double> e(0.0, 1.0);
+  // First-order Gauss-Markov wander, correlation time 600 s, started from its stationary law.
+  const double phi = std::exp(-1.0 / (600.0 * fs));
+  Eigen::VectorXd p(n);
+  double x = e(g);
+  for (long i = 0; i < n; ++i) {
+    x = phi * x + std::sqrt(1.0 - phi * phi) * e(g);
+    p[i] = x;
+  }
+  p.array() -= p.mean();
+  p /= std::sqrt(p.squaredNorm() / static_cast<double>(n));
+  y += p * (k * NoiseAllanDeviation(c->recording.truth.options.errors, 1000.0));
+  c->input.aux.push_back({"pressure", "hPa", (1013.0 + 5.0 * p.array()).matrix()});
+}
+
 Term AnalysisTerm(simulation::Term t) { return *ParseTerm(simulation::ToString(t)); }
 
 }  // namespace fogpipe::model::testing

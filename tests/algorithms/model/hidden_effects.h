@@ -104,6 +104,13 @@ HiddenCase MakeHiddenCase(const simulation::GyroSimulatorOptions& options);
 /// (seed). The input keeps pointing at the recording's rate.
 void AddNarrowBand(double f0_hz, double zeta, double peak_ratio, std::uint64_t seed, HiddenCase* c);
 
+/// Adds an effect outside the catalog: a bias that follows an aux channel "pressure" (hPa; a
+/// first-order Gauss-Markov wander with a 600 s correlation time, standardised: ~36 independent
+/// excursions in 6 h, so neither a cycle, a step nor a warm-up fits it) with rms amplitude k times
+/// the noise model's Allan deviation at 1000 s, and the channel itself to the input's aux. Its
+/// own random stream (seed).
+void AddPressureBias(double k, std::uint64_t seed, HiddenCase* c);
+
 /// The analysis' name of a simulator term (same catalog names).
 Term AnalysisTerm(simulation::Term t);
 
