@@ -47,8 +47,9 @@ def allan_view(s, cj, out):
     for f in cj["failures"]:
         if f["domain"] == "tau":
             ax.axvspan(f["from"], f["to"], color="red", alpha=0.15)
-        if f["domain"] == "frequency":  # where the line shows in the Allan view: 0.371 / f
-            t0 = 0.371 / (0.5 * (f["from"] + f["to"]))
+        if f["domain"] == "frequency":  # where the band shows in the Allan view: 0.371 / f
+            fc = f.get("center_hz") or 0.5 * (f["from"] + f["to"])
+            t0 = 0.371 / fc
             ax.axvspan(t0 / 1.15, t0 * 1.15, color="orange", alpha=0.35)
     ax.fill_between(tau, lo, hi, color="C0", alpha=0.25, label="measured, 68 % CI")
     ax.loglog(tau, meas, "o-", color="C0", label="measured (residual)")
@@ -74,14 +75,25 @@ def psd_view(s, cj, out):
     fig, ax = plt.subplots(figsize=(8, 5))
     ax.loglog(f, g["psd"][()] * scale, color="C0", lw=0.8, label="residual PSD (Welch)")
     ax.loglog(f, g["model_psd"][()] * scale, color="k", lw=2, label="model PSD")
-    for fl in cj["failures"]:
-        if fl["domain"] == "frequency":
-            ax.axvspan(fl["from"], fl["to"], color="red", alpha=0.3)
+    # One failure per band (merged failing bins): shaded, labelled with its centre and peak ratio.
+    bands = [fl for fl in cj["failures"] if fl["domain"] == "frequency"]
+    for fl in bands:
+        ax.axvspan(fl["from"], fl["to"], color="red", alpha=0.3)
+    # Labels for the 4 most severe bands, staggered so that neighbours stay legible.
+    top = sorted(bands, key=lambda fl: -fl["severity"])[:4]
+    for k, fl in enumerate(sorted(top, key=lambda fl: fl["from"])):
+        if fl.get("center_hz"):
+            ax.annotate("%.3g Hz, %.3gx" % (fl["center_hz"], fl.get("peak_ratio") or 0),
+                        (fl["center_hz"], 1.0), xycoords=("data", "axes fraction"),
+                        xytext=(0, -3 - 10 * k), textcoords="offset points", va="top",
+                        ha="center", fontsize=7, color="red")
     for fl in g["line_frequency_hz"][()]:
         ax.axvline(fl, color="red", ls=":", lw=1)
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("PSD [(deg/h)^2/Hz]")
-    ax.set_title(title(s, cj, "Frequency view (red: significant lines)"), fontsize=9)
+    what = "Frequency view (red: %d failing band%s; centre, peak psd/model)" % (
+        len(bands), "" if len(bands) == 1 else "s")
+    ax.set_title(title(s, cj, what), fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()

@@ -313,11 +313,15 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base, const std::vecto
   const double lambda = std::max(1.0, base.deterministic.long_run_variance_ratio);
   const double n_eff = n / lambda;
   const double j = static_cast<double>(std::max<size_t>(base.allan.tau_s.size(), 2));
+  const std::vector<std::string> failing = FailingViews(base.views);
   for (size_t i = 0; i < tt.size() && i < trials.size(); ++i) {
     const Evaluation& tr = trials[i];
     const Term t = tt[i];
     if (!HasResult(tr.termination)) continue;
-    if (!(tr.views.error <= o.min_improvement * e0)) continue;
+    std::vector<std::string> fixes;
+    for (const std::string& v : failing)
+      if (ViewErrorOf(tr.views, v) <= 1.0) fixes.push_back(v);
+    if (!(tr.views.error <= o.min_improvement * e0) && fixes.empty()) continue;
     if (t == Term::kTemperature && !(aux_t && std::abs(aux_t->z) > aux_crit)) continue;
     if (t == Term::kTemperatureRate && !(aux_t && std::abs(aux_t->z_derivative) > aux_crit))
       continue;
@@ -342,17 +346,29 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base, const std::vecto
     }
     s.parameters = ParametersOf(tr, t);
     s.evidence = Evidence(base, tr, t);
+    s.view_errors_after = tr.views.view_errors;
+    s.fixes = fixes;
+    s.bic_rejects = s.delta_bic > 0;
     out.push_back(s);
   }
-  std::sort(out.begin(), out.end(),
-            [](const Suggestion& a, const Suggestion& b) { return a.error_after < b.error_after; });
-  if (!out.empty()) {
-    const double limit = o.tie_ratio * out.front().error_after + o.tie_offset;
-    auto lead_end = std::find_if(out.begin(), out.end(),
-                                 [&](const Suggestion& s) { return s.error_after > limit; });
-    std::stable_sort(out.begin(), lead_end, [](const Suggestion& a, const Suggestion& b) {
+  // Groups (compare.h): fixes a failing view, only lowers the error, rejected by BIC.
+  const auto group = [](const Suggestion& s) {
+    return s.bic_rejects ? 2 : s.fixes.empty() ? 1 : 0;
+  };
+  std::sort(out.begin(), out.end(), [&](const Suggestion& a, const Suggestion& b) {
+    if (group(a) != group(b)) return group(a) < group(b);
+    return a.error_after < b.error_after;
+  });
+  for (auto first = out.begin(); first != out.end();) {
+    const auto last = std::find_if(first, out.end(),
+                                   [&](const Suggestion& s) { return group(s) != group(*first); });
+    const double limit = o.tie_ratio * first->error_after + o.tie_offset;
+    const auto lead_end =
+        std::find_if(first, last, [&](const Suggestion& s) { return s.error_after > limit; });
+    std::stable_sort(first, lead_end, [](const Suggestion& a, const Suggestion& b) {
       return a.delta_bic < b.delta_bic;
     });
+    first = last;
   }
   // A thermal term behind a non-thermal leader must still be supported once the leader is in the
   // model: a large step or warm-up leaves low-frequency residual that the aux score test, run
@@ -376,6 +392,79 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base, const std::vecto
               out.end());
   }
   return out;
+}
+
+std::string FormatFailure(const Failure& f) {
+  if (f.domain == "aux") return "aux " + f.channel;
+  const char* unit = f.domain == "frequency" ? "Hz" : "s";
+  char buf[160];
+  std::snprintf(buf, sizeof(buf), "%s %.4g-%.4g %s", f.domain.c_str(), f.from, f.to, unit);
+  return buf;
+}
+
+namespace {
+
+// The failures as one phrase, the most severe first, at most `limit` of them.
+std::string FailureList(std::vector<Failure> failures, size_t limit = 4) {
+  std::stable_sort(failures.begin(), failures.end(),
+                   [](const Failure& a, const Failure& b) { return a.severity > b.severity; });
+  std::string out;
+  for (size_t i = 0; i < failures.size() && i < limit; ++i)
+    out += (i ? ", " : "") + FormatFailure(failures[i]);
+  if (failures.size() > limit) out += " and " + std::to_string(failures.size() - limit) + " more";
+  return out;
+}
+
+std::string Join(const std::vector<std::string>& v) {
+  std::string out;
+  for (const auto& x : v) out += (out.empty() ? "" : ", ") + x;
+  return out;
+}
+
+}  // namespace
+
+Verdict MakeVerdict(const Evaluation& base, const std::vector<Term>& tt,
+                    const std::vector<Evaluation>& trials, const std::vector<Suggestion>& sug) {
+  Verdict v;
+  if (!HasResult(base.termination) || base.views.consistent) return v;
+  std::vector<std::string> fixable;
+  for (const Suggestion& s : sug)
+    if (!s.bic_rejects) fixable.insert(fixable.end(), s.fixes.begin(), s.fixes.end());
+  for (const Failure& f : base.views.failures)
+    if (std::find(fixable.begin(), fixable.end(), f.domain) == fixable.end())
+      v.unexplained.push_back(f);
+  // Only a suggestion that BIC accepts and that makes a failing view pass is offered; the ranking
+  // puts such a suggestion first whenever there is one.
+  if (!sug.empty() && !sug.front().bic_rejects && !sug.front().fixes.empty()) {
+    const Suggestion& s = sug.front();
+    const size_t i = static_cast<size_t>(std::find(tt.begin(), tt.end(), s.term) - tt.begin());
+    v.status = "inconsistent";
+    v.suggestion = s.term;
+    v.fixes = s.fixes;
+    if (i < trials.size()) {
+      v.consistent_with_suggestion = trials[i].views.consistent;
+      v.still_failing = trials[i].views.failures;
+    }
+    v.text = std::string("inconsistent: suggestion ") + ToString(s.term);
+    if (v.consistent_with_suggestion)
+      v.text += " (makes the model consistent)";
+    else
+      v.text += " (fixes " + Join(v.fixes) +
+                "; still failing with it: " + FailureList(v.still_failing) + ")";
+    if (!v.unexplained.empty()) v.text += "; unexplained: " + FailureList(v.unexplained);
+    return v;
+  }
+  v.status = "unexplained";
+  v.still_failing = base.views.failures;
+  v.text = "unexplained: no catalog term makes any failing view (" +
+           Join(FailingViews(base.views)) + ") pass; failing: " + FailureList(v.still_failing);
+  if (!sug.empty()) {
+    const Suggestion& s = sug.front();
+    v.text += std::string("; the first candidate, ") + ToString(s.term) +
+              (s.bic_rejects ? " (rejected by BIC)" : "") +
+              Format(", only takes the error %.3g -> %.3g", base.views.error, s.error_after);
+  }
+  return v;
 }
 
 CompareResult Compare(const CompareInput& in, const std::vector<Term>& terms,
@@ -426,6 +515,7 @@ CompareResult Compare(const CompareInput& in, const std::vector<Term>& terms,
   if (r.base.views.consistent) return r;
   r.summary.num_trials = static_cast<int>(tt.size());
   r.suggestions = RankSuggestions(r.base, tt, r.trials, o);
+  r.verdict = MakeVerdict(r.base, tt, r.trials, r.suggestions);
   return r;
 }
 

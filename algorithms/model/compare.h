@@ -10,14 +10,29 @@
 //   numbers do not depend on the thread count.
 //
 // Ranking. A trial is a candidate when the model is not consistent and the trial lowers the error
-// by at least 10 % (`min_improvement`). Thermal terms must in addition be supported by the aux
-// view (|z| of the residual against T, resp. dT/dt, above the aux view's critical value): a
+// by at least 10 % (`min_improvement`) or makes a failing view pass (`fixes`: a view with error
+// above 1 in the base model and at most 1 in the trial; Views::view_errors). The error is the
+// largest view error, so a correct term that fixes one view while another view dominates would
+// otherwise be neither suggested nor credited. Thermal terms must in addition be supported by the
+// aux view (|z| of the residual against T, resp. dT/dt, above the aux view's critical value): a
 // temperature explanation is only offered when the residual actually follows the temperature,
 // and, behind a non-thermal first suggestion, only if it still does once that suggestion is in
 // the model (its trial's aux view): a large step or warm-up otherwise leaks into the aux score.
-// Candidates are sorted by error_after; those within 15 % (+0.05) of the best error_after are
-// statistically indistinguishable on the error, and are ordered among themselves by delta_bic (the
-// simpler explanation first, Schwarz 1978). The first suggestion is the one to add.
+// Candidates are ranked in three groups: those that make a failing view pass, then those that
+// only lower the error, then those whose delta_bic is positive (`bic_rejects`: BIC prefers the
+// model without the term, so it is never ranked first, whatever it does to the error). Within a
+// group they are sorted by error_after; those within 15 % (+0.05) of the group's best error_after
+// are statistically indistinguishable on the error, and are ordered among themselves by delta_bic
+// (the simpler explanation first, Schwarz 1978). The first suggestion is the one to add.
+//
+// Verdict. "consistent" when the base model is; "inconsistent" with the first suggestion when it
+// makes a failing view pass (and, if the model with it still fails somewhere, the ranges that still
+// fail with it); "unexplained" when no candidate that BIC accepts makes any failing view pass: the
+// failing tau ranges, frequency bands, time windows and aux channels are reported as they are.
+// With either status, the failures of views that no accepted candidate makes pass are listed as
+// unexplained (a suggestion may fix the Allan view while an aux channel no term uses still
+// fails). The verdict never says a term makes the model consistent unless its trial is consistent
+// in every view.
 //
 // delta_bic. Rate-fitted terms: (n / lambda) ln(RSS_after / RSS_before) + dk ln(n / lambda), the
 // Gaussian BIC with the sample count deflated by the long-run variance ratio lambda of the
@@ -104,6 +119,24 @@ struct Suggestion {
   double delta_bic = 0;
   std::vector<Parameter> parameters;
   std::string evidence;
+  std::vector<ViewError> view_errors_after;  ///< the trial's per-view errors
+  std::vector<std::string> fixes;  ///< views that fail in the base model and pass in the trial
+  bool bic_rejects = false;        ///< delta_bic > 0: never ranked first
+};
+
+/// What compare concludes (see the header comment).
+struct Verdict {
+  std::string status = "consistent";        ///< "consistent" | "inconsistent" | "unexplained"
+  std::optional<Term> suggestion;           ///< "inconsistent": the term to add
+  std::vector<std::string> fixes;           ///< the views the suggestion makes pass
+  bool consistent_with_suggestion = false;  ///< the suggestion's trial passes every view
+  /// "inconsistent": the failures left with the suggestion in the model (empty when it makes the
+  /// model consistent); "unexplained": the base model's failures.
+  std::vector<Failure> still_failing;
+  /// The base model's failures in the failing views that no candidate BIC accepts makes pass:
+  /// what the catalog cannot explain (all failures when the status is "unexplained").
+  std::vector<Failure> unexplained;
+  std::string text = "consistent";  ///< one line, e.g. "unexplained: ... failing: frequency ..."
 };
 
 struct CompareSummary {
@@ -116,6 +149,7 @@ struct CompareResult {
   Evaluation base;
   std::vector<Evaluation> trials;  ///< one per TrialTerms() entry
   std::vector<Suggestion> suggestions;
+  Verdict verdict;
   CompareSummary summary;
 };
 
@@ -135,6 +169,14 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
                                         const std::vector<Term>& trial_terms,
                                         const std::vector<Evaluation>& trials,
                                         const CompareOptions& options);
+
+/// The verdict from the base evaluation, the trials and the ranked suggestions.
+Verdict MakeVerdict(const Evaluation& base, const std::vector<Term>& trial_terms,
+                    const std::vector<Evaluation>& trials,
+                    const std::vector<Suggestion>& suggestions);
+
+/// One failure as text: "tau 0.1-2 s", "frequency 17.9-24.6 Hz", "time 0-156 s", "aux temperature".
+std::string FormatFailure(const Failure& failure);
 
 /// Runs body(i) for i in [0, n); bodies are independent (each writes only its own slot). The
 /// same type as method::ForEach (algorithms/common/for_each.h), so graph::TbbForEach fits.

@@ -166,14 +166,41 @@ void ComputeFrequencyView(const Eigen::VectorXd& r, double fs, const StochasticM
   v->statistic = *std::max_element(z.begin(), z.end());
   const double df = w.frequency_hz[1];
   const std::vector<double>& freq = v->frequency_hz;
-  for (auto [a, b] : Runs(z, v->critical)) {
+  // Runs of failing bins, merged into bands across gaps of at most max(band_gap_bins bins,
+  // band_gap_fraction f) (ViewOptions has the reason): a vibration band or a line's leakage is one
+  // failure, not one per bin.
+  std::vector<std::pair<int, int>> bands;
+  for (auto run : Runs(z, v->critical)) {
+    if (!bands.empty()) {
+      const double gap = freq[run.first] - freq[bands.back().second];
+      if (gap <= std::max(o.band_gap_bins * df, o.band_gap_fraction * freq[run.first])) {
+        bands.back().second = run.second;
+        continue;
+      }
+    }
+    bands.push_back(run);
+  }
+  for (auto [a, b] : bands) {
+    Failure f{"frequency", freq[a] - df, freq[b] + df, "", 0.0};
     int peak = a;
-    for (int i = a; i <= b; ++i)
+    double excess = 0, positive = 0, moment = 0, ratio = 0;
+    for (int i = a; i <= b; ++i) {
       if (z[i] > z[peak]) peak = i;
+      if (z[i] > v->critical) ++f.failing_bins;
+      const double e = v->psd[i] - v->model_psd[i];
+      excess += e * df;
+      positive += std::max(e, 0.0);
+      moment += std::max(e, 0.0) * freq[i];
+      ratio = std::max(ratio, v->model_psd[i] > 0 ? v->psd[i] / v->model_psd[i] : 0.0);
+    }
+    f.severity = std::pow(z[peak] / v->critical, 2);
+    f.center_hz = positive > 0 ? moment / positive : freq[peak];
+    f.peak_hz = freq[peak];
+    f.peak_ratio = ratio;
+    f.excess_power = excess;
     v->line_frequency_hz.push_back(freq[peak]);
     v->line_z.push_back(z[peak]);
-    failures->push_back(
-        {"frequency", freq[a] - df, freq[b] + df, "", std::pow(z[peak] / v->critical, 2)});
+    failures->push_back(f);
   }
 }
 
@@ -358,6 +385,8 @@ bool ViewOptions::IsValid(std::string* error) const {
     return fail("max_tau_fraction in (0, 0.5]");
   if (welch_segments < 1 || psd_skip_bins < 1 || time_windows < 4)
     return fail("welch_segments >= 1, psd_skip_bins >= 1, time_windows >= 4");
+  if (band_gap_bins < 0 || !(band_gap_fraction >= 0 && band_gap_fraction < 1))
+    return fail("band_gap_bins >= 0, band_gap_fraction in [0, 1)");
   if (!(aux_block_s > 0 && aux_smoothing_s >= 0))
     return fail("aux_block_s > 0, aux_smoothing_s >= 0");
   return true;
@@ -441,12 +470,27 @@ Views ComputeViews(const Eigen::VectorXd& r, double fs, const std::vector<Prepar
   ComputeTimeView(r, fs, dec, m, o, av, &v.time, &v.failures);
   if (has_aux) ComputeAuxView(r, fs, dec, aux, m, o, av, &v.aux, &v.failures);
   auto sq = [](double x) { return x * x; };
-  v.error = std::max({sq(v.allan.statistic / v.allan.critical),
-                      sq(v.frequency.statistic / v.frequency.critical),
-                      sq(v.time.statistic / v.time.critical),
-                      has_aux ? sq(v.aux.statistic / v.aux.critical) : 0.0});
+  v.view_errors = {{"tau", sq(v.allan.statistic / v.allan.critical)},
+                   {"frequency", sq(v.frequency.statistic / v.frequency.critical)},
+                   {"time", sq(v.time.statistic / v.time.critical)}};
+  if (has_aux) v.view_errors.push_back({"aux", sq(v.aux.statistic / v.aux.critical)});
+  v.error = 0;
+  for (const ViewError& e : v.view_errors) v.error = std::max(v.error, e.error);
   v.consistent = v.error <= 1.0;
   return v;
+}
+
+double ViewErrorOf(const Views& v, const std::string& domain) {
+  for (const ViewError& e : v.view_errors)
+    if (e.domain == domain) return e.error;
+  return 0.0;
+}
+
+std::vector<std::string> FailingViews(const Views& v) {
+  std::vector<std::string> out;
+  for (const ViewError& e : v.view_errors)
+    if (e.error > 1.0) out.push_back(e.domain);
+  return out;
 }
 
 }  // namespace fogpipe::model

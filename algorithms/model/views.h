@@ -11,7 +11,9 @@
 //     the median ratio is the median of chi2(nu)/nu): each bin is S(f) chi2(nu)/nu under the model
 //     with Welch's (1967) equivalent dof nu, so Wilson-Hilferty gives a one-sided z. The lowest
 //     psd_skip_bins bins (Hann leakage) and lines slower than min_line_cycles per record are left
-//     to the Allan view. The same spectrum is displayed.
+//     to the Allan view. The same spectrum is displayed. Failing bins are reported as bands:
+//     runs of failing bins separated by gaps of at most max(band_gap_bins bins, band_gap_fraction
+//     f) become one failure (FrequencyView has the reason), with its centre, peak and excess power.
 //   - Time ("time"): differences of adjacent window means of the residual, at a half-window
 //     stride and windows of record/time_windows x 1, 2, 4, 8, over the root mean square of the
 //     same differences elsewhere in the record (leave-window-out; Student t, reported on the
@@ -43,6 +45,7 @@
 
 #include <Eigen/Core>
 #include <complex>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -64,7 +67,16 @@ struct ViewOptions {
   double max_tau_fraction = 0.125;  ///< octave taus up to record * this (EDF >= ~4)
   int welch_segments = 8;  ///< Welch segment: largest fast FFT size <= n / this (K ~ 2 x this)
   int psd_skip_bins = 4;   ///< lowest Welch bins neither tested nor displayed (Hann leakage)
-  double min_line_cycles = 3.0;    ///< lines slower than this many cycles per record: Allan view
+  double min_line_cycles = 3.0;  ///< lines slower than this many cycles per record: Allan view
+  /// Failing frequency bins closer than max(band_gap_bins bins, band_gap_fraction x frequency)
+  /// are one band (one failure). Bins: a Hann window's main lobe spans 4 bins, so a pure tone
+  /// fails on up to 4 adjacent bins whose chi-square scatter can leave one of them below the
+  /// critical value. Fraction: a lightly damped structural mode (damping ratio zeta ~ 1-5 %) has
+  /// a half-power bandwidth of 2 zeta f, 2-10 % of f; inside it single bins dip below the
+  /// critical value by chi-square scatter (nu ~ 30), so gaps up to 2 % of f (zeta = 1 %) are
+  /// bridged.
+  int band_gap_bins = 4;
+  double band_gap_fraction = 0.02;
   int time_windows = 64;           ///< finest windows of the time view: record / this
   double aux_block_s = 60.0;       ///< block-mean length of the low-frequency residual
   double aux_smoothing_s = 120.0;  ///< smoothing before differentiating an aux channel
@@ -89,6 +101,15 @@ struct Failure {
   double to = 0;
   std::string channel;  ///< aux channel ("temperature" or "d(temperature)/dt"); empty otherwise
   double severity = 0;  ///< max |z| / critical over the failure (> 1)
+  /// Frequency bands only (NaN / 0 otherwise): the band's excess-power-weighted centre (Hz), the
+  /// frequency of its most significant bin (Hz), the largest psd / model psd in it, the excess
+  /// power integral of (psd - model psd) over [from, to] ((rad/s)^2), and how many of its bins
+  /// fail (the others lie in gaps the merge rule bridged, FrequencyView).
+  double center_hz = std::numeric_limits<double>::quiet_NaN();
+  double peak_hz = std::numeric_limits<double>::quiet_NaN();
+  double peak_ratio = std::numeric_limits<double>::quiet_NaN();
+  double excess_power = std::numeric_limits<double>::quiet_NaN();
+  int failing_bins = 0;
 };
 
 struct AllanView {
@@ -110,7 +131,8 @@ struct FrequencyView {
   std::vector<double> frequency_hz, psd, model_psd;
   double dof = 2;    ///< Welch equivalent degrees of freedom of each psd value
   double scale = 1;  ///< model psd level factor (median ratio = median of chi2(dof)/dof)
-  std::vector<double> line_frequency_hz, line_z;  ///< significant lines (local maxima)
+  /// Significant bands (one per frequency failure): the most significant bin's frequency and z.
+  std::vector<double> line_frequency_hz, line_z;
   double statistic = 0, critical = 1;
 };
 
@@ -143,11 +165,20 @@ struct AuxView {
   double statistic = 0, critical = 1;
 };
 
+/// One scored view's error (S_v / c_v)^2; the overall error is the largest of them.
+struct ViewError {
+  std::string domain;  ///< "tau" | "frequency" | "time" | "aux"
+  double error = 0;
+};
+
 struct Views {
   AllanView allan;
   FrequencyView frequency;
   TimeView time;
   AuxView aux;
+  /// Per scored view, in the order tau, frequency, time, aux (aux only with aux channels): a
+  /// term that fixes one view is credited for it even while another view dominates `error`.
+  std::vector<ViewError> view_errors;
   double error = 0;
   bool consistent = true;
   std::vector<Failure> failures;
@@ -178,6 +209,12 @@ std::vector<PreparedAux> PrepareAux(const std::vector<AuxChannel>& aux, long n,
 Views ComputeViews(const Eigen::VectorXd& residual, double sample_rate_hz,
                    const std::vector<PreparedAux>& aux, const StochasticModel& model,
                    const AllanData& allan, const ViewOptions& options);
+
+/// The error of the view `domain` (0 when it is not scored).
+double ViewErrorOf(const Views& views, const std::string& domain);
+
+/// The scored views whose error exceeds 1 (they fail), in view order.
+std::vector<std::string> FailingViews(const Views& views);
 
 /// Means of consecutive blocks of `block` samples (a trailing partial block is dropped).
 Eigen::VectorXd BlockMeans(const Eigen::VectorXd& x, long block);

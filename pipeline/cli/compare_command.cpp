@@ -6,19 +6,22 @@
 //   fogpipe compare --history RESULTS
 //
 // Fits the model (algorithms/model/compare.h), prints the error, the failures and the ranked
-// suggestions (or, with --json, one JSON object with exactly error, consistent, failures,
-// suggestions, model), appends the step to RESULTS and optionally writes the model file that
-// `compare --model` and `run --model` read. The trial fits and the IMF view run in parallel
-// (model::Compare with graph::TbbForEach); the numbers do not depend on the thread count.
+// suggestions and the verdict (or, with --json, one JSON object with exactly error, consistent,
+// view_errors, verdict, failures, suggestions, model), appends the step to RESULTS and optionally
+// writes the model file that `compare --model` and `run --model` read. The trial fits and the IMF
+// view run in parallel (model::Compare with graph::TbbForEach); the numbers do not depend on the
+// thread count.
 //
 // Exit codes: 0 compared (consistent or not) or history printed; 1 a read/fit/write failed;
 // 2 invalid options.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <string>
 #include <vector>
 
+#include "algorithms/common/units.h"
 #include "algorithms/model/compare.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/graph/tbb_for_each.h"
@@ -70,17 +73,33 @@ void PrintText(const model::CompareResult& r) {
   const auto& v = r.base.views;
   std::printf("error %.3g (%s; 1 = the family-wise 95 %% band)\n", v.error,
               v.consistent ? "consistent" : "NOT consistent");
+  std::printf("  per view:");
+  for (const auto& e : v.view_errors)
+    std::printf(" %s %.3g%s", e.domain.c_str(), e.error, e.error > 1 ? " (fails)" : "");
+  std::printf("\n");
   for (const auto& f : v.failures) {
     if (f.domain == "aux")
       std::printf("  fails in aux: channel %s, severity %.3g\n", f.channel.c_str(), f.severity);
+    else if (f.domain == "frequency")
+      std::printf(
+          "  fails in frequency: band %.4g .. %.4g Hz (centre %.4g, peak %.4g Hz at %.3gx the "
+          "model psd, %d failing bins), excess power %.3g (deg/h)^2, severity %.3g\n",
+          f.from, f.to, f.center_hz, f.peak_hz, f.peak_ratio, f.failing_bins,
+          f.excess_power * std::pow(units::RadPerSecondToDegPerHour(1.0), 2), f.severity);
     else
       std::printf("  fails in %s: %.4g .. %.4g %s, severity %.3g\n", f.domain.c_str(), f.from, f.to,
                   f.domain == "frequency" ? "Hz" : "s", f.severity);
   }
+  std::printf("verdict: %s\n", r.verdict.text.c_str());
   for (size_t i = 0; i < r.suggestions.size(); ++i) {
     const auto& s = r.suggestions[i];
-    std::printf("%s %s: error after %.3g, delta BIC %.3g\n  %s\n", i == 0 ? "ADD" : "   ",
-                model::ToString(s.term), s.error_after, s.delta_bic, s.evidence.c_str());
+    std::string fixes;
+    for (const auto& f : s.fixes) fixes += (fixes.empty() ? "" : ", ") + f;
+    const bool add = i == 0 && r.verdict.suggestion && *r.verdict.suggestion == s.term;
+    std::printf("%s %s: error after %.3g, delta BIC %.3g%s%s%s\n  %s\n", add ? "ADD" : "   ",
+                model::ToString(s.term), s.error_after, s.delta_bic,
+                s.bic_rejects ? " (BIC rejects it)" : "", fixes.empty() ? "" : ", fixes ",
+                fixes.c_str(), s.evidence.c_str());
     for (const auto& p : s.parameters)
       std::printf("    %s = %.5g +- %.2g %s\n", p.name.c_str(), p.value, p.standard_error,
                   p.units.c_str());

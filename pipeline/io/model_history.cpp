@@ -78,6 +78,27 @@ void WriteViews(hdf5::Group& g, const model::Evaluation& e) {
   f.WriteDataset("model_psd", v.frequency.model_psd, "(rad/s)^2/Hz");
   f.WriteDataset("line_frequency_hz", v.frequency.line_frequency_hz, "Hz");
   f.WriteDataset("line_z", v.frequency.line_z, "1");
+  // The failing bands (one per frequency failure, views.h).
+  std::vector<double> from, to, center, peak, ratio, excess;
+  std::vector<long long> bins;
+  for (const auto& fl : v.failures) {
+    if (fl.domain != "frequency") continue;
+    from.push_back(fl.from);
+    to.push_back(fl.to);
+    center.push_back(fl.center_hz);
+    peak.push_back(fl.peak_hz);
+    ratio.push_back(fl.peak_ratio);
+    excess.push_back(fl.excess_power);
+    bins.push_back(fl.failing_bins);
+  }
+  hdf5::Group bands = f.CreateGroup("bands");
+  bands.WriteDataset("from_hz", from, "Hz");
+  bands.WriteDataset("to_hz", to, "Hz");
+  bands.WriteDataset("center_hz", center, "Hz");
+  bands.WriteDataset("peak_hz", peak, "Hz");
+  bands.WriteDataset("peak_ratio", ratio, "1");
+  bands.WriteDataset("excess_power", excess, "(rad/s)^2");
+  bands.WriteDataset("failing_bins", bins, "1");
   f.WriteDoubleAttribute("statistic", v.frequency.statistic);
   f.WriteDoubleAttribute("critical", v.frequency.critical);
   f.WriteDoubleAttribute("dof", v.frequency.dof);
@@ -191,9 +212,15 @@ json ModelJson(const model::Evaluation& e) {
   return {{"terms", terms}, {"fitted", fitted}, {"noise_fit", noise_fit}};
 }
 
-json CompareJson(const model::CompareResult& r) {
+json ViewErrorsJson(const std::vector<model::ViewError>& errors) {
+  json o = json::object();
+  for (const auto& e : errors) o[e.domain] = Number(e.error);
+  return o;
+}
+
+json FailuresJson(const std::vector<model::Failure>& list) {
   json failures = json::array();
-  for (const auto& f : r.base.views.failures) {
+  for (const auto& f : list) {
     json o = {{"domain", f.domain}, {"severity", Number(f.severity)}};
     if (f.domain == "aux") {
       o["channel"] = f.channel;
@@ -201,11 +228,23 @@ json CompareJson(const model::CompareResult& r) {
       o["from"] = Number(f.from);
       o["to"] = Number(f.to);
     }
+    if (f.domain == "frequency") {
+      o["center_hz"] = Number(f.center_hz);
+      o["peak_hz"] = Number(f.peak_hz);
+      o["peak_ratio"] = Number(f.peak_ratio);
+      o["excess_power_rad2_per_s2"] = Number(f.excess_power);
+      o["failing_bins"] = f.failing_bins;
+    }
     failures.push_back(o);
   }
+  return failures;
+}
+
+json CompareJson(const model::CompareResult& r) {
   json model = ModelJson(r.base);
-  // The IMF view lives inside "model": the top level keeps exactly the five documented keys of
-  // `compare --json` (error, consistent, failures, suggestions, model), which scripts rely on.
+  // The IMF view lives inside "model": the top level keeps exactly the seven documented keys of
+  // `compare --json` (error, consistent, view_errors, verdict, failures, suggestions, model), which
+  // scripts rely on.
   model["imf"] = ImfJson(r.base.imf);
   json suggestions = json::array();
   for (const auto& s : r.suggestions)
@@ -213,10 +252,24 @@ json CompareJson(const model::CompareResult& r) {
                            {"error_after", Number(s.error_after)},
                            {"delta_bic", Number(s.delta_bic)},
                            {"parameters", ParametersJson(s.parameters)},
-                           {"evidence", s.evidence}});
+                           {"evidence", s.evidence},
+                           {"view_errors_after", ViewErrorsJson(s.view_errors_after)},
+                           {"fixes", s.fixes},
+                           {"bic_rejects", s.bic_rejects}});
+  const model::Verdict& v = r.verdict;
+  const json verdict = {
+      {"status", v.status},
+      {"suggestion", v.suggestion ? json(model::ToString(*v.suggestion)) : json(nullptr)},
+      {"fixes", v.fixes},
+      {"consistent_with_suggestion", v.consistent_with_suggestion},
+      {"still_failing", FailuresJson(v.still_failing)},
+      {"unexplained", FailuresJson(v.unexplained)},
+      {"text", v.text}};
   return {{"error", Number(r.base.views.error)},
           {"consistent", r.base.views.consistent},
-          {"failures", failures},
+          {"view_errors", ViewErrorsJson(r.base.views.view_errors)},
+          {"verdict", verdict},
+          {"failures", FailuresJson(r.base.views.failures)},
           {"suggestions", suggestions},
           {"model", model}};
 }
@@ -311,6 +364,10 @@ int AppendHistory(const std::string& results, const std::string& recording, cons
     step.WriteStringArrayAttribute("terms", terms);
     step.WriteDoubleAttribute("error", r.base.views.error);
     step.WriteInt64Attribute("consistent", r.base.views.consistent ? 1 : 0);
+    for (const auto& e : r.base.views.view_errors)
+      step.WriteDoubleAttribute("error_" + e.domain, e.error);
+    step.WriteStringAttribute("verdict", r.verdict.status);
+    step.WriteStringAttribute("verdict_text", r.verdict.text);
     step.WriteStringAttribute("first_suggestion",
                               r.suggestions.empty() ? "" : model::ToString(r.suggestions[0].term));
     step.WriteStringAttribute("recording", recording);
@@ -359,6 +416,8 @@ std::vector<HistoryStep> ReadHistory(const std::string& results) {
     h.error = s.ReadDoubleAttribute("error");
     h.consistent = s.ReadInt64Attribute("consistent") != 0;
     h.first_suggestion = s.ReadStringAttribute("first_suggestion");
+    // Steps written before the verdict existed have none.
+    if (s.HasAttribute("verdict")) h.verdict = s.ReadStringAttribute("verdict");
     h.recording = s.ReadStringAttribute("recording");
     const auto text = s.OpenDataset("model_json").ReadStrings();
     h.model_json = text.empty() ? "" : text[0];
@@ -370,15 +429,15 @@ std::vector<HistoryStep> ReadHistory(const std::string& results) {
 std::string FormatHistory(const std::vector<HistoryStep>& steps) {
   std::string out;
   char line[512];
-  std::snprintf(line, sizeof(line), "%-5s %-10s %-11s %-18s %s\n", "step", "error", "consistent",
-                "next suggestion", "terms");
+  std::snprintf(line, sizeof(line), "%-5s %-10s %-11s %-12s %-18s %s\n", "step", "error",
+                "consistent", "verdict", "next suggestion", "terms");
   out += line;
   double prev = 0;
   for (const auto& s : steps) {
     std::string terms;
     for (const auto& t : s.terms) terms += (terms.empty() ? "" : ",") + t;
-    std::snprintf(line, sizeof(line), "%-5d %-10.4g %-11s %-18s ", s.index, s.error,
-                  s.consistent ? "yes" : "no",
+    std::snprintf(line, sizeof(line), "%-5d %-10.4g %-11s %-12s %-18s ", s.index, s.error,
+                  s.consistent ? "yes" : "no", s.verdict.empty() ? "-" : s.verdict.c_str(),
                   s.first_suggestion.empty() ? "-" : s.first_suggestion.c_str());
     out += line + terms;
     if (s.index > 0 && s.error > 0) {

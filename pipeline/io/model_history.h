@@ -12,8 +12,8 @@
 
 namespace fogpipe::io {
 
-/// The JSON object `compare --json` prints: exactly error, consistent, failures, suggestions,
-/// model.
+/// The JSON object `compare --json` prints: exactly error, consistent, view_errors, verdict,
+/// failures, suggestions, model.
 nlohmann::json CompareJson(const model::CompareResult& result);
 
 /// The "model" object: {"terms": [...], "fitted": [{"term", "parameters": {name: {value,
@@ -47,6 +47,7 @@ struct HistoryStep {
   double error = 0;
   bool consistent = false;
   std::string first_suggestion;  ///< "" when none
+  std::string verdict;           ///< "consistent" | "inconsistent" | "unexplained"; "" if absent
   std::string recording;
   std::string model_json;  ///< the "model" object
 };

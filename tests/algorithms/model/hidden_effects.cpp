@@ -191,6 +191,51 @@ HiddenCase MakeHiddenCase(std::uint64_t seed, const std::vector<simulation::Term
   return MakeHiddenCase(HiddenEffectOptions(seed, effects));
 }
 
+void AddNarrowBand(double f0, double zeta, double peak_ratio, std::uint64_t seed, HiddenCase* c) {
+  Eigen::VectorXd& y = c->recording.rate_rad_s;
+  const double fs = c->input.sample_rate_hz;
+  // AR(2) resonator with poles r exp(+-i w0): r = exp(-zeta w0 / fs) gives the half-power
+  // bandwidth 2 zeta f0 of the continuous resonance (zeta << 1).
+  const double w0 = 2.0 * 3.14159265358979323846 * f0 / fs;
+  const double r = std::exp(-zeta * w0);
+  const double a1 = 2.0 * r * std::cos(w0), a2 = -r * r;
+  std::mt19937_64 g(seed * 0x9E3779B97F4A7C15ULL + 0xBA4DULL);
+  std::normal_distribution<double> e(0.0, 1.0);
+  Eigen::VectorXd x(y.size());
+  double x1 = 0, x2 = 0;
+  for (long i = -4096; i < y.size(); ++i) {  // burn-in: the resonator's transient
+    const double v = a1 * x1 + a2 * x2 + e(g);
+    x2 = x1;
+    x1 = v;
+    if (i >= 0) x[i] = v;
+  }
+  // Power = peak PSD x equivalent noise bandwidth (pi zeta f0) for a peak of k times 2 N^2.
+  const double n = c->recording.truth.options.errors.n_rad_sqrt_s;
+  const double power = peak_ratio * 2.0 * n * n * 3.14159265358979323846 * zeta * f0;
+  const double var = (x.array() - x.mean()).square().mean();
+  y += x * std::sqrt(power / var);
+}
+
+void AddPressureBias(double k, std::uint64_t seed, HiddenCase* c) {
+  Eigen::VectorXd& y = c->recording.rate_rad_s;
+  const long n = y.size();
+  const double fs = c->input.sample_rate_hz;
+  std::mt19937_64 g(seed * 0x9E3779B97F4A7C15ULL + 0x9E55ULL);
+  std::normal_distribution<double> e(0.0, 1.0);
+  // First-order Gauss-Markov wander, correlation time 600 s, started from its stationary law.
+  const double phi = std::exp(-1.0 / (600.0 * fs));
+  Eigen::VectorXd p(n);
+  double x = e(g);
+  for (long i = 0; i < n; ++i) {
+    x = phi * x + std::sqrt(1.0 - phi * phi) * e(g);
+    p[i] = x;
+  }
+  p.array() -= p.mean();
+  p /= std::sqrt(p.squaredNorm() / static_cast<double>(n));
+  y += p * (k * NoiseAllanDeviation(c->recording.truth.options.errors, 1000.0));
+  c->input.aux.push_back({"pressure", "hPa", (1013.0 + 5.0 * p.array()).matrix()});
+}
+
 Term AnalysisTerm(simulation::Term t) { return *ParseTerm(simulation::ToString(t)); }
 
 }  // namespace fogpipe::model::testing

@@ -97,6 +97,20 @@ struct HiddenCase {
 HiddenCase MakeHiddenCase(std::uint64_t seed, const std::vector<simulation::Term>& effects);
 HiddenCase MakeHiddenCase(const simulation::GyroSimulatorOptions& options);
 
+/// Adds to the recording's rate a narrow band of vibration outside the catalog: white noise
+/// through a lightly damped second-order resonance (centre f0 Hz, damping ratio zeta; half-power
+/// bandwidth 2 zeta f0, equivalent noise bandwidth pi zeta f0), scaled so that its peak one-sided
+/// PSD is `peak_ratio` times the white-noise floor 2 N^2 of the truth. Its own random stream
+/// (seed). The input keeps pointing at the recording's rate.
+void AddNarrowBand(double f0_hz, double zeta, double peak_ratio, std::uint64_t seed, HiddenCase* c);
+
+/// Adds an effect outside the catalog: a bias that follows an aux channel "pressure" (hPa; a
+/// first-order Gauss-Markov wander with a 600 s correlation time, standardised: ~36 independent
+/// excursions in 6 h, so neither a cycle, a step nor a warm-up fits it) with rms amplitude k times
+/// the noise model's Allan deviation at 1000 s, and the channel itself to the input's aux. Its
+/// own random stream (seed).
+void AddPressureBias(double k, std::uint64_t seed, HiddenCase* c);
+
 /// The analysis' name of a simulator term (same catalog names).
 Term AnalysisTerm(simulation::Term t);
 

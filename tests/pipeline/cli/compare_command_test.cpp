@@ -47,12 +47,16 @@ TEST(CompareCommand, FindsAHiddenThermalEffectAndRecordsTheHistory) {
   const nlohmann::json j =
       nlohmann::json::parse(RunFogpipe("compare --json -o " + results + " " + rec, &code));
   ASSERT_EQ(code, 0);
-  // Exactly the five documented keys (README, `compare --json`).
+  // Exactly the seven documented keys (README, `compare --json`).
   std::vector<std::string> keys;
   for (auto it = j.begin(); it != j.end(); ++it) keys.push_back(it.key());
-  EXPECT_EQ(keys,
-            (std::vector<std::string>{"consistent", "error", "failures", "model", "suggestions"}));
+  EXPECT_EQ(keys, (std::vector<std::string>{"consistent", "error", "failures", "model",
+                                            "suggestions", "verdict", "view_errors"}));
   EXPECT_FALSE(j["consistent"].get<bool>());
+  // The aux view fails and the verdict names the term that makes it pass.
+  EXPECT_GT(j["view_errors"]["aux"].get<double>(), 1.0);
+  EXPECT_EQ(j["verdict"]["status"], "inconsistent");
+  EXPECT_EQ(j["verdict"]["suggestion"], "temperature");
   ASSERT_FALSE(j["suggestions"].empty());
   const auto& first = j["suggestions"][0];
   EXPECT_EQ(first["term"], "temperature");
@@ -73,6 +77,7 @@ TEST(CompareCommand, FindsAHiddenThermalEffectAndRecordsTheHistory) {
       &code));
   ASSERT_EQ(code, 0);
   EXPECT_TRUE(j2["consistent"].get<bool>());
+  EXPECT_EQ(j2["verdict"]["status"], "consistent");
   EXPECT_LE(3.0 * j2["error"].get<double>(), j["error"].get<double>());
   EXPECT_TRUE(j2["suggestions"].empty());
 
