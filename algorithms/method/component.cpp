@@ -15,19 +15,29 @@ std::string ComponentModel::message() const {
   return "";
 }
 
-void ApplyFilterNoise(const FilterNoise& noise, kalman::ArKalmanOptions* kalman) {
-  if (kalman->q >= 0.0 || kalman->r >= 0.0) return;
-  kalman->q = noise.q;
-  if (noise.pure_noise) kalman->initial_variance = 0.0;
+bool IsConstantComponent(const Eigen::VectorXd& x) {
+  return x.size() > 0 && (x.array() == x[0]).all();
+}
+
+kalman::ArKalmanOptions ComponentFilterOptions(const ComponentOptions& options, double white_share,
+                                               double variance, const ar::ArModel& model,
+                                               double* r) {
+  kalman::ArKalmanOptions kalman = options.kalman;
+  kalman.mean = model.mean;
+  const FilterNoise noise =
+      ComponentFilterNoise(options.noise_rule, white_share, variance, model.innovation_variance);
+  *r = noise.r;
+  if (kalman.q >= 0.0 || kalman.r >= 0.0) return kalman;
+  kalman.q = noise.q;
+  if (noise.pure_noise) kalman.initial_variance = 0.0;
+  return kalman;
 }
 
 ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_variance,
                               const ComponentOptions& options) {
   ComponentModel out;
   out.white_noise_variance = white_noise_variance;
-  if (x.size() > 0 && (x.array() == x[0]).all()) {
-    // A constant component (e.g. a residue that is exactly flat) has no dynamics to model and
-    // nothing to filter: it passes through unchanged, recorded as order 0.
+  if (IsConstantComponent(x)) {
     out.fit.model.mean = x[0];
     out.fit.summary.termination = Termination::kSuccess;
     out.fit.summary.message = "constant component: passed through without a model";
@@ -39,15 +49,13 @@ ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_varia
   out.fit = ar::FitAr(x, options.ar);
   if (!HasResult(out.fit.summary.termination)) return out;
   const double variance = (x.array() - x.mean()).square().mean();
-  // The Kalman filter on out.fit's model, q and R by the noise rule (ApplyFilterNoise).
+  // The Kalman filter on out.fit's model, q and R by the noise rule (ComponentFilterOptions).
   const auto filter = [&] {
-    kalman::ArKalmanOptions kalman_options = options.kalman;
-    kalman_options.mean = out.fit.model.mean;
-    const double sigma_e2 = out.fit.model.innovation_variance;
-    const FilterNoise noise =
-        ComponentFilterNoise(options.noise_rule, white_noise_variance, variance, sigma_e2);
-    ApplyFilterNoise(noise, &kalman_options);
-    out.kalman = kalman::FilterAr(x, out.fit.model.phi, sigma_e2, noise.r, kalman_options);
+    double r = 0.0;
+    const kalman::ArKalmanOptions kalman_options =
+        ComponentFilterOptions(options, white_noise_variance, variance, out.fit.model, &r);
+    out.kalman = kalman::FilterAr(x, out.fit.model.phi, out.fit.model.innovation_variance, r,
+                                  kalman_options);
   };
   filter();
   std::string diverged;

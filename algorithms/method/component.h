@@ -50,11 +50,22 @@ struct ComponentModel {
   std::string message() const;
 };
 
-/// Puts the noise rule's q into `kalman` unless q or R is given explicitly (>= 0), and for a
-/// pure-noise component P(0|0) = 0 (white_noise.h, step 3: q = 0 from P(0|0) = 0 gives gain 0,
-/// the output is the mean; ar_kalman.h). ModelComponent and the sweep's default-rule setting
-/// configure their filters with it, so the sweep's default row is what `run` does.
-void ApplyFilterNoise(const FilterNoise& noise, kalman::ArKalmanOptions* kalman);
+/// Whether every sample of x equals the first. Such a component (e.g. a residue that is exactly
+/// flat) has no dynamics to model and nothing to filter: ModelComponent and the sweep pass it
+/// through unchanged, recorded as order 0.
+bool IsConstantComponent(const Eigen::VectorXd& x);
+
+/// The Kalman options of a filter on a component with `model` (an AR model fitted to it):
+/// options.kalman with the model's mean and, unless q or R is given explicitly (>= 0), the noise
+/// rule's q (white_noise.h), and for a pure-noise component P(0|0) = 0 (step 3: q = 0 from
+/// P(0|0) = 0 gives gain 0, the output is the mean; ar_kalman.h). `white_share` and `variance` are
+/// the component's white-noise share and variance, units of x^2. *r receives the rule's R, the
+/// white-noise variance to give kalman::FilterAr (an explicit options.kalman.r overrides it
+/// there). ModelComponent and the sweep's default-rule setting configure their filters with it, so
+/// the sweep's default row is what `run` does.
+kalman::ArKalmanOptions ComponentFilterOptions(const ComponentOptions& options, double white_share,
+                                               double variance, const ar::ArModel& model,
+                                               double* r);
 
 /// Whether a Kalman filter on a component has diverged: a filter on a stationary model fitted to a
 /// component estimates it with a variance below the component's own (var(x^) = var(x) - P <=

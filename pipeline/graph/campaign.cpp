@@ -155,6 +155,52 @@ std::string AxisError(const FileJob& job, int axis, const std::string& what) {
   return job.input.path + ": axis " + job.info.axis_names[axis] + ": " + what;
 }
 
+/// The results file's /provenance for a recording whose axes have all arrived: the software, the
+/// configuration and its hash, the input and its SHA-256, the times, and each stage's seconds
+/// summed over the axes.
+io::Provenance ResultsProvenance(const FileJob& job, const CampaignOptions& options) {
+  io::Provenance p;
+  p.fogpipe_version = Version();
+  p.git_commit = GitCommit();
+  p.config_toml = options.config_toml;
+  p.config_sha256 = options.config_sha256;
+  p.input_path = fs::absolute(job.input.path).lexically_normal().string();
+  std::error_code size_ec;
+  p.input_size_bytes = static_cast<long long>(fs::file_size(job.input.path, size_ec));
+  p.input_sha256 = job.sha256;
+  p.start_time_utc = job.start_time_utc;
+  p.end_time_utc = io::UtcNowIso8601();
+  p.threads = options.threads;
+  if (options.model) {
+    p.model_path = fs::absolute(options.model->path).lexically_normal().string();
+    p.model_sha256 = options.model->sha256;
+    p.model_compensated_terms = options.model->terms;
+  }
+  for (int s = 0; s < kNumStages; ++s) {
+    p.stage_names.push_back(kStageNames[s]);
+    double total = 0.0;
+    for (const AxisPtr& w : job.arrived) total += w->stage_seconds[s];
+    p.stage_seconds.push_back(total);
+  }
+  return p;
+}
+
+/// What the results writer needs of each arrived axis; the results stay in the AxisWork.
+std::vector<io::AxisResults> ResultsAxes(const FileJob& job) {
+  std::vector<io::AxisResults> axes;
+  for (const AxisPtr& w : job.arrived) {
+    io::AxisResults a;
+    a.name = job.info.axis_names[w->axis];
+    a.index = w->axis;
+    a.sample_rate_hz = job.info.sample_rate_hz;
+    a.input_units = job.info.rate_units;
+    a.read = w->read_report;
+    a.result = &w->result;
+    axes.push_back(a);
+  }
+  return axes;
+}
+
 /// An exclusive flock(2) on the output folder while it lives: runs writing into one folder
 /// check and rename one at a time. Best effort: a folder that cannot be locked is not.
 class OutputFolderLock {
@@ -204,6 +250,8 @@ class CampaignRunner {
   }
 
   void Finish(FileJob* job);
+  void WriteResults(const FileJob& job, const fs::path& final_path, FileOutcome* outcome);
+  void AppendTables(const FileJob& job);
 
   /// Stops the campaign when `reason` (from OutputExhaustedReason) is not empty.
   void NoteOutputFailure(const std::string& reason) {
@@ -240,6 +288,39 @@ class CampaignRunner {
   std::string exhausted_reason_;
 };
 
+/// Writes the results file of a recording whose axes all succeeded, and fills the outcome.
+/// Throws when the file cannot be written.
+void CampaignRunner::WriteResults(const FileJob& job, const fs::path& final_path,
+                                  FileOutcome* outcome) {
+  const io::Provenance provenance = ResultsProvenance(job, options_);
+  const std::vector<io::AxisResults> axes = ResultsAxes(job);
+  // Another run writing into this folder may have put another input's results under this name
+  // since the preflight: checked again under a lock on the folder held to the rename.
+  const OutputFolderLock folder_lock(options_.output_dir);
+  const std::string collision = io::ResultsOfAnotherInput(final_path.string(), job.input.path);
+  if (!collision.empty()) throw std::runtime_error(collision);
+  io::WriteResultsFile(final_path, provenance, axes, options_.results);
+  outcome->status = FileStatus::kOk;
+  outcome->output = final_path.string();
+  if (!job.rerun_reason.empty()) outcome->message = "rerun: " + job.rerun_reason;
+  for (const std::string& warning : DataWarnings(job)) {
+    outcome->message += (outcome->message.empty() ? "" : "; ") + warning;
+  }
+}
+
+/// Tables 3 and 5 of each axis of a written recording, kept for PrintTables.
+void CampaignRunner::AppendTables(const FileJob& job) {
+  if (options_.tables_stream == nullptr) return;
+  for (const AxisPtr& w : job.arrived) {
+    tables_text_ += "\n" + job.input.path + "  axis " + job.info.axis_names[w->axis] + "\n" +
+                    method::FormatTable3(method::Table3(w->result)) +
+                    method::FormatTable5(method::Table5(w->result)) +
+                    method::PreprocessingNote(w->result.preprocessed.summary.dropped_samples,
+                                              w->result.preprocessed.summary.outliers) +
+                    "\n" + DataWarning(job, *w);
+  }
+}
+
 void CampaignRunner::Finish(FileJob* job) {
   FileOutcome outcome;
   outcome.file = job->input.path;
@@ -253,62 +334,8 @@ void CampaignRunner::Finish(FileJob* job) {
   const fs::path final_path = fs::path(options_.output_dir) / job->input.output_name;
   if (failure.empty() && !interrupted) {
     try {
-      io::Provenance p;
-      p.fogpipe_version = Version();
-      p.git_commit = GitCommit();
-      p.config_toml = options_.config_toml;
-      p.config_sha256 = options_.config_sha256;
-      p.input_path = fs::absolute(job->input.path).lexically_normal().string();
-      std::error_code size_ec;
-      p.input_size_bytes = static_cast<long long>(fs::file_size(job->input.path, size_ec));
-      p.input_sha256 = job->sha256;
-      p.start_time_utc = job->start_time_utc;
-      p.end_time_utc = io::UtcNowIso8601();
-      p.threads = options_.threads;
-      if (options_.model) {
-        p.model_path = fs::absolute(options_.model->path).lexically_normal().string();
-        p.model_sha256 = options_.model->sha256;
-        p.model_compensated_terms = options_.model->terms;
-      }
-      std::vector<io::AxisResults> axes;
-      for (int s = 0; s < kNumStages; ++s) {
-        p.stage_names.push_back(kStageNames[s]);
-        double total = 0.0;
-        for (const AxisPtr& w : job->arrived) total += w->stage_seconds[s];
-        p.stage_seconds.push_back(total);
-      }
-      for (const AxisPtr& w : job->arrived) {
-        io::AxisResults a;
-        a.name = job->info.axis_names[w->axis];
-        a.index = w->axis;
-        a.sample_rate_hz = job->info.sample_rate_hz;
-        a.input_units = job->info.rate_units;
-        a.read = w->read_report;
-        a.result = &w->result;
-        axes.push_back(a);
-      }
-      // Another run writing into this folder may have put another input's results under this
-      // name since the preflight: checked again under a lock on the folder held to the rename.
-      const OutputFolderLock folder_lock(options_.output_dir);
-      const std::string collision = io::ResultsOfAnotherInput(final_path.string(), job->input.path);
-      if (!collision.empty()) throw std::runtime_error(collision);
-      io::WriteResultsFile(final_path, p, axes, options_.results);
-      outcome.status = FileStatus::kOk;
-      outcome.output = final_path.string();
-      if (!job->rerun_reason.empty()) outcome.message = "rerun: " + job->rerun_reason;
-      for (const std::string& warning : DataWarnings(*job)) {
-        outcome.message += (outcome.message.empty() ? "" : "; ") + warning;
-      }
-      if (options_.tables_stream != nullptr) {
-        for (const AxisPtr& w : job->arrived) {
-          tables_text_ += "\n" + job->input.path + "  axis " + job->info.axis_names[w->axis] +
-                          "\n" + method::FormatTable3(method::Table3(w->result)) +
-                          method::FormatTable5(method::Table5(w->result)) +
-                          method::PreprocessingNote(w->result.preprocessed.summary.dropped_samples,
-                                                    w->result.preprocessed.summary.outliers) +
-                          "\n" + DataWarning(*job, *w);
-        }
-      }
+      WriteResults(*job, final_path, &outcome);
+      AppendTables(*job);
     } catch (const std::exception& e) {
       failure = job->input.path + ": writing " + final_path.string() + ": " + e.what();
       NoteOutputFailure(OutputExhaustedReason(options_.output_dir, e.what()));

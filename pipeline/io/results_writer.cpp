@@ -221,15 +221,10 @@ void WriteAllan(Group group, const method::AllanEvaluation& evaluation) {
   WriteNoiseTerms(noise, evaluation.noise);
 }
 
-void WriteAxis(Group axes, const AxisResults& axis, const ResultsOptions& options) {
-  const MethodResult& r = *axis.result;
-  Group g = axes.CreateGroup(axis.name);
-  g.WriteInt64Attribute("column", axis.index);
-  g.WriteDoubleAttribute("sample_rate_hz", axis.sample_rate_hz);
-  g.WriteStringAttribute("input_units", axis.input_units);
-  g.WriteInt64Attribute("samples", static_cast<long long>(r.preprocessed.signal.size()));
-
-  const method::Preprocessed& pre = r.preprocessed;
+/// preprocessing/: what was dropped, replaced and removed before the EMD, and what the reader
+/// bridged and flagged in the recorded column.
+void WritePreprocessing(Group g, const AxisResults& axis) {
+  const method::Preprocessed& pre = axis.result->preprocessed;
   Group p = g.CreateGroup("preprocessing");
   WriteCount(p, "dropped_samples", pre.summary.dropped_samples, "samples");
   WriteScalar(p, "mean_removed", pre.mean_removed, results::kRateUnits);
@@ -248,16 +243,18 @@ void WriteAxis(Group axes, const AxisResults& axis, const ResultsOptions& option
   p.WriteStringAttribute(
       "repeat_warning",
       DescribeRepeatedRun(axis.read.repeats, axis.sample_rate_hz, axis.input_units));
+}
 
+/// decomposition/: the IMFs and residue (as options.imf_storage says) and each IMF's sifting.
+void WriteDecomposition(Group g, const MethodResult& r, const ResultsOptions& options) {
   const emd::EmdResult& e = r.decomposition;
-  const int num_imfs = static_cast<int>(e.imfs.size());
   Group d = g.CreateGroup("decomposition");
   d.WriteStringAttribute("storage", ToString(options.imf_storage));
-  d.WriteInt64Attribute("num_imfs", num_imfs);
+  d.WriteInt64Attribute("num_imfs", static_cast<long long>(e.imfs.size()));
   d.WriteStringAttribute("termination", ToString(e.summary.termination));
   d.WriteDoubleAttribute("band_limit_ratio", r.band_limit_ratio);
-  const ColumnStorage big = Columns(options.imf_storage, options);
   if (options.imf_storage != ImfStorage::kNone) {
+    const ColumnStorage big = Columns(options.imf_storage, options);
     std::vector<const Eigen::VectorXd*> columns;
     for (const auto& imf : e.imfs) columns.push_back(&imf);
     WriteColumnDataset(d, "imfs", columns, true, results::kRateUnits, big);
@@ -276,7 +273,12 @@ void WriteAxis(Group axes, const AxisResults& axis, const ResultsOptions& option
   d.WriteStringDataset("stop_reason", stop_reason);
   d.WriteDataset("mean_period_samples", period, "samples");
   d.WriteDataset("energy", energy, results::kRateVarianceUnits);
+}
 
+/// models/ and kalman/: one row per component (IMFs, then the residue), and the filtered
+/// components when options.store_filtered_imfs.
+void WriteComponents(Group g, const MethodResult& r, const ResultsOptions& options) {
+  const int num_imfs = static_cast<int>(r.decomposition.imfs.size());
   std::vector<std::string> names;
   std::vector<const ComponentModel*> components;
   for (int k = 0; k <= num_imfs; ++k) {
@@ -289,9 +291,14 @@ void WriteAxis(Group axes, const AxisResults& axis, const ResultsOptions& option
   if (options.store_filtered_imfs && options.imf_storage != ImfStorage::kNone) {
     std::vector<const Eigen::VectorXd*> columns;
     for (const ComponentModel* c : components) columns.push_back(&c->Output());
-    WriteColumnDataset(kalman, "filtered", columns, true, results::kRateUnits, big);
+    WriteColumnDataset(kalman, "filtered", columns, true, results::kRateUnits,
+                       Columns(options.imf_storage, options));
   }
+}
 
+/// signals/ and allan/: methods 1 and 2 and the reference filters, each with its Allan table and
+/// noise terms, beside the raw signal's.
+void WriteSignalsAndAllan(Group g, const MethodResult& r, const ResultsOptions& options) {
   Group s = g.CreateGroup("signals");
   const ColumnStorage exact = Columns(ImfStorage::kFloat64, options);
   WriteColumnDataset(s, "method1", {&r.method1}, false, results::kRateUnits, exact);
@@ -299,6 +306,7 @@ void WriteAxis(Group axes, const AxisResults& axis, const ResultsOptions& option
   WriteModelTable(s.CreateGroup("method2_model"), {"raw"}, {&r.direct});
   WriteKalmanTable(s.CreateGroup("method2_kalman"), {"raw"}, {&r.direct});
 
+  const method::Preprocessed& pre = r.preprocessed;
   Group a = g.CreateGroup("allan");
   Group raw = a.CreateGroup("raw");
   WriteAllan(raw, r.raw_allan);
@@ -309,6 +317,19 @@ void WriteAxis(Group axes, const AxisResults& axis, const ResultsOptions& option
   WriteAllan(a.CreateGroup("method1"), r.method1_allan);
   WriteAllan(a.CreateGroup("method2"), r.method2_allan);
   WriteReferenceFilters(s, a, r.reference, exact);
+}
+
+void WriteAxis(Group axes, const AxisResults& axis, const ResultsOptions& options) {
+  const MethodResult& r = *axis.result;
+  Group g = axes.CreateGroup(axis.name);
+  g.WriteInt64Attribute("column", axis.index);
+  g.WriteDoubleAttribute("sample_rate_hz", axis.sample_rate_hz);
+  g.WriteStringAttribute("input_units", axis.input_units);
+  g.WriteInt64Attribute("samples", static_cast<long long>(r.preprocessed.signal.size()));
+  WritePreprocessing(g, axis);
+  WriteDecomposition(g, r, options);
+  WriteComponents(g, r, options);
+  WriteSignalsAndAllan(g, r, options);
 }
 
 }  // namespace

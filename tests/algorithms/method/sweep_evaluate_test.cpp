@@ -1,7 +1,7 @@
 // Tests of algorithms/method/sweep_evaluate: the sweep's default-rule row must be what `run` does
 // with the same options (RunMethod), also when q and R are given explicitly (both configure their
-// filters through ApplyFilterNoise, component.h); one Burg recursion gives every lower order; the
-// best setting beats the default on a moving rate; the ranking. The grids are tested in
+// filters through ComponentFilterOptions, component.h); one Burg recursion gives every lower order;
+// the best setting beats the default on a moving rate; the ranking. The grids are tested in
 // sweep_grid_test.cpp.
 #include "algorithms/method/sweep_evaluate.h"
 

@@ -197,7 +197,7 @@ TEST(RunConfig, AConfigFileThatIsAFolderIsRefused) {
 TEST(RunConfig, ManifestAndModelFilesMustBeRegularFiles) {
   const std::string fifo = "/tmp/fogpipe-run-config-test-" + std::to_string(getpid()) + ".fifo";
   ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
-  for (const std::string path : {std::string("/tmp"), fifo, std::string("/dev/null")}) {
+  for (const std::string& path : {std::string("/tmp"), fifo, std::string("/dev/null")}) {
     std::vector<std::string> errors;
     const auto inputs = io::ListInputs({}, path, &errors);
     EXPECT_TRUE(inputs.empty());
