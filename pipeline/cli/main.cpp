@@ -6,8 +6,8 @@
 #include <string>
 
 #include "pipeline/cli/commands.h"
-#include "pipeline/io/version.h"
 #include "pipeline/hdf5/file.h"
+#include "pipeline/io/version.h"
 
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -61,6 +61,9 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   int exit_code = 0;
+  // Every option's help shows its default ("=value"), also where the help text does not say it;
+  // subcommands inherit this from the app when they are created.
+  app.option_defaults()->always_capture_default();
   fogpipe::cli::AddRunCommand(app, &exit_code);
   fogpipe::cli::AddAllanCommand(app, &exit_code);
   fogpipe::cli::AddInfoCommand(app, &exit_code);
