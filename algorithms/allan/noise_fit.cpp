@@ -446,19 +446,22 @@ void AssessMisfit(const Points& p, const Eigen::VectorXd& model, const Eigen::Ve
                 "model does not describe the curve at " + FormatTauRanges(carried[c]));
 }
 
-// Upper bound of each significant term from the curve.
 // The largest amplitude of term c that no point of the curve contradicts: min over tau of
 // sqrt(v_high / b_c(tau)), v_high the upper `tail` chi-square bound of the measured Allan variance
-// with the table's own EDF (the bound should not rest on the fit). `at` receives that tau.
-double CurveBound(const Points& p, double tail, int c, double* at) {
+// with the table's own EDF (the bound should not rest on the fit). `at`, if given, receives that
+// tau.
+double CurveBound(const Points& p, double tail, int c, double* at = nullptr) {
   double bound = std::numeric_limits<double>::infinity();
-  *at = kNaN;
+  if (at) *at = kNaN;
   for (int i = 0; i < p.size(); ++i) {
     const double edf = p.edf[i];
     if (!(edf > 0.0) || !std::isfinite(edf)) continue;
     const double v_high = p.v[i] * edf / stats::ChiSquareQuantile(tail, edf);
     const double b = std::sqrt(v_high / Basis(c, p.tau[i]));
-    if (b < bound) bound = b, *at = p.tau[i];
+    if (b < bound) {
+      bound = b;
+      if (at) *at = p.tau[i];
+    }
   }
   return bound;
 }
@@ -677,10 +680,12 @@ NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& opt
   Whitened w{sqrt_w.asDiagonal() * basis, sqrt_w.cwiseProduct(measured - model_v),
              Eigen::VectorXd()};
 
-  // Step 2: GLS on the model covariance of the overlapping Allan variances.
+  // Step 2: GLS on the model covariance of the overlapping Allan variances (kept for the upper
+  // limits of step 3).
   double t0 = 0.0;
+  std::optional<AvarCovarianceModel> gls_cov;
   if (options.correlated && CovarianceModelApplies(table, p, &t0)) {
-    const AvarCovarianceModel cov(p.m, p.count, t0);
+    const AvarCovarianceModel& cov = gls_cov.emplace(p.m, p.count, t0);
     Eigen::VectorXd theta_gls = theta;
     Whitened wg;
     if (GeneralizedFit(p, basis, cols, cov, 0.0, options.gls_iterations, &theta_gls, &converged,
@@ -721,10 +726,9 @@ NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& opt
     result.p_value = stats::ChiSquareSurvival(result.chi2, result.dof);
 
   // The whitened design at another theta, as the fit whitened it at its estimate.
-  std::optional<AvarCovarianceModel> gls_cov;
-  if (result.generalized) gls_cov.emplace(p.m, p.count, t0);
   const auto whiten_at = [&](const Eigen::VectorXd& alternative) -> Eigen::MatrixXd {
-    if (!gls_cov) return DiagonalSqrtWeights(p, basis * alternative).asDiagonal() * basis;
+    if (!result.generalized)
+      return DiagonalSqrtWeights(p, basis * alternative).asDiagonal() * basis;
     Eigen::VectorXd t = alternative;
     Whitened out;
     bool ok = true;
@@ -761,8 +765,7 @@ NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& opt
       // Capped by what the curve itself allows, which is finite where the inversion is not:
       // at every point at once, so each point's bound takes the tail / points share (Bonferroni;
       // the minimum over points of 97.7 % bounds covered white noise's N in 61 of 80 records).
-      double at = kNaN;
-      const double curve = CurveBound(p, kUpperLimitTail / npts, cols[c], &at);
+      const double curve = CurveBound(p, kUpperLimitTail / npts, cols[c]);
       a.upper_limit = std::min(
           std::sqrt(UpperLimitByInversion(theta, c, free, se_theta, curve * curve, whiten_at)),
           curve);

@@ -85,21 +85,11 @@ struct AxisWork {
 };
 using AxisPtr = std::shared_ptr<AxisWork>;
 
-/// "warning: axis NAME: ..." and a line feed for a column whose repeated run is flagged, else "".
+/// "warning: axis NAME: ..." for a column whose repeated run is flagged, else "".
 std::string DataWarning(const FileJob& job, const AxisWork& w) {
   const std::string text =
       io::DescribeRepeatedRun(w.read_report.repeats, job.info.sample_rate_hz, job.info.rate_units);
-  return text.empty() ? "" : "warning: axis " + job.info.axis_names[w.axis] + ": " + text + "\n";
-}
-
-/// The data warnings of a file's axes, for its status line.
-std::vector<std::string> DataWarnings(const FileJob& job) {
-  std::vector<std::string> out;
-  for (const auto& w : job.arrived) {
-    std::string line = DataWarning(job, *w);
-    if (!line.empty()) out.push_back(line.substr(0, line.size() - 1));
-  }
-  return out;
+  return text.empty() ? "" : "warning: axis " + job.info.axis_names[w.axis] + ": " + text;
 }
 
 /// Runs `body` on `work` unless it already failed or a stop was requested; converts every
@@ -303,8 +293,9 @@ void CampaignRunner::WriteResults(const FileJob& job, const fs::path& final_path
   outcome->status = FileStatus::kOk;
   outcome->output = final_path.string();
   if (!job.rerun_reason.empty()) outcome->message = "rerun: " + job.rerun_reason;
-  for (const std::string& warning : DataWarnings(job)) {
-    outcome->message += (outcome->message.empty() ? "" : "; ") + warning;
+  for (const AxisPtr& w : job.arrived) {
+    const std::string warning = DataWarning(job, *w);
+    if (!warning.empty()) outcome->message += (outcome->message.empty() ? "" : "; ") + warning;
   }
 }
 
@@ -317,7 +308,9 @@ void CampaignRunner::AppendTables(const FileJob& job) {
                     method::FormatTable5(method::Table5(w->result)) +
                     method::PreprocessingNote(w->result.preprocessed.summary.dropped_samples,
                                               w->result.preprocessed.summary.outliers) +
-                    "\n" + DataWarning(job, *w);
+                    "\n";
+    if (const std::string warning = DataWarning(job, *w); !warning.empty())
+      tables_text_ += warning + "\n";
   }
 }
 
