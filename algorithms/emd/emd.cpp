@@ -127,6 +127,11 @@ bool EmdOptions::IsValid(std::string* error) const {
 }
 
 EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions& options) {
+  return Decompose(x, options, ImfSink());
+}
+
+EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions& options,
+                    const ImfSink& sink) {
   EmdResult result;
   EmdSummary& summary = result.summary;
   std::string error;
@@ -167,16 +172,31 @@ EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions
     return result;
   }
 
-  result.imfs.reserve(64);
+  // With a sink, one IMF buffer is reused and the sum of the IMFs so far is kept instead of the
+  // IMFs (the residue is then x - sum, as RecomputeResidue computes it: the same additions in the
+  // same order).
+  Eigen::VectorXd streamed_imf, imf_sum;
+  if (sink) {
+    streamed_imf.resize(n);
+    imf_sum.setZero(n);
+  } else {
+    result.imfs.reserve(64);
+  }
+  int num_imfs = 0;
   int capped_imfs = 0;
   bool hit_max_imfs = false;
   while (counts.EnoughToSift()) {
-    if (options.max_imfs > 0 && static_cast<int>(result.imfs.size()) == options.max_imfs) {
+    if (options.max_imfs > 0 && num_imfs == options.max_imfs) {
       hit_max_imfs = true;
       break;
     }
-    result.imfs.emplace_back(result.residue);  // h_0 = r, sifted in place.
-    double* h = result.imfs.back().data();
+    // h_0 = r, sifted in place.
+    if (sink) {
+      streamed_imf = result.residue;
+    } else {
+      result.imfs.emplace_back(result.residue);
+    }
+    double* h = sink ? streamed_imf.data() : result.imfs.back().data();
     buffers.RebindSignal(h);
     SiftStopper stopper(criteria, counts);
     SiftStop reason = SiftStop::kFixedCount;
@@ -200,8 +220,9 @@ EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions
       probe += h[i] * 0.0;
       r[i] -= h[i];
     }
+    ++num_imfs;
     if (probe != 0.0 || std::isnan(probe)) {
-      const int k = static_cast<int>(result.imfs.size());
+      const int k = num_imfs;
       result = EmdResult();
       result.summary.termination = Termination::kNumericalFailure;
       result.summary.message = "IMF " + std::to_string(k) + " became non-finite";
@@ -217,11 +238,19 @@ EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions
     result.imf_info.push_back(info);
     summary.total_sifts += sifts;
     if (reason == SiftStop::kSiftCap) ++capped_imfs;
+    if (sink) {
+      imf_sum += streamed_imf;
+      sink(num_imfs - 1, streamed_imf, info);
+    }
     counts = buffers.Find(r, n);
   }
-  RecomputeResidue(x, result.imfs, &result.residue);
+  if (sink) {
+    result.residue = x - imf_sum;
+  } else {
+    RecomputeResidue(x, result.imfs, &result.residue);
+  }
 
-  summary.num_imfs = static_cast<int>(result.imfs.size());
+  summary.num_imfs = num_imfs;
   std::ostringstream msg;
   msg << summary.num_imfs << " IMFs, " << summary.total_sifts << " sifts ("
       << ToString(options.stop_rule) << "); stopped because "

@@ -100,6 +100,18 @@ struct EmdResult {
 /// Decomposes x (N samples, uniformly sampled, any units) into IMFs and a residue.
 EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions& options);
 
+/// Receives IMF k (0 = highest frequency) as soon as it is extracted, with its info; `imf` is
+/// valid only during the call.
+using ImfSink = std::function<void(int k, const Eigen::VectorXd& imf, const ImfInfo& info)>;
+
+/// Decompose() handing each IMF to `sink` instead of keeping it: result.imfs stays empty (imf_info,
+/// residue and summary are filled as by Decompose()), and the IMFs and residue are bit-identical
+/// to Decompose()'s. Memory: one IMF buffer and one running sum of the IMFs instead of K IMFs, so
+/// at most 5 N doubles of heap whatever K (see the header comment). An IMF that turns non-finite
+/// fails the result after the sink has seen the IMFs before it.
+EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions& options,
+                    const ImfSink& sink);
+
 /// Recomputes the shape fields of *info (mean period, energy, extrema and zero crossings, as
 /// Decompose measures them) for `imf` as it now is; sifts and stop_reason are left alone. For
 /// components changed after the decomposition (method/band_limit.h).

@@ -122,25 +122,31 @@ ButterworthGcv::ButterworthGcv(const Eigen::VectorXd& x, double sample_rate_hz, 
   samples_ = l / 2 + 1;
   length_ = static_cast<double>(l);
   const Eigen::Index m = samples_;
-  // The line through the end samples removed, then the antisymmetric extension.
-  std::vector<double> e(l);
-  const double x0 = x[0], slope = (x[m - 1] - x[0]) / static_cast<double>(m - 1);
-  for (Eigen::Index i = 0; i < m; ++i) e[i] = x[i] - x0 - slope * static_cast<double>(i);
-  for (Eigen::Index i = 1; i < m - 1; ++i) e[l - i] = -e[i];
-  e[m - 1] = 0.0;
-  Eigen::FFT<double> fft;
-  fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
-  std::vector<std::complex<double>> spectrum;
-  fft.fwd(spectrum, e);
   const long half = l / 2;
+  // Memory: the extension and its FFT (with its plan) live only until power_ is filled, so the
+  // object keeps three arrays of M doubles (tan2_, power_, tail_power_).
+  {
+    // The line through the end samples removed, then the antisymmetric extension.
+    std::vector<double> e(l);
+    const double x0 = x[0], slope = (x[m - 1] - x[0]) / static_cast<double>(m - 1);
+    for (Eigen::Index i = 0; i < m; ++i) e[i] = x[i] - x0 - slope * static_cast<double>(i);
+    for (Eigen::Index i = 1; i < m - 1; ++i) e[l - i] = -e[i];
+    e[m - 1] = 0.0;
+    std::vector<std::complex<double>> spectrum;
+    {
+      Eigen::FFT<double> fft;
+      fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
+      fft.fwd(spectrum, e);
+    }
+    e = std::vector<double>();
+    power_.resize(half + 1);
+    for (long k = 0; k <= half; ++k)
+      power_[k] = Weight(k, half) * std::norm(spectrum[k]) / (2.0 * length_);
+  }
   tan2_.resize(half + 1);
-  power_.resize(half + 1);
-  weight_.resize(half + 1);
   for (long k = 0; k <= half; ++k) {
     const double t = std::tan(kPi * static_cast<double>(k) / length_);
     tan2_[k] = t * t;
-    weight_[k] = (k == 0 || k == half) ? 1.0 : 2.0;
-    power_[k] = weight_[k] * std::norm(spectrum[k]) / (2.0 * length_);
   }
   tail_power_.assign(half + 2, 0.0);
   for (long k = half; k >= 0; --k) tail_power_[k] = tail_power_[k + 1] + power_[k];
@@ -159,7 +165,7 @@ double ButterworthGcv::Score(double cutoff_hz, double* trace, double* rss) const
   for (std::size_t k = 0; k <= last; ++k) {
     const double h = PowerResponse(order_, tan2_[k] * inv);
     residual += (1.0 - h) * (1.0 - h) * power_[k];
-    sum_h += weight_[k] * h;
+    sum_h += Weight(static_cast<long>(k), static_cast<long>(tan2_.size()) - 1) * h;
   }
   const double m = static_cast<double>(samples_);
   const double tr = sum_h * m / length_;

@@ -101,8 +101,9 @@ class ButterworthGcv {
   double length_ = 0.0;             // L = 2M - 2
   std::vector<double> tan2_;        // tan^2(pi k / L), k = 0 .. L/2
   std::vector<double> power_;       // weight_k |Y_k|^2 / (2 L)
-  std::vector<double> weight_;      // 1 at DC and Nyquist, else 2
   std::vector<double> tail_power_;  // sum of power_ from k on
+  // The weight of bin k of a half spectrum with bins 0..half: 1 at DC and Nyquist, else 2.
+  static double Weight(long k, long half) { return (k == 0 || k == half) ? 1.0 : 2.0; }
 };
 
 ButterworthResult ZeroPhaseButterworth(const Eigen::VectorXd& x, double sample_rate_hz,

@@ -19,32 +19,39 @@ bool BandLimitOptions::IsValid(std::string* error) const {
   return true;
 }
 
-void BandLimitImfs(const BandLimitOptions& options, emd::EmdResult* d) {
-  if (!(options.cutoff_ratio > 0.0)) return;
-  const Eigen::Index n = d->residue.size();
-  const int count = static_cast<int>(d->imfs.size());
-  std::vector<double> work;  // reused by every split (fresh pages are slow)
-  Eigen::VectorXd leak;
-  for (int k = 0; k < count; ++k) {
-    // The band of the component as it stands, the previous one's leakage included.
-    emd::DescribeImf(d->imfs[k], &d->imf_info[k]);
-    const double period = d->imf_info[k].mean_period_samples;
-    if (!(period > 0.0) || static_cast<double>(n) / period < options.min_cycles) continue;
-    const double cutoff = options.cutoff_ratio / period;  // cycles per sample
-    if (!(cutoff < 0.45)) continue;  // below the Nyquist band edge with room for the design
-    // The odd-reflection pad of the low-pass, at most the record: the slowest IMFs' cutoffs have
-    // periods near the record length, and a longer pad only repeats the record.
-    const Eigen::Index pad = std::min<Eigen::Index>(filters::ButterworthPad(cutoff, 1.0), n - 1);
-    filters::FilterForwardBackward(filters::ButterworthSections(options.order, cutoff, 1.0),
-                                   d->imfs[k], pad, &work, &leak);
-    d->imfs[k] -= leak;
-    emd::DescribeImf(d->imfs[k], &d->imf_info[k]);
-    if (k + 1 < count) {
-      d->imfs[k + 1] += leak;
-    } else {
-      d->residue += leak;
-    }
+void BandLimiter::Next(Eigen::VectorXd* imf, emd::ImfInfo* info) {
+  if (!(options_.cutoff_ratio > 0.0)) return;
+  if (pending_) {
+    *imf += leak_;
+    pending_ = false;
   }
+  // The band of the component as it stands, the previous one's leakage included.
+  emd::DescribeImf(*imf, info);
+  const Eigen::Index n = imf->size();
+  const double period = info->mean_period_samples;
+  if (!(period > 0.0) || static_cast<double>(n) / period < options_.min_cycles) return;
+  const double cutoff = options_.cutoff_ratio / period;  // cycles per sample
+  if (!(cutoff < 0.45)) return;  // below the Nyquist band edge with room for the design
+  // The odd-reflection pad of the low-pass, at most the record: the slowest IMFs' cutoffs have
+  // periods near the record length, and a longer pad only repeats the record.
+  const Eigen::Index pad = std::min<Eigen::Index>(filters::ButterworthPad(cutoff, 1.0), n - 1);
+  filters::FilterForwardBackward(filters::ButterworthSections(options_.order, cutoff, 1.0), *imf,
+                                 pad, &work_, &leak_);
+  *imf -= leak_;
+  emd::DescribeImf(*imf, info);
+  pending_ = true;
+}
+
+void BandLimiter::Finish(Eigen::VectorXd* residue) {
+  if (!pending_) return;
+  *residue += leak_;
+  pending_ = false;
+}
+
+void BandLimitImfs(const BandLimitOptions& options, emd::EmdResult* d) {
+  BandLimiter limiter(options);
+  for (std::size_t k = 0; k < d->imfs.size(); ++k) limiter.Next(&d->imfs[k], &d->imf_info[k]);
+  limiter.Finish(&d->residue);
 }
 
 }  // namespace fogpipe::method

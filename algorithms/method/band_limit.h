@@ -23,7 +23,9 @@
 // docs/filtering.md gives the measurements.
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "algorithms/emd/emd.h"
 
@@ -39,6 +41,26 @@ struct BandLimitOptions {
   double min_cycles = 2.0;
 
   bool IsValid(std::string* error) const;
+};
+
+/// The split above one IMF at a time, as EMD extracts them (emd::ImfSink): the IMFs can be
+/// modelled and released one by one. Memory: two vectors of N doubles (the pending leakage and
+/// the low-pass work) besides the IMF.
+class BandLimiter {
+ public:
+  explicit BandLimiter(const BandLimitOptions& options) : options_(options) {}
+  /// IMF k as EMD made it, with its info; IMFs come in order k = 0, 1, ... The previous IMF's
+  /// leakage is added, this one's removed (and kept for the next): *imf and *info then describe
+  /// the component as modelled and stored.
+  void Next(Eigen::VectorXd* imf, emd::ImfInfo* info);
+  /// Adds the last IMF's leakage to the residue.
+  void Finish(Eigen::VectorXd* residue);
+
+ private:
+  BandLimitOptions options_;
+  std::vector<double> work_;  // reused by every split (fresh pages are slow)
+  Eigen::VectorXd leak_;
+  bool pending_ = false;
 };
 
 /// Applies the split above to d->imfs (in place; the residue receives the last IMF's leakage).

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 namespace fogpipe::method {
 
@@ -34,7 +35,7 @@ kalman::ArKalmanOptions ComponentFilterOptions(const ComponentOptions& options, 
 }
 
 ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_variance,
-                              const ComponentOptions& options) {
+                              const ComponentOptions& options, ar::ArFit* prefit) {
   ComponentModel out;
   out.white_noise_variance = white_noise_variance;
   if (IsConstantComponent(x)) {
@@ -46,7 +47,7 @@ ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_varia
     out.kalman.summary.message = out.fit.summary.message;
     return out;
   }
-  out.fit = ar::FitAr(x, options.ar);
+  out.fit = prefit != nullptr ? std::move(*prefit) : ar::FitAr(x, options.ar);
   if (!HasResult(out.fit.summary.termination)) return out;
   const double variance = (x.array() - x.mean()).square().mean();
   // The Kalman filter on out.fit's model, q and R by the noise rule (ComponentFilterOptions).

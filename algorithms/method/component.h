@@ -88,7 +88,9 @@ bool FilterBrokeDown(const kalman::ArKalmanResult& result, double model_mean,
 /// Fits the AR model to `x` and runs the Kalman filter on it, q and R from `white_noise_variance`
 /// (the component's white share, units of x^2) by options.noise_rule unless given explicitly. A
 /// diverged filter (FilterDiverged) is reported as a numerical failure of the filter.
+/// `prefit`, when given, is ar::FitAr(x, options.ar) computed beforehand (the streamed method fits
+/// each IMF while the next is sifted); it is moved from.
 ComponentModel ModelComponent(const Eigen::VectorXd& x, double white_noise_variance,
-                              const ComponentOptions& options);
+                              const ComponentOptions& options, ar::ArFit* prefit = nullptr);
 
 }  // namespace fogpipe::method

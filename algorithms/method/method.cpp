@@ -1,6 +1,10 @@
 #include "algorithms/method/method.h"
 
+#include <algorithm>
+#include <deque>
+#include <memory>
 #include <sstream>
+#include <utility>
 
 #include "algorithms/allan/model_edf.h"
 #include "algorithms/method/white_noise.h"
@@ -41,66 +45,228 @@ std::string ComponentName(int index, int num_imfs) {
   return index < num_imfs ? "imf" + std::to_string(index + 1) : "residue";
 }
 
+namespace {
+
+/// Step 1 into result->preprocessed; false (with the failure in the summary) when it failed.
+bool PreprocessStep(const Eigen::VectorXd& x, double sample_rate_hz, const MethodOptions& options,
+                    MethodResult* result) {
+  result->preprocessed = Preprocess(x, sample_rate_hz, options.preprocess);
+  const PreprocessSummary& pre = result->preprocessed.summary;
+  if (HasResult(pre.termination)) return true;
+  Fail(result, pre.termination, "preprocessing: " + pre.message);
+  return false;
+}
+
+/// After the EMD (and the band limit): the failure in the summary, or the decomposition noted.
+bool NoteDecomposition(const MethodOptions& options, MethodResult* result) {
+  const emd::EmdSummary& emd_summary = result->decomposition.summary;
+  if (!HasResult(emd_summary.termination)) {
+    Fail(result, emd_summary.termination, "EMD: " + emd_summary.message);
+    return false;
+  }
+  result->band_limit_ratio = options.band_limit.cutoff_ratio;
+  result->summary.num_imfs = static_cast<int>(result->decomposition.imf_info.size());
+  result->summary.termination = Termination::kSuccess;
+  return true;
+}
+
+}  // namespace
+
 void PreprocessAndDecompose(const Eigen::VectorXd& x, double sample_rate_hz,
                             const MethodOptions& options, MethodResult* result) {
   std::string error;
   if (!options.IsValid(&error)) return Fail(result, Termination::kInvalidOptions, error);
-  result->preprocessed = Preprocess(x, sample_rate_hz, options.preprocess);
-  const PreprocessSummary& pre = result->preprocessed.summary;
-  if (!HasResult(pre.termination)) {
-    return Fail(result, pre.termination, "preprocessing: " + pre.message);
-  }
+  if (!PreprocessStep(x, sample_rate_hz, options, result)) return;
   result->decomposition = emd::Decompose(result->preprocessed.signal, options.emd);
-  const auto& emd_summary = result->decomposition.summary;
-  if (!HasResult(emd_summary.termination)) {
-    return Fail(result, emd_summary.termination, "EMD: " + emd_summary.message);
-  }
-  BandLimitImfs(options.band_limit, &result->decomposition);
-  result->band_limit_ratio = options.band_limit.cutoff_ratio;
-  result->summary.num_imfs = static_cast<int>(result->decomposition.imfs.size());
-  result->summary.termination = Termination::kSuccess;
+  if (HasResult(result->decomposition.summary.termination))
+    BandLimitImfs(options.band_limit, &result->decomposition);
+  NoteDecomposition(options, result);
 }
 
-void ModelComponents(const MethodOptions& options, const ForEach& for_each, MethodResult* result) {
-  if (!HasResult(result->summary.termination)) return;
-  const emd::EmdResult& emd_result = result->decomposition;
-  const int num_imfs = static_cast<int>(emd_result.imfs.size());
+bool StreamOptions::IsValid(std::string* error) const {
+  if (components_in_flight < 1) {
+    if (error) *error = "components_in_flight must be >= 1";
+    return false;
+  }
+  return true;
+}
+
+namespace {
+
+/// The IMFs as EMD hands them on (emd::ImfSink): band limited, kept (the store, or in memory
+/// without one), their variances noted and their AR fits started, at most
+/// components_in_flight of them in memory at once.
+class ImfStream {
+ public:
+  ImfStream(const MethodOptions& options, const StreamOptions& stream)
+      : options_(options),
+        stream_(stream),
+        limiter_(options.band_limit),
+        fits_group_(MakeTaskGroup(stream.tasks)),
+        buffers_(stream.store ? stream.components_in_flight : 0) {}
+  ~ImfStream() {
+    try {
+      fits_group_->Wait();
+    } catch (...) {
+    }
+  }
+
+  void Take(int k, const Eigen::VectorXd& imf, const emd::ImfInfo& info) {
+    Eigen::VectorXd* c = nullptr;
+    if (stream_.store == nullptr) {
+      kept_.emplace_back(imf);
+      c = &kept_.back();
+    } else {
+      const int slot = k % stream_.components_in_flight;
+      // A buffer is reused once the fits of the previous round have finished.
+      if (slot == 0 && k > 0) fits_group_->Wait();
+      buffers_[slot] = imf;
+      c = &buffers_[slot];
+    }
+    infos_.push_back(info);
+    limiter_.Next(c, &infos_.back());
+    variances_.push_back(ComponentVariance(*c));
+    if (stream_.store) stream_.store->Put(ComponentStore::Kind::kComponent, k, *c);
+    fits_.emplace_back();
+    Prefit* fit = &fits_.back();
+    const ar::ArOptions& ar_options = options_.component.ar;
+    fits_group_->Run([c, fit, &ar_options] {
+      if (IsConstantComponent(*c)) return;  // ModelComponent passes it through unfitted
+      fit->fit = ar::FitAr(*c, ar_options);
+      fit->done = true;
+    });
+  }
+
+  /// After the EMD: every fit finished, and after a decomposition the last IMF's leakage in the
+  /// residue.
+  void Finish(bool decomposed, Eigen::VectorXd* residue) {
+    fits_group_->Wait();
+    if (decomposed) limiter_.Finish(residue);
+  }
+
+  struct Prefit {
+    ar::ArFit fit;
+    bool done = false;
+  };
+  const MethodOptions& options_;
+  const StreamOptions& stream_;
+  BandLimiter limiter_;
+  std::unique_ptr<TaskGroup> fits_group_;
+  std::vector<Eigen::VectorXd> buffers_;  // with a store: one per component in flight
+  // Deques: the running fits hold pointers into them while more are appended.
+  std::deque<Eigen::VectorXd> kept_;  // without a store: every IMF
+  std::deque<Prefit> fits_;
+  std::vector<emd::ImfInfo> infos_;  // as band limited
+  std::vector<double> variances_;    // the components' (ComponentVariance)
+};
+
+/// Step 1 and EMD, the IMFs handed to `imfs` as extracted. False (with the failure in the
+/// summary) when no decomposition came out.
+bool DecomposeStreamed(const Eigen::VectorXd& x, double sample_rate_hz,
+                       const MethodOptions& options, ImfStream* imfs, MethodResult* result) {
+  if (!PreprocessStep(x, sample_rate_hz, options, result)) return false;
+  result->decomposition =
+      emd::Decompose(result->preprocessed.signal, options.emd,
+                     [imfs](int k, const Eigen::VectorXd& imf, const emd::ImfInfo& info) {
+                       imfs->Take(k, imf, info);
+                     });
+  emd::EmdResult& d = result->decomposition;
+  const bool decomposed = HasResult(d.summary.termination);
+  imfs->Finish(decomposed, &d.residue);
+  if (decomposed) d.imf_info = imfs->infos_;
+  return NoteDecomposition(options, result);
+}
+
+/// Step 3 per component, components_in_flight at a time in component order, each added into
+/// method 1 (eq. 12, summed in component order: the result never depends on the schedule) and
+/// then released when there is a store. Then method 2 and the reference filters.
+void FilterComponents(double sample_rate_hz, const MethodOptions& options,
+                      const StreamOptions& stream, ImfStream* imfs, MethodResult* result) {
+  emd::EmdResult& d = result->decomposition;
+  const int num_imfs = result->summary.num_imfs;
   const Eigen::VectorXd& signal = result->preprocessed.signal;
+  const Eigen::Index n = signal.size();
+  ComponentStore* store = stream.store;
 
   // R per component (white_noise.h): the raw white-noise variance shared by mean period.
   const WhiteNoiseLevels levels = EstimateWhiteNoiseLevels(signal);
-  const double white = levels.Total();
-  const std::vector<double> r = ShareWhiteNoise(levels, emd_result, signal.size());
+  std::vector<double> periods(num_imfs + 1, static_cast<double>(n));
+  for (int k = 0; k < num_imfs; ++k) periods[k] = d.imf_info[k].mean_period_samples;
+  std::vector<double> variances = imfs->variances_;
+  variances.push_back(ComponentVariance(d.residue));
+  const std::vector<double> r = ShareWhiteNoise(levels, periods, variances);
 
-  // Slots 0..num_imfs-1: IMFs, num_imfs: residue, num_imfs + 1: method 2 on the whole signal.
-  result->components.assign(num_imfs + 1, ComponentModel());
+  // Method 2 and the reference filters only need the signal.
   ComponentOptions direct_options = options.component;
   direct_options.ar.fixed_order = options.direct_ar_order;
   // The raw signal's white noise is white: innovation matching is the consistent rule there.
   direct_options.noise_rule = ComponentNoiseRule::kInnovationMatch;
-  for_each(num_imfs + 2, [&](int k) {
-    if (k < num_imfs) {
-      result->components[k] = ModelComponent(emd_result.imfs[k], r[k], options.component);
-    } else if (k == num_imfs) {
-      result->components[k] = ModelComponent(emd_result.residue, r[k], options.component);
-    } else {
-      result->direct = ModelComponent(signal, white, direct_options);
+  const ForEach for_each = stream.for_each ? stream.for_each : ForEach(SerialForEach);
+  if (store) store->Put(ComponentStore::Kind::kComponent, num_imfs, d.residue);
+  result->components.assign(num_imfs + 1, ComponentModel());
+  result->method1 = Eigen::VectorXd::Zero(n);
+  std::string failure;
+  const int batch = stream.components_in_flight;
+  for (int start = 0; start <= num_imfs && failure.empty(); start += batch) {
+    const int count = std::min(batch, num_imfs + 1 - start);
+    for_each(count, [&](int j) {
+      const int k = start + j;
+      const Eigen::VectorXd* x = k == num_imfs ? &d.residue : nullptr;
+      if (x == nullptr && store == nullptr) x = &imfs->kept_[k];
+      if (x == nullptr) {
+        store->Get(ComponentStore::Kind::kComponent, k, &imfs->buffers_[j]);
+        x = &imfs->buffers_[j];
+      }
+      ar::ArFit* prefit = k < num_imfs && imfs->fits_[k].done ? &imfs->fits_[k].fit : nullptr;
+      result->components[k] = ModelComponent(*x, r[k], options.component, prefit);
+    });
+    for (int k = start; k < start + count && failure.empty(); ++k) {
+      ComponentModel& c = result->components[k];
+      if (!c.ok()) {
+        failure = ComponentName(k, num_imfs) + ": " + c.message();
+        break;
+      }
+      result->method1 += c.Output();
+      if (store == nullptr) continue;
+      if (stream.store_filtered) store->Put(ComponentStore::Kind::kFiltered, k, c.Output());
+      c.kalman.filtered = Eigen::VectorXd();
+      c.kalman.smoothed = Eigen::VectorXd();
     }
-  });
-
-  for (int k = 0; k <= num_imfs; ++k) {
-    const ComponentModel& c = result->components[k];
-    if (!c.ok()) {
-      return Fail(result, Termination::kNumericalFailure,
-                  ComponentName(k, num_imfs) + ": " + c.message());
-    }
+  }
+  if (store) d.residue = Eigen::VectorXd();
+  // Then method 2 beside the reference filters: after the components rather than beside them,
+  // so that the peak memory is the larger of the two phases, not their sum.
+  if (failure.empty()) {
+    std::unique_ptr<TaskGroup> side = MakeTaskGroup(stream.tasks);
+    side->Run([&] { result->direct = ModelComponent(signal, levels.Total(), direct_options); });
+    RunReferenceFilters(sample_rate_hz, options, for_each, result);
+    side->Wait();
+  }
+  if (store == nullptr) {
+    d.imfs.reserve(imfs->kept_.size());
+    for (Eigen::VectorXd& imf : imfs->kept_) d.imfs.push_back(std::move(imf));
+  }
+  if (!failure.empty()) {
+    result->method1 = Eigen::VectorXd();
+    return Fail(result, Termination::kNumericalFailure, failure);
   }
   if (!result->direct.ok()) {
     return Fail(result, Termination::kNumericalFailure, "method 2: " + result->direct.message());
   }
-  // Eq. 12, summed in component order (fixed, whatever the schedule).
-  result->method1 = Eigen::VectorXd::Zero(signal.size());
-  for (int k = 0; k <= num_imfs; ++k) result->method1 += result->components[k].Output();
+}
+
+}  // namespace
+
+void DecomposeAndModel(const Eigen::VectorXd& x, double sample_rate_hz,
+                       const MethodOptions& options, const StreamOptions& stream,
+                       MethodResult* result) {
+  std::string error;
+  if (!options.IsValid(&error)) return Fail(result, Termination::kInvalidOptions, error);
+  if (!stream.IsValid(&error)) return Fail(result, Termination::kInvalidOptions, error);
+  ImfStream imfs(options, stream);
+  const bool decomposed = DecomposeStreamed(x, sample_rate_hz, options, &imfs, result);
+  if (stream.on_decomposed) stream.on_decomposed();
+  if (decomposed) FilterComponents(sample_rate_hz, options, stream, &imfs, result);
 }
 
 void RunReferenceFilters(double sample_rate_hz, const MethodOptions& options,
@@ -152,9 +318,9 @@ void EvaluateAllan(double sample_rate_hz, const MethodOptions& options, const Fo
 MethodResult RunMethod(const Eigen::VectorXd& x, double sample_rate_hz,
                        const MethodOptions& options, const ForEach& for_each) {
   MethodResult result;
-  PreprocessAndDecompose(x, sample_rate_hz, options, &result);
-  ModelComponents(options, for_each, &result);
-  RunReferenceFilters(sample_rate_hz, options, for_each, &result);
+  StreamOptions stream;
+  stream.for_each = for_each;
+  DecomposeAndModel(x, sample_rate_hz, options, stream, &result);
   EvaluateAllan(sample_rate_hz, options, for_each, &result);
   return result;
 }

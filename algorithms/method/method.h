@@ -1,6 +1,6 @@
 // The paper's whole method on one axis (Liu, Liu & Shen 2018; docs/method.md, steps 1-4), as plain
-// functions without threads. The flow graph (pipeline/graph) runs the same stages in its nodes,
-// the per-component stage in parallel; RunMethod() chains them serially (tests, small tools).
+// functions without threads of their own (work runs through a ForEach and a TaskGroup). The flow
+// graph (pipeline/graph) runs the stages in its nodes; RunMethod() chains them (tests, tools).
 //
 //   x --Preprocess--> s --EMD--> imf_1..imf_n, residue
 //     method 1: per component AR(p by BIC) + Kalman -> x1 = sum filtered IMFs + filtered residue
@@ -18,10 +18,12 @@
 #include "algorithms/allan/noise_fit.h"
 #include "algorithms/common/for_each.h"
 #include "algorithms/common/status.h"
+#include "algorithms/common/task_group.h"
 #include "algorithms/emd/emd.h"
 #include "algorithms/filters/reference_filters.h"
 #include "algorithms/method/band_limit.h"
 #include "algorithms/method/component.h"
+#include "algorithms/method/component_store.h"
 #include "algorithms/method/preprocess.h"
 
 namespace fogpipe::method {
@@ -87,16 +89,53 @@ using fogpipe::ForEach;
 /// The serial ForEach.
 void SerialForEach(int n, const std::function<void(int)>& body);
 
+/// How DecomposeAndModel() runs: where the components wait for their filters, and how much runs
+/// at once.
+struct StreamOptions {
+  /// Where each component's samples wait for its filter. Null (default): in
+  /// result->decomposition.imfs, and every component keeps its filtered output, as RunMethod()
+  /// returns them. Otherwise every IMF and the residue go to the store as they are made,
+  /// decomposition.imfs and .residue stay empty, and each filtered component is released once
+  /// added into method 1 (stored first when store_filtered): memory no longer grows with the
+  /// number of IMFs.
+  ComponentStore* store = nullptr;
+  /// With a store: put every filtered component into it (ComponentStore::Kind::kFiltered).
+  bool store_filtered = false;
+  /// Components whose samples are in memory at once, each with its AR fit or Kalman filter:
+  /// while EMD sifts IMF k + 1, the AR models of up to this many earlier IMFs are fitted, and
+  /// the filters then run this many components at a time. Default 2 (the machines this runs on
+  /// have 2 cores per job); >= 1.
+  int components_in_flight = 2;
+  /// The AR fits beside the sifting, and method 2 beside the reference filters; empty: everything
+  /// in order.
+  TaskGroupFactory tasks;
+  /// The filters of one batch of components; empty: in order.
+  ForEach for_each;
+  /// Called once the decomposition is done (the pipeline times its stages with it).
+  std::function<void()> on_decomposed;
+
+  bool IsValid(std::string* error) const;
+};
+
 // ---- Stages (the flow graph's node bodies call these) ----
 
-/// Preprocess + EMD. On failure the summary says why and the rest is left empty.
+/// Preprocess + EMD (+ the band limit), all IMFs in result->decomposition. On failure the summary
+/// says why and the rest is left empty. (The sweep starts from it; `run` streams instead.)
 void PreprocessAndDecompose(const Eigen::VectorXd& x, double sample_rate_hz,
                             const MethodOptions& options, MethodResult* result);
-/// Method 1's per-component models (IMFs then residue, through for_each) and method 2's model,
-/// then the reconstruction x1. Needs PreprocessAndDecompose first.
-void ModelComponents(const MethodOptions& options, const ForEach& for_each, MethodResult* result);
-/// The reference filters on the preprocessed signal (through for_each). Needs
-/// PreprocessAndDecompose first; independent of ModelComponents.
+
+/// Steps 1-3 streamed, as the paper's method consumes them: preprocessing; EMD, each IMF band
+/// limited, stored and its AR model fitted as soon as it is extracted; then per component (IMFs,
+/// residue) the Kalman filter on its model, q and R from its white-noise share (which needs
+/// every component's mean period, hence after the EMD), added into method 1 in component order;
+/// then method 2 beside the reference filters. The numbers are the same whatever `stream`
+/// says (tested bit for bit against the store-less path and across thread counts).
+void DecomposeAndModel(const Eigen::VectorXd& x, double sample_rate_hz,
+                       const MethodOptions& options, const StreamOptions& stream,
+                       MethodResult* result);
+
+/// The reference filters on the preprocessed signal (through for_each). Needs the preprocessed
+/// signal (DecomposeAndModel runs it; the sweep calls it after PreprocessAndDecompose).
 void RunReferenceFilters(double sample_rate_hz, const MethodOptions& options,
                          const ForEach& for_each, MethodResult* result);
 /// The Allan tables + noise fits of raw, methods 1 and 2 and every reference filter with an
@@ -104,7 +143,8 @@ void RunReferenceFilters(double sample_rate_hz, const MethodOptions& options,
 void EvaluateAllan(double sample_rate_hz, const MethodOptions& options, const ForEach& for_each,
                    MethodResult* result);
 
-/// All stages, serially or through for_each.
+/// All stages (DecomposeAndModel without a store, then EvaluateAllan), serially or through
+/// for_each.
 MethodResult RunMethod(const Eigen::VectorXd& x, double sample_rate_hz,
                        const MethodOptions& options, const ForEach& for_each = SerialForEach);
 

@@ -71,12 +71,15 @@ std::vector<double> ShareWhiteNoise(const WhiteNoiseLevels& levels,
   return r;
 }
 
+double ComponentVariance(const Eigen::VectorXd& c) {
+  return c.size() > 0 ? (c.array() - c.mean()).square().mean() : 0.0;
+}
+
 std::vector<double> ComponentVariances(const emd::EmdResult& decomposition) {
   const int num_imfs = static_cast<int>(decomposition.imfs.size());
   std::vector<double> variances(num_imfs + 1);
   for (int k = 0; k <= num_imfs; ++k) {
-    const Eigen::VectorXd& c = k < num_imfs ? decomposition.imfs[k] : decomposition.residue;
-    variances[k] = c.size() > 0 ? (c.array() - c.mean()).square().mean() : 0.0;
+    variances[k] = ComponentVariance(k < num_imfs ? decomposition.imfs[k] : decomposition.residue);
   }
   return variances;
 }

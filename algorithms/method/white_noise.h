@@ -81,7 +81,10 @@ struct FilterNoise {
 FilterNoise ComponentFilterNoise(ComponentNoiseRule rule, double white_share, double variance,
                                  double innovation_variance);
 
-/// Variance of every IMF, then of the residue, units of x^2 (about each component's mean).
+/// Variance of one component about its mean, units of x^2 (0 when empty).
+double ComponentVariance(const Eigen::VectorXd& component);
+
+/// ComponentVariance of every IMF, then of the residue.
 std::vector<double> ComponentVariances(const emd::EmdResult& decomposition);
 
 /// The white measurement noise of step 1, per sample, units of x^2.

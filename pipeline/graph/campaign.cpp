@@ -30,6 +30,7 @@
 #include "pipeline/io/isolated_reader.h"
 #include "pipeline/io/results_reader.h"
 #include "pipeline/io/sha256.h"
+#include "pipeline/io/spill_store.h"
 #include "pipeline/io/version.h"
 
 namespace fogpipe::graph {
@@ -77,6 +78,8 @@ struct AxisWork {
   Eigen::VectorXd rate_rad_s;
   io::ReadReport read_report;  ///< what the reader found in the column (repeated runs)
   method::MethodResult result;
+  /// The IMFs, the residue and (if stored) the filtered components, on disk until written.
+  std::unique_ptr<io::SpillStore> store;
   std::string error;  ///< empty while all is well
   bool interrupted = false;
   double stage_seconds[kNumStages] = {0, 0, 0, 0};
@@ -186,6 +189,7 @@ std::vector<io::AxisResults> ResultsAxes(const FileJob& job) {
     a.input_units = job.info.rate_units;
     a.read = w->read_report;
     a.result = &w->result;
+    a.store = w->store.get();
     axes.push_back(a);
   }
   return axes;
@@ -381,8 +385,7 @@ void RecordEarly(CampaignRunner& runner, std::size_t i, const std::string& input
 std::uint64_t RecordingBytes(const io::RecordingInfo& info, const CampaignOptions& options) {
   std::uint64_t need = 0;
   if (__builtin_mul_overflow(static_cast<std::uint64_t>(std::max(info.axis_count, 1)),
-                             BytesPerAxis(static_cast<std::uint64_t>(std::max(info.samples, 0ll)),
-                                          options.method.emd.max_imfs),
+                             BytesPerAxis(static_cast<std::uint64_t>(std::max(info.samples, 0ll))),
                              &need)) {
     return UINT64_MAX;
   }
@@ -557,25 +560,29 @@ void NoteMethodFailure(AxisWork* w) {
   }
 }
 
-/// Decompose node: the --model compensation, preprocessing and EMD (`options` with the TBB
-/// for_each for the sifts' envelope work).
-void Decompose(AxisWork* w, const CampaignOptions& options,
-               const method::MethodOptions& decompose_options) {
-  Guarded(*w, kDecompose, [&] {
-    if (!ApplyCompensation(w, options)) return;
-    method::PreprocessAndDecompose(w->rate_rad_s, w->job->info.sample_rate_hz, decompose_options,
-                                   &w->result);
-    w->rate_rad_s = Eigen::VectorXd();  // the preprocessed copy is what is kept
-    NoteMethodFailure(w);
-  });
-}
-
-/// Models node: per-component AR + Kalman, method 2, and the reference filters.
-void ModelAxis(AxisWork* w, const CampaignOptions& options) {
+/// Analysis node: the --model compensation, then the method streamed (method.h
+/// DecomposeAndModel): EMD with each IMF's AR fit beside the sifting, the components spilled to
+/// a scratch file in the output folder (io/spill_store.h) and filtered a few at a time, method 2
+/// and the reference filters beside them. Its time is split into the preprocess_emd and models
+/// stages at the end of the EMD.
+void AnalyseAxis(AxisWork* w, const CampaignOptions& options,
+                 const method::MethodOptions& method_options) {
   Guarded(*w, kModels, [&] {
-    method::ModelComponents(options.method, TbbForEach, &w->result);
-    method::RunReferenceFilters(w->job->info.sample_rate_hz, options.method, TbbForEach,
-                                &w->result);
+    if (!ApplyCompensation(w, options)) return;
+    w->store = std::make_unique<io::SpillStore>(options.output_dir);
+    method::StreamOptions stream;
+    stream.store = w->store.get();
+    stream.store_filtered = options.results.store_filtered_imfs;
+    stream.tasks = MakeTbbTaskGroup;
+    stream.for_each = TbbForEach;
+    const auto start = Clock::now();
+    stream.on_decomposed = [&] {
+      w->stage_seconds[kDecompose] += Seconds(start);
+      w->stage_seconds[kModels] -= Seconds(start);
+      w->rate_rad_s = Eigen::VectorXd();  // the preprocessed copy is what is kept
+    };
+    method::DecomposeAndModel(w->rate_rad_s, w->job->info.sample_rate_hz, method_options, stream,
+                              &w->result);
     NoteMethodFailure(w);
   });
 }
@@ -611,8 +618,8 @@ std::size_t RunGraph(const Jobs& jobs, const CampaignOptions& options, std::size
                               static_cast<std::size_t>(std::max(1, options.threads)));
   // The EMD's sifts run their envelope work through TBB too (bit-identical IMFs, emd.h): with
   // few recordings in flight it is otherwise the one serial stage.
-  method::MethodOptions decompose_options = options.method;
-  decompose_options.emd.for_each = TbbForEach;
+  method::MethodOptions method_options = options.method;
+  method_options.emd.for_each = TbbForEach;
   using ReaderNode = flow::multifunction_node<FileJob*, std::tuple<AxisPtr>>;
   using AxisNode = flow::function_node<AxisPtr, AxisPtr>;
   using WriterNode = flow::multifunction_node<AxisPtr, std::tuple<flow::continue_msg>>;
@@ -629,12 +636,8 @@ std::size_t RunGraph(const Jobs& jobs, const CampaignOptions& options, std::size
   ReaderNode reader(g, flow::serial, [&](FileJob* job, ReaderNode::output_ports_type& ports) {
     ReadRecording(job, options, [&](AxisPtr w) { std::get<0>(ports).try_put(std::move(w)); });
   });
-  AxisNode decompose(g, flow::unlimited, [&](AxisPtr w) {
-    Decompose(w.get(), options, decompose_options);
-    return w;
-  });
-  AxisNode models(g, flow::unlimited, [&](AxisPtr w) {
-    ModelAxis(w.get(), options);
+  AxisNode analyse(g, flow::unlimited, [&](AxisPtr w) {
+    AnalyseAxis(w.get(), options, method_options);
     return w;
   });
   AxisNode allan(g, flow::unlimited, [&](AxisPtr w) {
@@ -647,9 +650,8 @@ std::size_t RunGraph(const Jobs& jobs, const CampaignOptions& options, std::size
   });
   flow::make_edge(source, limiter);
   flow::make_edge(limiter, reader);
-  flow::make_edge(std::get<0>(reader.output_ports()), decompose);
-  flow::make_edge(decompose, models);
-  flow::make_edge(models, allan);
+  flow::make_edge(std::get<0>(reader.output_ports()), analyse);
+  flow::make_edge(analyse, allan);
   flow::make_edge(allan, writer);
   flow::make_edge(std::get<0>(writer.output_ports()), limiter.decrementer());
   source.activate();

@@ -86,8 +86,7 @@ struct CampaignReport {
 /// needs and which --memory-budget would admit it) and the others go on; otherwise at most
 /// floor((budget - FixedBytes) / largest estimate), and at most 2 x threads, recordings are in
 /// memory at once. So the peak stays within the budget whenever the estimate bounds the real
-/// need (measured: 3.35 GB peak RSS against 4.0 GB estimated for 8.64e6 samples, 133 MB against
-/// 138 MB for 3.6e5).
+/// need (BytesPerAxis says how it was measured).
 ///
 /// Throws std::runtime_error when OUTDIR cannot be created or status.jsonl cannot be opened.
 CampaignReport RunCampaign(const std::vector<io::InputFile>& inputs,

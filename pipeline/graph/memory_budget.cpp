@@ -68,14 +68,10 @@ std::optional<std::uint64_t> ParseByteSize(const std::string& text) {
   return static_cast<std::uint64_t>(bytes);
 }
 
-std::uint64_t BytesPerAxis(std::uint64_t num_samples, int max_imfs) {
-  const double log2n = std::log2(std::max<double>(2.0, static_cast<double>(num_samples)));
-  int imfs = static_cast<int>(std::ceil(log2n)) + 1;
-  if (max_imfs > 0) imfs = std::min(imfs, max_imfs + 1);
-  const std::uint64_t expected_imfs = 2 * static_cast<std::uint64_t>(imfs);
+std::uint64_t BytesPerAxis(std::uint64_t num_samples) {
   std::uint64_t bytes = 0;
-  if (__builtin_mul_overflow((expected_imfs + 8 + kReferenceFilterDoubles) * 8,
-                             std::max<std::uint64_t>(num_samples, 1), &bytes)) {
+  if (__builtin_mul_overflow(kDoublesPerSample * 8, std::max<std::uint64_t>(num_samples, 1),
+                             &bytes)) {
     return UINT64_MAX;  // saturates: never admitted, never 0
   }
   return bytes;

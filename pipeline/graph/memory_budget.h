@@ -21,17 +21,20 @@ std::uint64_t PhysicalMemoryBytes();
 /// about 4 GiB) or overrun small ones.
 std::uint64_t AutoMemoryBudgetBytes();
 
-/// Bytes one axis of `num_samples` samples needs while it is analysed: the raw and preprocessed
-/// signals, every IMF and the residue, their filtered versions, the method-1 and method-2 outputs
-/// and work space, and the reference filters (filters/reference_filters.h: four output signals,
-/// their tuning searches and Allan tables, kReferenceFilterDoubles per sample, measured as the
-/// peak-memory difference of `run` with and without them). Estimated as (expected_imfs + 8 +
-/// kReferenceFilterDoubles) x N x 8 bytes with expected_imfs = 2 log2(N) (+1 for the residue):
-/// EMD of noise yields about log2(N) IMFs (Flandrin, Rilling & Goncalves 2004, "EMD as a filter
-/// bank"), and every IMF is held twice (raw and filtered).
-/// Saturates at UINT64_MAX instead of overflowing; never 0.
-constexpr std::uint64_t kReferenceFilterDoubles = 52;
-std::uint64_t BytesPerAxis(std::uint64_t num_samples, int max_imfs);
+/// Bytes one axis of `num_samples` samples needs while it is analysed: kDoublesPerSample x N x 8.
+/// The method streams the components (method.h DecomposeAndModel with a scratch-file store,
+/// io/spill_store.h), so the need no longer grows with the number of IMFs; what is held at once
+/// is, by phase: during the EMD the signal, the running remainder, the IMF being sifted, the
+/// running sum of the IMFs, the envelope knots, the band limit's low-pass work and leakage, and
+/// two IMFs with their AR fits (about 15 N doubles); during the filters the signal, the residue,
+/// method 1 and two components with their filters; then method 2 beside the reference filters
+/// (the Butterworth's GCV spectrum is the largest part); then the Allan tables of the seven
+/// outputs. Measured peak RSS minus FixedBytes(2), `run` with 2 threads and default options:
+/// 17.1 doubles per sample at 3.6e5 samples (1 h at 100 Hz) and 17.8 at 8.64e6 (24 h at 100 Hz);
+/// 20 leaves a margin for other signals' extrema counts. Saturates at UINT64_MAX instead of
+/// overflowing; never 0.
+constexpr std::uint64_t kDoublesPerSample = 20;
+std::uint64_t BytesPerAxis(std::uint64_t num_samples);
 
 /// Memory the process needs whatever the recordings: the binary with its libraries, HDF5's and
 /// TBB's own state (measured: 21 MiB peak RSS for a 2000-sample recording) and the results

@@ -3,6 +3,9 @@
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/partitioner.h>
+#include <oneapi/tbb/task_group.h>
+
+#include <utility>
 
 namespace fogpipe::graph {
 
@@ -14,5 +17,28 @@ void TbbForEach(int n, const std::function<void(int)>& body) {
       },
       tbb::simple_partitioner());
 }
+
+namespace {
+
+class TbbTaskGroup : public TaskGroup {
+ public:
+  // Waited for here, so that destroying the tbb::task_group (whose destructor may throw when
+  // tasks are still running) cannot throw.
+  ~TbbTaskGroup() override {
+    try {
+      group_->wait();
+    } catch (...) {
+    }
+  }
+  void Run(std::function<void()> task) override { group_->run(std::move(task)); }
+  void Wait() override { group_->wait(); }
+
+ private:
+  std::unique_ptr<tbb::task_group> group_ = std::make_unique<tbb::task_group>();
+};
+
+}  // namespace
+
+std::unique_ptr<TaskGroup> MakeTbbTaskGroup() { return std::make_unique<TbbTaskGroup>(); }
 
 }  // namespace fogpipe::graph

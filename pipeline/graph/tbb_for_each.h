@@ -3,6 +3,9 @@
 #pragma once
 
 #include <functional>
+#include <memory>
+
+#include "algorithms/common/task_group.h"
 
 namespace fogpipe::graph {
 
@@ -10,5 +13,8 @@ namespace fogpipe::graph {
 /// bodies are few and long). Each body must write only its own slot, so the result does not
 /// depend on the schedule or the thread count.
 void TbbForEach(int n, const std::function<void(int)>& body);
+
+/// A fogpipe::TaskGroup on the TBB pool (tbb::task_group); waits for its tasks when destroyed.
+std::unique_ptr<TaskGroup> MakeTbbTaskGroup();
 
 }  // namespace fogpipe::graph

@@ -98,40 +98,33 @@ std::vector<unsigned char> EncodeChunk(const double* values, std::size_t rows,
 
 namespace {
 
-// Throws std::invalid_argument unless the columns make a dataset; returns their length.
-hsize_t CheckedLength(const std::string& name, const std::vector<const Eigen::VectorXd*>& columns,
-                      bool matrix, const ColumnStorage& storage) {
+// Throws std::invalid_argument unless the columns make a dataset.
+void CheckShape(const std::string& name, int num_columns, bool matrix,
+                const ColumnStorage& storage) {
   std::string error;
   if (!storage.IsValid(&error)) throw std::invalid_argument("fogpipe::io: " + error);
-  if (columns.empty() || (!matrix && columns.size() != 1)) {
+  if (num_columns < 1 || (!matrix && num_columns != 1)) {
     throw std::invalid_argument("fogpipe::io: " + name + ": a vector dataset needs one column");
   }
-  const hsize_t n = static_cast<hsize_t>(columns[0]->size());
-  for (const Eigen::VectorXd* c : columns) {
-    if (static_cast<hsize_t>(c->size()) != n) {
-      throw std::invalid_argument("fogpipe::io: " + name + ": columns of different lengths");
-    }
-  }
-  return n;
 }
 
 // A small dataset: contiguous, one plain write.
-void WriteContiguous(hdf5::Group& group, const std::string& name,
-                     const std::vector<const Eigen::VectorXd*>& columns,
-                     const std::vector<hsize_t>& dims, const std::string& units,
-                     hdf5::StorageType type) {
+void WriteContiguous(hdf5::Group& group, const std::string& name, int num_columns,
+                     const ColumnLoader& load, const std::vector<hsize_t>& dims,
+                     const std::string& units, hdf5::StorageType type) {
   const hsize_t n = dims[0];
-  const hsize_t k = columns.size();
+  const hsize_t k = static_cast<hsize_t>(num_columns);
   hdf5::DatasetOptions plain;
   plain.storage = type;
   plain.deflate_level = 0;
   plain.min_chunked_elements = ~hsize_t{0};
   std::vector<double> data(n * k);
-  for (hsize_t r = 0; r < n; ++r)
-    for (hsize_t c = 0; c < k; ++c) data[r * k + c] = (*columns[c])[r];
+  for (hsize_t c = 0; c < k; ++c) {
+    const double* column = load(static_cast<int>(c));
+    for (hsize_t r = 0; r < n; ++r) data[r * k + c] = column[r];
+  }
   group.WriteDataset(name, data.data(), dims, units, plain);
 }
-
 // The layout the chunks are encoded for: [chunk_rows, 1] chunks, shuffle + deflate declared so
 // that every reader decodes them (the writes bypass the filters).
 hdf5::Dataset CreateChunked(hdf5::Group& group, const std::string& name,
@@ -147,17 +140,15 @@ hdf5::Dataset CreateChunked(hdf5::Group& group, const std::string& name,
   return group.CreateDataset(name, dims, units, layout);
 }
 
-// Chunks in file order: column 0 top to bottom, then column 1, ... A pipeline of at most
-// 2 x threads chunks in flight (bounded memory: ~1.5 chunk sizes each): encoded in parallel,
-// written one at a time in order while the next ones are being encoded. The write may run on
-// a TBB worker thread: it is an HDF5 C API call (thread-safe in Debian's build), serialized by
-// the serial_in_order filter, while this thread holds the fogpipe HDF5 lock for all of it.
-void WriteChunks(const hdf5::Dataset& dataset, const std::vector<const Eigen::VectorXd*>& columns,
-                 const ColumnStorage& storage) {
-  const hsize_t n = static_cast<hsize_t>(columns[0]->size());
+// The chunks of one column top to bottom. A pipeline of at most 2 x threads chunks in flight
+// (bounded memory: ~1.5 chunk sizes each): encoded in parallel, written one at a time in order
+// while the next ones are being encoded. The write may run on a TBB worker thread: it is an HDF5
+// C API call (thread-safe in Debian's build), serialized by the serial_in_order filter, while this
+// thread holds the fogpipe HDF5 lock for all of it.
+void WriteColumnChunks(const hdf5::Dataset& dataset, const double* column, hsize_t n,
+                       hsize_t column_index, const ColumnStorage& storage) {
   const hsize_t chunk_rows = storage.chunk_rows;
-  const hsize_t per_column = (n + chunk_rows - 1) / chunk_rows;
-  const hsize_t total = per_column * columns.size();
+  const hsize_t total = (n + chunk_rows - 1) / chunk_rows;
   const std::size_t tokens =
       2 * static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
   const hid_t dataset_id = dataset.id();
@@ -175,16 +166,16 @@ void WriteChunks(const hdf5::Dataset& dataset, const std::vector<const Eigen::Ve
                   tbb::make_filter<hsize_t, Encoded>(
                       tbb::filter_mode::parallel,
                       [&](hsize_t i) {
-                        const hsize_t c = i / per_column, row0 = i % per_column * chunk_rows;
-                        return Encoded{i, EncodeChunk(columns[c]->data() + row0,
-                                                      std::min(chunk_rows, n - row0), storage)};
+                        const hsize_t row0 = i * chunk_rows;
+                        return Encoded{
+                            i, EncodeChunk(column + row0, std::min(chunk_rows, n - row0), storage)};
                       }) &
                   tbb::make_filter<Encoded, void>(
                       tbb::filter_mode::serial_in_order, [&](const Encoded& chunk) {
                         H5Eset_auto2(H5E_DEFAULT, nullptr,
                                      nullptr);  // errors are thrown, not printed
-                        const hsize_t row0 = chunk.index % per_column * chunk_rows;
-                        const hsize_t offset[2] = {row0, chunk.index / per_column};
+                        const hsize_t row0 = chunk.index * chunk_rows;
+                        const hsize_t offset[2] = {row0, column_index};
                         hdf5::detail::CheckC(H5Dwrite_chunk(dataset_id, H5P_DEFAULT, 0, offset,
                                                             chunk.bytes.size(), chunk.bytes.data()),
                                              dataset.file_path(), dataset.path(),
@@ -194,20 +185,38 @@ void WriteChunks(const hdf5::Dataset& dataset, const std::vector<const Eigen::Ve
 
 }  // namespace
 
-void WriteColumnDataset(hdf5::Group& group, const std::string& name,
-                        const std::vector<const Eigen::VectorXd*>& columns, bool matrix,
+void WriteColumnDataset(hdf5::Group& group, const std::string& name, int num_columns,
+                        unsigned long long rows, const ColumnLoader& load, bool matrix,
                         const std::string& units, const ColumnStorage& storage) {
-  const hsize_t n = CheckedLength(name, columns, matrix, storage);
-  const hsize_t k = columns.size();
+  CheckShape(name, num_columns, matrix, storage);
+  const hsize_t n = rows;
+  const hsize_t k = static_cast<hsize_t>(num_columns);
   const std::vector<hsize_t> dims = matrix ? std::vector<hsize_t>{n, k} : std::vector<hsize_t>{n};
   if (n < storage.min_chunked_rows) {
-    WriteContiguous(group, name, columns, dims, units, storage.type);
+    WriteContiguous(group, name, num_columns, load, dims, units, storage.type);
     return;
   }
   ColumnStorage effective = storage;
   effective.chunk_rows = std::min<unsigned long long>(storage.chunk_rows, n);
   const hdf5::Dataset dataset = CreateChunked(group, name, dims, units, effective);
-  WriteChunks(dataset, columns, effective);
+  // Chunks in file order: column 0 top to bottom, then column 1, ...
+  for (hsize_t c = 0; c < k; ++c)
+    WriteColumnChunks(dataset, load(static_cast<int>(c)), n, c, effective);
+}
+
+void WriteColumnDataset(hdf5::Group& group, const std::string& name,
+                        const std::vector<const Eigen::VectorXd*>& columns, bool matrix,
+                        const std::string& units, const ColumnStorage& storage) {
+  CheckShape(name, static_cast<int>(columns.size()), matrix, storage);
+  const hsize_t n = static_cast<hsize_t>(columns[0]->size());
+  for (const Eigen::VectorXd* c : columns) {
+    if (static_cast<hsize_t>(c->size()) != n) {
+      throw std::invalid_argument("fogpipe::io: " + name + ": columns of different lengths");
+    }
+  }
+  WriteColumnDataset(
+      group, name, static_cast<int>(columns.size()), n,
+      [&columns](int c) { return columns[c]->data(); }, matrix, units, storage);
 }
 
 }  // namespace fogpipe::io

@@ -33,6 +33,7 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,16 @@ std::vector<unsigned char> EncodeChunk(const double* values, std::size_t rows,
 /// exactly one column), else as [N, K] with column k = *columns[k]. All columns have N samples.
 void WriteColumnDataset(hdf5::Group& group, const std::string& name,
                         const std::vector<const Eigen::VectorXd*>& columns, bool matrix,
+                        const std::string& units, const ColumnStorage& storage);
+
+/// The samples of column c, loaded when asked (e.g. read back from a scratch file, so that the
+/// columns need not all be in memory); the pointer stays valid until the next call.
+using ColumnLoader = std::function<const double*(int column)>;
+
+/// WriteColumnDataset with `num_columns` columns of `rows` samples each from `load`, called once
+/// per column in order.
+void WriteColumnDataset(hdf5::Group& group, const std::string& name, int num_columns,
+                        unsigned long long rows, const ColumnLoader& load, bool matrix,
                         const std::string& units, const ColumnStorage& storage);
 
 }  // namespace fogpipe::io

@@ -245,20 +245,48 @@ void WritePreprocessing(Group g, const AxisResults& axis) {
       DescribeRepeatedRun(axis.read.repeats, axis.sample_rate_hz, axis.input_units));
 }
 
+/// Component k (IMFs, then the residue) of `kind`, from the store when the method streamed them
+/// there, else from the result; read back one column at a time into one buffer.
+class ComponentColumns {
+ public:
+  ComponentColumns(const AxisResults& axis, method::ComponentStore::Kind kind)
+      : axis_(axis), kind_(kind) {}
+  const double* operator()(int k) {
+    const MethodResult& r = *axis_.result;
+    if (axis_.store != nullptr) {
+      axis_.store->Get(kind_, k, &buffer_);
+      return buffer_.data();
+    }
+    if (kind_ == method::ComponentStore::Kind::kFiltered) return r.components[k].Output().data();
+    return k < static_cast<int>(r.decomposition.imfs.size()) ? r.decomposition.imfs[k].data()
+                                                             : r.decomposition.residue.data();
+  }
+
+ private:
+  const AxisResults& axis_;
+  method::ComponentStore::Kind kind_;
+  Eigen::VectorXd buffer_;
+};
+
 /// decomposition/: the IMFs and residue (as options.imf_storage says) and each IMF's sifting.
-void WriteDecomposition(Group g, const MethodResult& r, const ResultsOptions& options) {
+void WriteDecomposition(Group g, const AxisResults& axis, const ResultsOptions& options) {
+  const MethodResult& r = *axis.result;
   const emd::EmdResult& e = r.decomposition;
+  const int num_imfs = r.summary.num_imfs;
   Group d = g.CreateGroup("decomposition");
   d.WriteStringAttribute("storage", ToString(options.imf_storage));
-  d.WriteInt64Attribute("num_imfs", static_cast<long long>(e.imfs.size()));
+  d.WriteInt64Attribute("num_imfs", num_imfs);
   d.WriteStringAttribute("termination", ToString(e.summary.termination));
   d.WriteDoubleAttribute("band_limit_ratio", r.band_limit_ratio);
   if (options.imf_storage != ImfStorage::kNone) {
     const ColumnStorage big = Columns(options.imf_storage, options);
-    std::vector<const Eigen::VectorXd*> columns;
-    for (const auto& imf : e.imfs) columns.push_back(&imf);
-    WriteColumnDataset(d, "imfs", columns, true, results::kRateUnits, big);
-    WriteColumnDataset(d, "residue", {&e.residue}, false, results::kRateUnits, big);
+    const unsigned long long n = static_cast<unsigned long long>(r.preprocessed.signal.size());
+    ComponentColumns columns(axis, method::ComponentStore::Kind::kComponent);
+    const ColumnLoader load = [&columns](int k) { return columns(k); };
+    WriteColumnDataset(d, "imfs", num_imfs, n, load, true, results::kRateUnits, big);
+    WriteColumnDataset(
+        d, "residue", 1, n, [&](int) { return columns(num_imfs); }, false, results::kRateUnits,
+        big);
   }
   std::vector<long long> sifts;
   std::vector<std::string> stop_reason;
@@ -277,8 +305,9 @@ void WriteDecomposition(Group g, const MethodResult& r, const ResultsOptions& op
 
 /// models/ and kalman/: one row per component (IMFs, then the residue), and the filtered
 /// components when options.store_filtered_imfs.
-void WriteComponents(Group g, const MethodResult& r, const ResultsOptions& options) {
-  const int num_imfs = static_cast<int>(r.decomposition.imfs.size());
+void WriteComponents(Group g, const AxisResults& axis, const ResultsOptions& options) {
+  const MethodResult& r = *axis.result;
+  const int num_imfs = r.summary.num_imfs;
   std::vector<std::string> names;
   std::vector<const ComponentModel*> components;
   for (int k = 0; k <= num_imfs; ++k) {
@@ -289,10 +318,12 @@ void WriteComponents(Group g, const MethodResult& r, const ResultsOptions& optio
   Group kalman = g.CreateGroup("kalman");
   WriteKalmanTable(kalman, names, components);
   if (options.store_filtered_imfs && options.imf_storage != ImfStorage::kNone) {
-    std::vector<const Eigen::VectorXd*> columns;
-    for (const ComponentModel* c : components) columns.push_back(&c->Output());
-    WriteColumnDataset(kalman, "filtered", columns, true, results::kRateUnits,
-                       Columns(options.imf_storage, options));
+    ComponentColumns columns(axis, method::ComponentStore::Kind::kFiltered);
+    WriteColumnDataset(
+        kalman, "filtered", num_imfs + 1,
+        static_cast<unsigned long long>(r.preprocessed.signal.size()),
+        [&columns](int k) { return columns(k); }, true, results::kRateUnits,
+        Columns(options.imf_storage, options));
   }
 }
 
@@ -327,8 +358,8 @@ void WriteAxis(Group axes, const AxisResults& axis, const ResultsOptions& option
   g.WriteStringAttribute("input_units", axis.input_units);
   g.WriteInt64Attribute("samples", static_cast<long long>(r.preprocessed.signal.size()));
   WritePreprocessing(g, axis);
-  WriteDecomposition(g, r, options);
-  WriteComponents(g, r, options);
+  WriteDecomposition(g, axis, options);
+  WriteComponents(g, axis, options);
   WriteSignalsAndAllan(g, r, options);
 }
 

@@ -419,5 +419,37 @@ TEST(Emd, ParallelSiftsGiveBitIdenticalImfsForEveryStopRule) {
   }
 }
 
+// The streamed decomposition (an ImfSink) must hand on exactly the IMFs Decompose() keeps, and end
+// with the same residue, for every stop rule and with the parallel sifts.
+TEST(Emd, ASinkReceivesTheSameImfsAndResidueBitForBit) {
+  const Eigen::VectorXd x = testing::GyroLike(3 * 65536 + 77, 23);
+  for (StopRule rule : {StopRule::kFixedSifts, StopRule::kRilling, StopRule::kCauchy}) {
+    for (bool parallel : {false, true}) {
+      EmdOptions options = WithRule(rule);
+      if (parallel) options.for_each = ThreadedForEach;
+      const EmdResult kept = Decompose(x, options);
+      std::vector<Eigen::VectorXd> received;
+      std::vector<int> indices;
+      const EmdResult streamed =
+          Decompose(x, options, [&](int k, const Eigen::VectorXd& imf, const ImfInfo& info) {
+            received.push_back(imf);
+            indices.push_back(k);
+            EXPECT_EQ(info.sifts, kept.imf_info[k].sifts);
+          });
+      EXPECT_TRUE(streamed.imfs.empty());
+      ASSERT_EQ(received.size(), kept.imfs.size()) << ToString(rule);
+      ASSERT_GE(received.size(), 8u);
+      for (size_t k = 0; k < received.size(); ++k) {
+        EXPECT_EQ(indices[k], static_cast<int>(k));
+        EXPECT_EQ(received[k], kept.imfs[k]) << ToString(rule) << " imf " << k + 1;
+        EXPECT_EQ(streamed.imf_info[k].mean_period_samples, kept.imf_info[k].mean_period_samples);
+      }
+      EXPECT_EQ(streamed.residue, kept.residue) << ToString(rule);
+      EXPECT_EQ(streamed.summary.num_imfs, kept.summary.num_imfs);
+      EXPECT_EQ(streamed.summary.message, kept.summary.message);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace fogpipe::emd

@@ -9,6 +9,9 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <memory>
+#include <thread>
+#include <vector>
 
 #include "algorithms/allan/model_edf.h"
 #include "algorithms/common/units.h"
@@ -134,6 +137,92 @@ TEST(Method, ReverseOrderScheduleGivesIdenticalNumbers) {
   EXPECT_TRUE(a.method1 == b.method1);
   EXPECT_TRUE(a.direct.Output() == b.direct.Output());
   EXPECT_EQ(a.method1_allan.allan.table.sigma, b.method1_allan.allan.table.sigma);
+}
+
+// A TaskGroup that runs every task on its own thread at once (real concurrency, an arbitrary
+// interleaving), as the pipeline's tbb::task_group may.
+class ThreadTaskGroup : public TaskGroup {
+ public:
+  ~ThreadTaskGroup() override { Wait(); }
+  void Run(std::function<void()> task) override { threads_.emplace_back(std::move(task)); }
+  void Wait() override {
+    for (std::thread& t : threads_) t.join();
+    threads_.clear();
+  }
+
+ private:
+  std::vector<std::thread> threads_;
+};
+
+void ThreadedForEach(int n, const std::function<void(int)>& body) {
+  std::vector<std::thread> threads;
+  for (int i = 0; i < n; ++i) threads.emplace_back([&body, i] { body(i); });
+  for (std::thread& t : threads) t.join();
+}
+
+// Streaming the components through a store (one IMF in memory at a time per slot, the filtered
+// ones released once added) must give run's numbers bit for bit, with or without the band limit
+// and the smoother, one or several components in flight, serially or on threads.
+TEST(Method, StreamingThroughAStoreGivesTheNumbersOfKeepingEveryComponent) {
+  const Eigen::VectorXd x = PaperRecording(3);
+  for (int variant = 0; variant < 4; ++variant) {
+    MethodOptions options;
+    if (variant == 1) options.band_limit.cutoff_ratio = 0.0;
+    if (variant == 2) options.component.kalman.smooth = true;
+    const MethodResult kept = RunMethod(x, 1.0, options);
+    ASSERT_TRUE(HasResult(kept.summary.termination)) << kept.summary.message;
+    const int num_imfs = kept.summary.num_imfs;
+    ASSERT_GE(num_imfs, 5);
+    MemoryComponentStore store;
+    StreamOptions stream;
+    stream.store = &store;
+    stream.store_filtered = true;
+    stream.components_in_flight = variant == 3 ? 1 : 3;
+    if (variant >= 2) {
+      stream.tasks = [] { return std::make_unique<ThreadTaskGroup>(); };
+      stream.for_each = ThreadedForEach;
+    }
+    MethodResult streamed;
+    DecomposeAndModel(x, 1.0, options, stream, &streamed);
+    ASSERT_TRUE(HasResult(streamed.summary.termination)) << streamed.summary.message;
+    EXPECT_TRUE(streamed.decomposition.imfs.empty());
+    EXPECT_EQ(streamed.decomposition.residue.size(), 0);
+    ASSERT_EQ(streamed.summary.num_imfs, num_imfs);
+    EXPECT_TRUE(streamed.method1 == kept.method1) << "variant " << variant;
+    EXPECT_TRUE(streamed.direct.Output() == kept.direct.Output());
+    Eigen::VectorXd column;
+    for (int k = 0; k <= num_imfs; ++k) {
+      store.Get(ComponentStore::Kind::kComponent, k, &column);
+      EXPECT_TRUE(column ==
+                  (k < num_imfs ? kept.decomposition.imfs[k] : kept.decomposition.residue))
+          << "component " << k;
+      store.Get(ComponentStore::Kind::kFiltered, k, &column);
+      EXPECT_TRUE(column == kept.components[k].Output()) << "filtered " << k;
+      EXPECT_EQ(streamed.components[k].Output().size(), 0) << "released " << k;
+      EXPECT_EQ(streamed.components[k].fit.model.phi, kept.components[k].fit.model.phi);
+      EXPECT_EQ(streamed.components[k].kalman.r, kept.components[k].kalman.r);
+      EXPECT_EQ(streamed.decomposition.imf_info.size(), kept.decomposition.imf_info.size());
+      if (k < num_imfs) {
+        EXPECT_EQ(streamed.decomposition.imf_info[k].mean_period_samples,
+                  kept.decomposition.imf_info[k].mean_period_samples);
+      }
+    }
+    for (std::size_t i = 0; i < kept.reference.size(); ++i)
+      EXPECT_TRUE(streamed.reference[i].output.signal == kept.reference[i].output.signal);
+  }
+}
+
+// The streamed path keeps the staged one's decomposition: PreprocessAndDecompose (which the sweep
+// starts from) and RunMethod see the same band-limited IMFs.
+TEST(Method, RunMethodDecomposesAsPreprocessAndDecompose) {
+  const Eigen::VectorXd x = PaperRecording(1);
+  MethodResult staged;
+  PreprocessAndDecompose(x, 1.0, MethodOptions(), &staged);
+  const MethodResult& run = PaperResult(1);
+  ASSERT_EQ(staged.decomposition.imfs.size(), run.decomposition.imfs.size());
+  for (std::size_t k = 0; k < run.decomposition.imfs.size(); ++k)
+    EXPECT_TRUE(staged.decomposition.imfs[k] == run.decomposition.imfs[k]) << k;
+  EXPECT_TRUE(staged.decomposition.residue == run.decomposition.residue);
 }
 
 // The shape of the paper's Table 5 (method 1 lowers N and K by >= 10x against raw, and more

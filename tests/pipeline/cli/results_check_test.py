@@ -163,9 +163,9 @@ def case_memory_budget(tmp):
     os.makedirs(rec)
     for k in range(5):
         write_recording(os.path.join(rec, f"part{k}.h5"), 10 + k, n=180000, rate_hz=100.0)
-    # Each needs about (2 x 19 + 8 + 52) x 180000 x 8 B = 135 MiB by the estimate (memory_budget.h),
-    # 5 of them ~ 673 MiB; 192 MiB leaves 156 MiB for recordings: one at a time.
-    budget_mib = 192
+    # Each needs about 20 x 180000 x 8 B = 27.5 MiB by the estimate (memory_budget.h), 5 of them
+    # ~ 137 MiB; 80 MiB leaves 44 MiB for recordings after the 36 MiB of the process: one at a time.
+    budget_mib = 80
     out = os.path.join(tmp, "out_budget")
     code, rss = peak_rss_kib(["run", rec, "-o", out, "--threads", "2", "--q", "1e-14", "--r",
                               "2e-10", "--memory-budget", f"{budget_mib}M"])

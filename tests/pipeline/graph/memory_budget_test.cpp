@@ -25,12 +25,19 @@ TEST(MemoryBudget, RecordingsGetTheBudgetMinusTheFixedBytesAndNothingBelowThem) 
   EXPECT_EQ(BytesForRecordings(10 * kMiB, 2), 0u);
 }
 
-TEST(MemoryBudget, AHundredHertzHourFitsOnceIn384MiBWithTwoThreads) {
-  // 360000 samples: 19 expected IMFs -> (2 x 20 + 8 + 52) x N x 8 bytes = 288 MB per axis.
-  const std::uint64_t per_axis = BytesPerAxis(360000, 0);
-  EXPECT_EQ(per_axis, 100ull * 360000 * 8);
-  EXPECT_EQ(AxesInFlight(BytesForRecordings(384 * kMiB, 2), per_axis), 1);
-  EXPECT_EQ(AxesInFlight(BytesForRecordings(2048 * kMiB, 2), per_axis), 7);
+TEST(MemoryBudget, AHundredHertzHourFitsSixTimesIn384MiBWithTwoThreads) {
+  // 360000 samples x 20 doubles x 8 bytes = 57.6 MB per axis, whatever the number of IMFs.
+  const std::uint64_t per_axis = BytesPerAxis(360000);
+  EXPECT_EQ(per_axis, 20ull * 360000 * 8);
+  EXPECT_EQ(AxesInFlight(BytesForRecordings(384 * kMiB, 2), per_axis), 6);
+  EXPECT_EQ(AxesInFlight(BytesForRecordings(2048 * kMiB, 2), per_axis), 36);
+}
+
+TEST(MemoryBudget, ADayAtOneKilohertzFitsATwentyGibibyteBudget) {
+  // 8.64e7 samples: 13.8 GB; a 24 GB node's default budget (half of it) cannot hold it, a 20G
+  // budget can.
+  EXPECT_EQ(BytesPerAxis(86400000), 20ull * 86400000 * 8);
+  EXPECT_LT(BytesPerAxis(86400000), 20ull << 30);
 }
 
 TEST(MemoryBudget, ParsesBinaryMultiplesAndRejectsNonsense) {
@@ -57,10 +64,10 @@ TEST(MemoryBudget, AutoIsEightyPercentOfASlurmJobsMemoryElseHalfThePhysicalMemor
 }
 
 TEST(MemoryBudget, AllowsAtLeastOneAxisAndFloorOfBudgetOverEstimate) {
-  // N = 3600: ceil(log2 3600) = 12, +1 residue = 13, doubled = 26 series, + 8 work series.
-  EXPECT_EQ(BytesPerAxis(3600, 0), (26u + 8u + 52u) * 3600u * 8u);
-  EXPECT_EQ(AxesInFlight(10 * BytesPerAxis(3600, 0) + 1, BytesPerAxis(3600, 0)), 10);
-  EXPECT_EQ(AxesInFlight(1, BytesPerAxis(3600, 0)), 1);
+  EXPECT_EQ(BytesPerAxis(3600), 20u * 3600u * 8u);
+  EXPECT_EQ(AxesInFlight(10 * BytesPerAxis(3600) + 1, BytesPerAxis(3600)), 10);
+  EXPECT_EQ(AxesInFlight(1, BytesPerAxis(3600)), 1);
+  EXPECT_EQ(BytesPerAxis(UINT64_MAX), UINT64_MAX);
 }
 
 }  // namespace

@@ -1,0 +1,98 @@
+#include "pipeline/io/spill_store.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+
+namespace fogpipe::io {
+namespace {
+
+std::runtime_error SpillError(const std::string& folder, const std::string& what, int error) {
+  return std::runtime_error("scratch file in " + folder + ": " + what + ": " +
+                            std::strerror(error));
+}
+
+// O_TMPFILE where the file system offers it; else a unique name, unlinked at once.
+int OpenScratch(const std::string& folder) {
+#ifdef O_TMPFILE
+  const int unnamed = ::open(folder.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
+  if (unnamed >= 0) return unnamed;
+  if (errno != EOPNOTSUPP && errno != EISDIR && errno != EINVAL)
+    throw SpillError(folder, "cannot create", errno);
+#endif
+  static std::atomic<unsigned> counter{0};
+  const std::string path =
+      folder + "/.fogpipe-scratch-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+  const int fd = ::open(path.c_str(), O_CREAT | O_EXCL | O_RDWR | O_CLOEXEC, 0600);
+  if (fd < 0) throw SpillError(folder, "cannot create", errno);
+  ::unlink(path.c_str());
+  return fd;
+}
+
+}  // namespace
+
+SpillStore::SpillStore(const std::string& folder)
+    : folder_(folder.empty() ? "." : folder), fd_(OpenScratch(folder_)) {}
+
+SpillStore::~SpillStore() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void SpillStore::Put(Kind kind, int k, const Eigen::VectorXd& x) {
+  const std::uint64_t size = static_cast<std::uint64_t>(x.size()) * sizeof(double);
+  std::uint64_t offset = 0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    offset = end_;
+    end_ += size;
+  }
+  const char* data = reinterpret_cast<const char*>(x.data());
+  for (std::uint64_t done = 0; done < size;) {
+    const ssize_t n = ::pwrite(fd_, data + done, size - done, static_cast<off_t>(offset + done));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) throw SpillError(folder_, "writing " + std::to_string(size) + " bytes", errno);
+    done += static_cast<std::uint64_t>(n);
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  extents_[{kind, k}] = Extent{offset, x.size()};
+}
+
+void SpillStore::Get(Kind kind, int k, Eigen::VectorXd* x) const {
+  Extent extent;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = extents_.find({kind, k});
+    if (it == extents_.end()) {
+      throw std::runtime_error("scratch file in " + folder_ + ": column " + std::to_string(k) +
+                               " was never stored");
+    }
+    extent = it->second;
+  }
+  x->resize(extent.samples);
+  const std::uint64_t size = static_cast<std::uint64_t>(extent.samples) * sizeof(double);
+  char* data = reinterpret_cast<char*>(x->data());
+  for (std::uint64_t done = 0; done < size;) {
+    const ssize_t n =
+        ::pread(fd_, data + done, size - done, static_cast<off_t>(extent.offset + done));
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw SpillError(folder_, "reading back", errno);
+    if (n == 0) throw std::runtime_error("scratch file in " + folder_ + ": truncated");
+    done += static_cast<std::uint64_t>(n);
+  }
+}
+
+bool SpillStore::Has(Kind kind, int k) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return extents_.count({kind, k}) > 0;
+}
+
+std::uint64_t SpillStore::bytes() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return end_;
+}
+
+}  // namespace fogpipe::io

@@ -1,0 +1,53 @@
+// A method::ComponentStore on disk: the IMFs (and filtered components) of an axis wait in a
+// scratch file between the decomposition and their filters, and until the results writer reads
+// them back one column at a time. Memory then no longer grows with the number of IMFs: a day at
+// 1 kHz has about 25 IMFs of 8.64e7 samples, 17 GB of float64 that no 24 GB node could hold
+// beside the rest.
+//
+// The file has no name (O_TMPFILE; on a file system without it, a named file unlinked at once),
+// so it vanishes when closed, and when the process is killed: nothing is left behind. The
+// kernel's page cache holds what fits in free memory, so short recordings never wait for the
+// disk. Columns are stored as the float64 bytes they are (pwrite, pread): read back bit-identical.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <string>
+#include <utility>
+
+#include "algorithms/method/component_store.h"
+
+namespace fogpipe::io {
+
+class SpillStore : public method::ComponentStore {
+ public:
+  /// A scratch file in `folder`. Throws std::runtime_error naming the folder when it cannot be
+  /// created.
+  explicit SpillStore(const std::string& folder);
+  ~SpillStore() override;
+  SpillStore(const SpillStore&) = delete;
+  SpillStore& operator=(const SpillStore&) = delete;
+
+  /// Throws std::runtime_error (e.g. the disk is full: "No space left on device") naming the
+  /// folder.
+  void Put(Kind kind, int k, const Eigen::VectorXd& x) override;
+  void Get(Kind kind, int k, Eigen::VectorXd* x) const override;
+  bool Has(Kind kind, int k) const override;
+
+  /// Bytes written so far.
+  std::uint64_t bytes() const;
+
+ private:
+  struct Extent {
+    std::uint64_t offset = 0;
+    Eigen::Index samples = 0;
+  };
+  std::string folder_;
+  int fd_ = -1;
+  mutable std::mutex mutex_;
+  std::uint64_t end_ = 0;
+  std::map<std::pair<Kind, int>, Extent> extents_;
+};
+
+}  // namespace fogpipe::io
