@@ -79,7 +79,7 @@ std::uint64_t BytesPerAxis(std::uint64_t num_samples) {
 
 std::uint64_t FixedBytes(int threads) {
   constexpr std::uint64_t kMiB = 1ull << 20;
-  return 32 * kMiB + 2 * kMiB * static_cast<std::uint64_t>(std::max(1, threads));
+  return 64 * kMiB + 2 * kMiB * static_cast<std::uint64_t>(std::max(1, threads));
 }
 
 std::uint64_t BytesForRecordings(std::uint64_t budget_bytes, int threads) {

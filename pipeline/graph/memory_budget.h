@@ -37,9 +37,11 @@ constexpr std::uint64_t kDoublesPerSample = 20;
 std::uint64_t BytesPerAxis(std::uint64_t num_samples);
 
 /// Memory the process needs whatever the recordings: the binary with its libraries, HDF5's and
-/// TBB's own state (measured: 21 MiB peak RSS for a 2000-sample recording) and the results
-/// writer's chunk buffers (pipeline/io/column_datasets.h: about 2 MiB per thread). Estimated as
-/// 32 MiB + 2 MiB x threads.
+/// TBB's own state, the reader's child process, the results writer's chunk buffers
+/// (pipeline/io/column_datasets.h: about 2 MiB per thread), and what the heap keeps between
+/// recordings. Measured: 26 MiB peak RSS for a 4000-sample recording, and 87.5 MiB of peak PSS
+/// (the process and its readers) for a campaign of 1.8e5-sample recordings analysed one at a
+/// time, 25 MiB of which their estimate covers. Estimated as 64 MiB + 2 MiB x threads.
 std::uint64_t FixedBytes(int threads);
 
 /// What the budget leaves for recordings in flight: budget - FixedBytes(threads), or 0.

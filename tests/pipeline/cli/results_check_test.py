@@ -164,8 +164,9 @@ def case_memory_budget(tmp):
     for k in range(5):
         write_recording(os.path.join(rec, f"part{k}.h5"), 10 + k, n=180000, rate_hz=100.0)
     # Each needs about 20 x 180000 x 8 B = 27.5 MiB by the estimate (memory_budget.h), 5 of them
-    # ~ 137 MiB; 80 MiB leaves 44 MiB for recordings after the 36 MiB of the process: one at a time.
-    budget_mib = 80
+    # ~ 137 MiB; 100 MiB leaves 32 MiB for recordings after the 68 MiB of the process: one at a
+    # time.
+    budget_mib = 100
     out = os.path.join(tmp, "out_budget")
     code, rss = peak_rss_kib(["run", rec, "-o", out, "--threads", "2", "--q", "1e-14", "--r",
                               "2e-10", "--memory-budget", f"{budget_mib}M"])
@@ -178,7 +179,7 @@ def case_memory_budget(tmp):
     shutil.copy(os.path.join(rec, "part0.h5"), os.path.join(big, "big.h5"))
     write_recording(os.path.join(big, "small.h5"), 3, n=4000, rate_hz=10.0)
     out = os.path.join(tmp, "out_mixed")
-    r = run(["run", big, "-o", out, "--threads", "2", "--memory-budget", "48M"])
+    r = run(["run", big, "-o", out, "--threads", "2", "--memory-budget", "80M"])
     lines = {os.path.basename(l["file"]): l for l in status_lines(out)}
     check(r.returncode == 1, f"a recording over the budget makes the run exit 1 ({r.returncode})")
     msg = lines.get("big.h5", {}).get("message", "")

@@ -13,23 +13,23 @@ namespace {
 
 constexpr std::uint64_t kMiB = 1ull << 20;
 
-TEST(MemoryBudget, FixedBytesAreThe32MiBProcessBaseAnd2MiBPerWriterThread) {
-  EXPECT_EQ(FixedBytes(1), 34 * kMiB);
-  EXPECT_EQ(FixedBytes(2), 36 * kMiB);
+TEST(MemoryBudget, FixedBytesAreThe64MiBProcessBaseAnd2MiBPerWriterThread) {
+  EXPECT_EQ(FixedBytes(1), 66 * kMiB);
+  EXPECT_EQ(FixedBytes(2), 68 * kMiB);
   EXPECT_EQ(FixedBytes(0), FixedBytes(1));  // 0 threads is treated as 1
 }
 
 TEST(MemoryBudget, RecordingsGetTheBudgetMinusTheFixedBytesAndNothingBelowThem) {
-  EXPECT_EQ(BytesForRecordings(256 * kMiB, 2), 220 * kMiB);
-  EXPECT_EQ(BytesForRecordings(36 * kMiB, 2), 0u);
+  EXPECT_EQ(BytesForRecordings(256 * kMiB, 2), 188 * kMiB);
+  EXPECT_EQ(BytesForRecordings(68 * kMiB, 2), 0u);
   EXPECT_EQ(BytesForRecordings(10 * kMiB, 2), 0u);
 }
 
-TEST(MemoryBudget, AHundredHertzHourFitsSixTimesIn384MiBWithTwoThreads) {
+TEST(MemoryBudget, AHundredHertzHourFitsFiveTimesIn384MiBWithTwoThreads) {
   // 360000 samples x 20 doubles x 8 bytes = 57.6 MB per axis, whatever the number of IMFs.
   const std::uint64_t per_axis = BytesPerAxis(360000);
   EXPECT_EQ(per_axis, 20ull * 360000 * 8);
-  EXPECT_EQ(AxesInFlight(BytesForRecordings(384 * kMiB, 2), per_axis), 6);
+  EXPECT_EQ(AxesInFlight(BytesForRecordings(384 * kMiB, 2), per_axis), 5);
   EXPECT_EQ(AxesInFlight(BytesForRecordings(2048 * kMiB, 2), per_axis), 36);
 }
 
