@@ -562,14 +562,15 @@ void NoteMethodFailure(AxisWork* w) {
 
 /// Analysis node: the --model compensation, then the method streamed (method.h
 /// DecomposeAndModel): EMD with each IMF's AR fit beside the sifting, the components spilled to
-/// a scratch file in the output folder (io/spill_store.h) and filtered a few at a time, method 2
-/// and the reference filters beside them. Its time is split into the preprocess_emd and models
+/// a scratch file (io/spill_store.h; in options.scratch_dir) and filtered a few at a time, then
+/// method 2 and the reference filters. Its time is split into the preprocess_emd and models
 /// stages at the end of the EMD.
 void AnalyseAxis(AxisWork* w, const CampaignOptions& options,
                  const method::MethodOptions& method_options) {
   Guarded(*w, kModels, [&] {
     if (!ApplyCompensation(w, options)) return;
-    w->store = std::make_unique<io::SpillStore>(options.output_dir);
+    w->store = std::make_unique<io::SpillStore>(options.scratch_dir.empty() ? options.output_dir
+                                                                            : options.scratch_dir);
     method::StreamOptions stream;
     stream.store = w->store.get();
     stream.store_filtered = options.results.store_filtered_imfs;

@@ -53,6 +53,9 @@ struct CampaignOptions {
   io::ResultsOptions results;
   io::ReadOptions read;
   std::string output_dir;
+  /// Where each axis's IMFs wait in a nameless scratch file (io/spill_store.h): the output folder
+  /// unless --scratch-dir says otherwise.
+  std::string scratch_dir;
   int threads = 1;
   std::uint64_t memory_budget_bytes = 2ull << 30;
   bool force = false;

@@ -84,6 +84,11 @@ void AddRunOptions(CLI::App* cmd, RunConfig* c) {
   cmd->add_option("--shard-by", c->shard_by,
                   "stride (every N-th file) or size (balanced by bytes)");
   cmd->add_option("-o,--output", c->output_dir, "Output folder (one results file per recording)");
+  cmd->add_option("--scratch-dir", c->scratch_dir,
+                  "Folder for the IMFs between the decomposition and the results file, about "
+                  "8 bytes per sample per IMF, removed as each recording ends (empty: the "
+                  "output folder; on a cluster, node-local scratch such as $TMPDIR)")
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--config", c->config_file,
                   "TOML file of options (keys are the long option names; unknown keys are errors)");
   cmd->add_option("--threads", c->threads,
@@ -269,6 +274,7 @@ bool ToCampaignOptions(const RunConfig& c, CampaignOptions* o, std::string* erro
   o->memory_budget_bytes = *budget;
   o->threads = ResolveThreads(c.threads);
   o->output_dir = c.output_dir;
+  o->scratch_dir = c.scratch_dir.empty() ? c.output_dir : c.scratch_dir;
   o->force = c.force;
   o->dry_run = c.dry_run;
   o->config_toml = EffectiveConfigToml(c);

@@ -21,6 +21,8 @@ struct RunConfig {
   int num_shards = 1;               ///< Given explicitly (never from SLURM_ARRAY_TASK_COUNT).
   std::string shard_by = "stride";  ///< "stride" or "size" (io::ShardBy).
   std::string output_dir;
+  /// Where the IMFs wait between the decomposition and the results file; "": the output folder.
+  std::string scratch_dir;
   std::string config_file;
   int threads = 0;  ///< 0: SLURM_CPUS_PER_TASK if set, else the hardware's
   std::string memory_budget = "auto";

@@ -190,6 +190,24 @@ def case_threads(tmp, rec, out1):
         a, b = numeric_datasets(os.path.join(out1, name)), numeric_datasets(os.path.join(out2, name))
         same = a.keys() == b.keys() and all(np.array_equal(a[k], b[k], equal_nan=True) for k in a)
         check(same, f"{name}: numeric datasets identical for --threads 1 and 2 ({len(a)} datasets)")
+    # The IMFs wait in a scratch file: elsewhere with --scratch-dir, with the same numbers, and
+    # nothing is left there; a folder that does not exist is a usage error.
+    scratch = os.path.join(tmp, "scratch")
+    os.makedirs(scratch)
+    out3 = os.path.join(tmp, "out_scratch")
+    r = run(["run", rec, "-o", out3, "--threads", "2", "--scratch-dir", scratch])
+    check(r.returncode == 1, "the --scratch-dir run also exits 1")
+    for name in outputs(out1):
+        a, b = numeric_datasets(os.path.join(out1, name)), numeric_datasets(os.path.join(out3, name))
+        same = a.keys() == b.keys() and all(np.array_equal(a[k], b[k], equal_nan=True) for k in a)
+        check(same, f"{name}: numeric datasets identical with --scratch-dir ({len(a)} datasets)")
+    check(os.listdir(scratch) == [], f"nothing is left in the scratch folder: {os.listdir(scratch)}")
+    check(not any(f.startswith(".fogpipe-scratch") for f in os.listdir(out3)),
+          "nor in the output folder")
+    r = run(["run", rec, "-o", os.path.join(tmp, "out_noscratch"), "--scratch-dir",
+             os.path.join(tmp, "no", "such")])
+    check(r.returncode == 2 and "scratch-dir" in r.stderr,
+          f"a --scratch-dir that does not exist is a usage error: {r.stderr.strip()[:200]}")
 
 
 def case_config(tmp, rec):

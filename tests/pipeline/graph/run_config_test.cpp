@@ -21,13 +21,13 @@ namespace fogpipe::graph {
 namespace {
 
 // Options that cannot change a number in a results file, and why: which files and where to
-// (inputs, manifest, shard, num-shards, shard-by, o), how to schedule (threads: results are
-// identical whatever the thread count, checked by the campaign test; memory-budget), whether to
-// run at all (dry-run, force), and config (a file whose values set the other options, which are
-// hashed themselves). Every other option must appear in the hashed configuration text.
+// (inputs, manifest, shard, num-shards, shard-by, o, scratch-dir), how to schedule (threads:
+// results are identical whatever the thread count, checked by the campaign test; memory-budget),
+// whether to run at all (dry-run, force), and config (a file whose values set the other options,
+// which are hashed themselves). Every other option must appear in the hashed configuration text.
 const std::set<std::string> kExempt = {
     "help",   "inputs", "manifest", "shard",         "num-shards", "shard-by", "o",
-    "output", "config", "threads",  "memory-budget", "dry-run",    "force"};
+    "output", "config", "threads",  "memory-budget", "dry-run",    "force",    "scratch-dir"};
 
 TEST(RunConfig, EveryOptionThatCanChangeANumberIsInTheHashedConfiguration) {
   CLI::App app;
