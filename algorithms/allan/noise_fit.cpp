@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <functional>
 #include <optional>
+#include <tuple>
 #include <vector>
 
 #include "algorithms/allan/avar_covariance.h"
@@ -466,6 +467,21 @@ double CurveBound(const Points& p, double tail, int c, double* at = nullptr) {
   return bound;
 }
 
+// The reported upper limit of the term in column c (IEEE term `term`) of a fit with estimate
+// `theta` (amplitudes squared), `positive` its positive columns, and se_theta the standard error
+// of theta[c] at the estimate: the inverted 2-sigma test (UpperLimitByInversion, `whiten` the fit's
+// whitened design at another theta) capped by what the curve itself allows, which is finite where
+// the inversion is not: at every point at once, so each point's bound takes the tail / points
+// share (Bonferroni; the minimum over points of 97.7 % bounds covered white noise's N in 61 of 80
+// records). FitNoiseTerms and AssessNoiseTerms both report this limit.
+double TermUpperLimit(const Points& p, const Eigen::VectorXd& theta, int c, int term,
+                      const std::vector<int>& positive, double se_theta,
+                      const std::function<Eigen::MatrixXd(const Eigen::VectorXd&)>& whiten) {
+  const double curve = CurveBound(p, kUpperLimitTail / p.size(), term);
+  return std::min(
+      std::sqrt(UpperLimitByInversion(theta, c, positive, se_theta, curve * curve, whiten)), curve);
+}
+
 void AssessBound(const Points& p, double level, int c, NoiseFitResult* result) {
   NoiseTerms copy = result->terms;
   const double amp = *Amplitude(&copy, c), se = *StandardError(&copy, c);
@@ -573,21 +589,37 @@ NoiseFitResult AssessNoiseTerms(const AllanTable& table, const NoiseTerms& terms
   }
   Eigen::MatrixXd basis(npts, ncol);
   Eigen::VectorXd theta(ncol), model(npts), variance(npts);
+  std::vector<int> positive;
+  for (int c = 0; c < ncol; ++c) {
+    const double a = *Amplitude(&given, cols[c]);
+    theta[c] = a * a;
+    if (a > 0.0) positive.push_back(c);
+    for (int i = 0; i < npts; ++i) basis(i, c) = Basis(cols[c], p.tau[i]);
+  }
+  // Each point's variance under a model theta_alt: the sampling variance 2 v^2 / edf and the
+  // claimed relative shape tolerance.
+  const auto point_variance = [&](const Eigen::VectorXd& theta_alt, int i) {
+    const double v =
+        basis.row(i).dot(theta_alt) + (other_variance ? other_variance(p.tau[i]) : 0.0);
+    return std::pair<double, double>(
+        v, (2.0 / p.edf[i] + relative_tolerance * relative_tolerance) * v * v);
+  };
+  for (int i = 0; i < npts; ++i) std::tie(model[i], variance[i]) = point_variance(theta, i);
+  const auto whiten_at = [&](const Eigen::VectorXd& alternative) {
+    Eigen::MatrixXd aw = basis;
+    for (int i = 0; i < npts; ++i) aw.row(i) /= std::sqrt(point_variance(alternative, i).second);
+    return aw;
+  };
   for (int c = 0; c < ncol; ++c) {
     const double a = *Amplitude(&given, cols[c]), se = *StandardError(&given, cols[c]);
-    theta[c] = a * a;
     const double se_theta = a > 0.0 ? 2.0 * a * se : se * se;
     TermAssessment& t = result.assessment[cols[c]];
     // A term held at zero without an upper limit (se 0) has no z and no limit: unknown, not 0.
     const bool known = a > 0.0 || se_theta > 0.0;
     t.z = !known ? kNaN : a > 0.0 ? theta[c] / se_theta : 0.0;
     t.significant = t.z > options.significance_z;
-    t.upper_limit = known ? std::sqrt(theta[c] + 2.0 * se_theta) : kNaN;
-    for (int i = 0; i < npts; ++i) basis(i, c) = Basis(cols[c], p.tau[i]);
-  }
-  for (int i = 0; i < npts; ++i) {
-    model[i] = basis.row(i).dot(theta) + (other_variance ? other_variance(p.tau[i]) : 0.0);
-    variance[i] = (2.0 / p.edf[i] + relative_tolerance * relative_tolerance) * model[i] * model[i];
+    t.upper_limit =
+        known ? TermUpperLimit(p, theta, c, cols[c], positive, se_theta, whiten_at) : kNaN;
   }
   AssessMisfit(p, model, variance, basis, cols, theta, options.misfit_level, &result);
   AssessAgainstTheCurve(p, options.misfit_level, cols, &result);
@@ -761,15 +793,8 @@ NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& opt
     }
     a.significant = a.z > options.significance_z;
     a.upper_limit = std::sqrt(std::max(theta[c], 0.0) + 2.0 * se_theta);
-    if (p.have_edf && se_theta > 0.0) {
-      // Capped by what the curve itself allows, which is finite where the inversion is not:
-      // at every point at once, so each point's bound takes the tail / points share (Bonferroni;
-      // the minimum over points of 97.7 % bounds covered white noise's N in 61 of 80 records).
-      const double curve = CurveBound(p, kUpperLimitTail / npts, cols[c]);
-      a.upper_limit = std::min(
-          std::sqrt(UpperLimitByInversion(theta, c, free, se_theta, curve * curve, whiten_at)),
-          curve);
-    }
+    if (p.have_edf && se_theta > 0.0)
+      a.upper_limit = TermUpperLimit(p, theta, c, cols[c], free, se_theta, whiten_at);
   }
 
   // Step 4: read-offs and the honesty checks.

@@ -187,9 +187,11 @@ NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& opt
 /// point's variance is (2 / edf + relative_tolerance^2) v^2 with the table's EDF: the other fit's
 /// own covariance is not known here, and a fit that claims its model only to a relative shape
 /// tolerance c (compare: the closed forms are idealised at tau of a few samples, where the EDF
-/// is in the 1e5) is judged on that claim; 0 = sampling error alone. Fills terms,
-/// slope_readoff, assessment, misfit_ranges, fitted_range and summary.points; chi2, dof and
-/// p_value stay unset (the other fit has its own goodness of fit).
+/// is in the 1e5) is judged on that claim; 0 = sampling error alone. Each term's upper limit is
+/// FitNoiseTerms' rule (the inverted 2-sigma test, capped by what the curve allows), with the
+/// standard error at the limit from these point variances. Fills terms, slope_readoff,
+/// assessment, misfit_ranges, fitted_range and summary.points; chi2, dof and p_value stay unset
+/// (the other fit has its own goodness of fit).
 NoiseFitResult AssessNoiseTerms(const AllanTable& table, const NoiseTerms& terms,
                                 const std::function<double(double)>& other_variance,
                                 double relative_tolerance, const NoiseFitOptions& options);

@@ -82,6 +82,9 @@ struct TermStats {
   int readoff_above_limit = 0;     // not significant, slope read-off > 2x the upper limit
   int truth_below_limit = 0;       // present terms: truth <= the reported upper limit
   int held_truth_below_limit = 0;  // ... among the records where the term is held at 0
+  // present terms: truth <= the upper limit AssessNoiseTerms reports for the same terms (the
+  // check `compare` applies to its own fit), on the same table
+  int truth_below_assessed_limit = 0;
 };
 struct Calibration {
   TermStats term[kNoiseTermCount];
@@ -110,6 +113,7 @@ Calibration Simulate(const Scenario& s, int records, unsigned seed_base, bool co
         testing::SimulateGyro(s.truth, s.samples, s.rate_hz, seed_base + r);
     const AllanResult allan = ComputeAllan(rate, s.rate_hz, AllanOptions());
     const NoiseFitResult fit = FitNoiseTerms(allan.table, options);
+    const NoiseFitResult assessed = AssessNoiseTerms(allan.table, fit.terms, nullptr, 0.0, options);
     ++c.records;
     if (fit.p_value < 0.01) ++c.chi2_above_p01;
     for (int j = 0; j < kNoiseTermCount; ++j) {
@@ -127,6 +131,8 @@ Calibration Simulate(const Scenario& s, int records, unsigned seed_base, bool co
       }
       if (!(est > 0.0)) ++t.held_at_zero;
       if (truth > 0.0 && est > 0.0) t.z.push_back((est - truth) / Value(fit.terms, j, true));
+      if (truth > 0.0 && truth <= assessed.assessment[j].upper_limit)
+        ++t.truth_below_assessed_limit;
       if (truth > 0.0 && truth <= fit.assessment[j].upper_limit) {
         ++t.truth_below_limit;
         if (!(est > 0.0)) ++t.held_truth_below_limit;
@@ -143,10 +149,11 @@ void Print(const Scenario& s, const Calibration& c, const char* fit) {
     if (TruthOf(s.truth, j) > 0.0)
       std::printf(
           "  %s present: sd(z) %.3f mean(z) %+.3f, held at 0 in %d, significant %d, "
-          "unreliable %d, truth below the upper limit in %d (of the held: %d)\n",
+          "unreliable %d, truth below the upper limit in %d (of the held: %d; below the checked "
+          "terms' limit in %d)\n",
           TermSymbol(j), t.z.size() > 1 ? StandardDeviation(t.z) : NAN,
           t.z.empty() ? NAN : Mean(t.z), t.held_at_zero, t.significant, t.unreliable,
-          t.truth_below_limit, t.held_truth_below_limit);
+          t.truth_below_limit, t.held_truth_below_limit, t.truth_below_assessed_limit);
     else
       std::printf(
           "  %s absent: significant in %d (%.1f %%), held at 0 in %d, unreliable %d, read-off "
@@ -176,6 +183,9 @@ void ExpectCalibrated(const Scenario& s, const Calibration& c) {
     const TermStats& t = c.term[j];
     if (TruthOf(s.truth, j) > 0.0) {
       EXPECT_GE(t.truth_below_limit, 0.92 * c.records) << s.name << " " << TermSymbol(j);
+      // The same claim for the limit AssessNoiseTerms puts on the same terms (compare's check).
+      EXPECT_GE(t.truth_below_assessed_limit, 0.92 * c.records)
+          << s.name << " " << TermSymbol(j) << " (checked terms)";
       ASSERT_GE(t.z.size(), 40u) << s.name << " " << TermSymbol(j);
       const double k = 2.0 * std::sqrt(4.0 / (4.0 * t.z.size()));
       const double sd = StandardDeviation(t.z);
