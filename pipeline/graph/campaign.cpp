@@ -80,6 +80,8 @@ struct AxisWork {
   method::MethodResult result;
   /// The IMFs, the residue and (if stored) the filtered components, on disk until written.
   std::unique_ptr<io::SpillStore> store;
+  /// Why the scratch folder can take nothing more (OutputExhaustedReason), "" while it can.
+  std::string scratch_exhausted;
   std::string error;  ///< empty while all is well
   bool interrupted = false;
   double stage_seconds[kNumStages] = {0, 0, 0, 0};
@@ -327,6 +329,7 @@ void CampaignRunner::Finish(FileJob* job) {
   for (const AxisPtr& w : job->arrived) {
     interrupted = interrupted || w->interrupted;
     if (!w->error.empty() && failure.empty()) failure = w->error;
+    NoteOutputFailure(w->scratch_exhausted);
   }
   const fs::path final_path = fs::path(options_.output_dir) / job->input.output_name;
   if (failure.empty() && !interrupted) {
@@ -569,21 +572,28 @@ void AnalyseAxis(AxisWork* w, const CampaignOptions& options,
                  const method::MethodOptions& method_options) {
   Guarded(*w, kModels, [&] {
     if (!ApplyCompensation(w, options)) return;
-    w->store = std::make_unique<io::SpillStore>(options.scratch_dir.empty() ? options.output_dir
-                                                                            : options.scratch_dir);
-    method::StreamOptions stream;
-    stream.store = w->store.get();
-    stream.store_filtered = options.results.store_filtered_imfs;
-    stream.tasks = MakeTbbTaskGroup;
-    stream.for_each = TbbForEach;
-    const auto start = Clock::now();
-    stream.on_decomposed = [&] {
-      w->stage_seconds[kDecompose] += Seconds(start);
-      w->stage_seconds[kModels] -= Seconds(start);
-      w->rate_rad_s = Eigen::VectorXd();  // the preprocessed copy is what is kept
-    };
-    method::DecomposeAndModel(w->rate_rad_s, w->job->info.sample_rate_hz, method_options, stream,
-                              &w->result);
+    try {
+      w->store = std::make_unique<io::SpillStore>(
+          options.scratch_dir.empty() ? options.output_dir : options.scratch_dir);
+      method::StreamOptions stream;
+      stream.store = w->store.get();
+      stream.store_filtered = options.results.store_filtered_imfs;
+      stream.tasks = MakeTbbTaskGroup;
+      stream.for_each = TbbForEach;
+      const auto start = Clock::now();
+      stream.on_decomposed = [&] {
+        w->stage_seconds[kDecompose] += Seconds(start);
+        w->stage_seconds[kModels] -= Seconds(start);
+        w->rate_rad_s = Eigen::VectorXd();  // the preprocessed copy is what is kept
+      };
+      method::DecomposeAndModel(w->rate_rad_s, w->job->info.sample_rate_hz, method_options, stream,
+                                &w->result);
+    } catch (const io::ScratchError& e) {
+      // A full scratch device fails every later recording too (as a full output device).
+      w->scratch_exhausted = OutputExhaustedReason(e.folder(), e.what());
+      w->error = AxisError(*w->job, w->axis, e.what());
+      return;
+    }
     NoteMethodFailure(w);
   });
 }

@@ -11,9 +11,8 @@
 namespace fogpipe::io {
 namespace {
 
-std::runtime_error SpillError(const std::string& folder, const std::string& what, int error) {
-  return std::runtime_error("scratch file in " + folder + ": " + what + ": " +
-                            std::strerror(error));
+ScratchError SpillError(const std::string& folder, const std::string& what, int error) {
+  return ScratchError(folder, what + ": " + std::strerror(error));
 }
 
 // O_TMPFILE where the file system offers it; else a unique name, unlinked at once.
@@ -67,8 +66,7 @@ void SpillStore::Get(Kind kind, int k, Eigen::VectorXd* x) const {
     std::lock_guard<std::mutex> lock(mutex_);
     const auto it = extents_.find({kind, k});
     if (it == extents_.end()) {
-      throw std::runtime_error("scratch file in " + folder_ + ": column " + std::to_string(k) +
-                               " was never stored");
+      throw ScratchError(folder_, "column " + std::to_string(k) + " was never stored");
     }
     extent = it->second;
   }
@@ -80,7 +78,7 @@ void SpillStore::Get(Kind kind, int k, Eigen::VectorXd* x) const {
         ::pread(fd_, data + done, size - done, static_cast<off_t>(extent.offset + done));
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) throw SpillError(folder_, "reading back", errno);
-    if (n == 0) throw std::runtime_error("scratch file in " + folder_ + ": truncated");
+    if (n == 0) throw ScratchError(folder_, "truncated");
     done += static_cast<std::uint64_t>(n);
   }
 }

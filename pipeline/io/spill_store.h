@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <map>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -20,17 +21,26 @@
 
 namespace fogpipe::io {
 
+/// What the scratch file throws: its folder and the system's message ("No space left on device").
+class ScratchError : public std::runtime_error {
+ public:
+  ScratchError(const std::string& folder, const std::string& what)
+      : std::runtime_error("scratch file in " + folder + ": " + what), folder_(folder) {}
+  const std::string& folder() const { return folder_; }
+
+ private:
+  std::string folder_;
+};
+
 class SpillStore : public method::ComponentStore {
  public:
-  /// A scratch file in `folder`. Throws std::runtime_error naming the folder when it cannot be
-  /// created.
+  /// A scratch file in `folder`. Throws ScratchError when it cannot be created.
   explicit SpillStore(const std::string& folder);
   ~SpillStore() override;
   SpillStore(const SpillStore&) = delete;
   SpillStore& operator=(const SpillStore&) = delete;
 
-  /// Throws std::runtime_error (e.g. the disk is full: "No space left on device") naming the
-  /// folder.
+  /// Throw ScratchError (e.g. the disk is full: "No space left on device").
   void Put(Kind kind, int k, const Eigen::VectorXd& x) override;
   void Get(Kind kind, int k, Eigen::VectorXd* x) const override;
   bool Has(Kind kind, int k) const override;

@@ -308,6 +308,43 @@ def hostile_import(tmp):
     check(sorted(os.listdir(out)) == ["good.h5"], f"only the good file is imported ({os.listdir(out)})")
 
 
+def full_scratch(tmp):
+    """A real ENOSPC in the scratch folder (--scratch-dir on a 64 KiB tmpfs, where a recording's
+    IMFs take about 200 KiB): the recording fails with the folder and the system's message, the
+    campaign stops as on a full output device and names what it did not start, and nothing is
+    left in either folder."""
+    srcs = []
+    for i in range(4):
+        srcs.append(os.path.join(tmp, f"scratch{i}.h5"))
+        hostile_corpus.write_valid(srcs[-1], 700 + i)
+    scratch = os.path.join(tmp, "scratch_tmpfs")
+    outdir = os.path.join(tmp, "out_scratch_full")
+    os.makedirs(outdir)
+    report = os.path.join(tmp, "scratch_report")
+    if not in_tmpfs(64, scratch, report, [FOGPIPE, "run"] + srcs +
+                    ["-o", outdir, "--threads", "1", "--scratch-dir", scratch]):
+        return
+    rc = int(open(os.path.join(report, "rc")).read())
+    err = open(os.path.join(report, "stderr")).read()
+    check(rc == 1, f"full scratch: exit code 1, no crash (got {rc})")
+    lines = [json.loads(l) for l in open(os.path.join(outdir, "status.jsonl"))]
+    failed = [l for l in lines if l["status"] == "failed" and f"scratch file in {scratch}" in
+              l["message"] and "No space left on device" in l["message"] and
+              l["message"].startswith(l["file"])]
+    check(len(failed) >= 1, f"full scratch: the recording's failure names it, the scratch "
+          f"folder and the error ({[l['message'][:200] for l in lines][:2]})")
+    check("is full" in err and "no further recording is started" in err,
+          f"full scratch: the campaign says the device is full and stops ({err.strip()[:200]})")
+    not_started = [s for s in srcs if f"{s}: not started:" in err]
+    check(len(not_started) >= 2, f"full scratch: the recordings not started are named "
+          f"({len(not_started)} of {len(srcs)})")
+    listing = [n for n in open(os.path.join(report, "listing")).read().split()
+               if n not in (".", "..")]
+    check(listing == [], f"full scratch: nothing is left in the scratch folder ({listing})")
+    check([n for n in os.listdir(outdir) if ".tmp-" in n] == [],
+          "full scratch: no temporary output is left")
+
+
 def damaged_results(tmp):
     """`info` on results files with one size byte of a global-heap object set to 0xFF (the byte
     that crashes HDF5 1.10's attribute reader): never a crash, each damaged file named, and the
@@ -429,6 +466,7 @@ with tempfile.TemporaryDirectory() as tmp:
     campaign(tmp)
     write_error(tmp)
     full_disk(tmp)
+    full_scratch(tmp)
     damaged_results(tmp)
     hostile_import(tmp)
     planted_symlink(tmp)
