@@ -618,8 +618,11 @@ NoiseFitResult AssessNoiseTerms(const AllanTable& table, const NoiseTerms& terms
     const bool known = a > 0.0 || se_theta > 0.0;
     t.z = !known ? kNaN : a > 0.0 ? theta[c] / se_theta : 0.0;
     t.significant = t.z > options.significance_z;
-    t.upper_limit =
-        known ? TermUpperLimit(p, theta, c, cols[c], positive, se_theta, whiten_at) : kNaN;
+    // As FitNoiseTerms: the shared rule wherever there is a standard error to start from.
+    t.upper_limit = !known ? kNaN
+                    : se_theta > 0.0
+                        ? TermUpperLimit(p, theta, c, cols[c], positive, se_theta, whiten_at)
+                        : std::sqrt(theta[c]);
   }
   AssessMisfit(p, model, variance, basis, cols, theta, options.misfit_level, &result);
   AssessAgainstTheCurve(p, options.misfit_level, cols, &result);

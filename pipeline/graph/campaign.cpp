@@ -577,7 +577,9 @@ void AnalyseAxis(AxisWork* w, const CampaignOptions& options,
           options.scratch_dir.empty() ? options.output_dir : options.scratch_dir);
       method::StreamOptions stream;
       stream.store = w->store.get();
-      stream.store_filtered = options.results.store_filtered_imfs;
+      // Filtered components go to the scratch file only when the results file will store them.
+      stream.store_filtered = options.results.store_filtered_imfs &&
+                              options.results.imf_storage != io::ImfStorage::kNone;
       stream.tasks = MakeTbbTaskGroup;
       stream.for_each = TbbForEach;
       const auto start = Clock::now();

@@ -157,30 +157,35 @@ void WriteColumnChunks(const hdf5::Dataset& dataset, const double* column, hsize
     std::vector<unsigned char> bytes;
   };
   hsize_t next = 0;
-  tbb::parallel_pipeline(
-      tokens, tbb::make_filter<void, hsize_t>(tbb::filter_mode::serial_in_order,
-                                              [&](tbb::flow_control& control) -> hsize_t {
-                                                if (next == total) control.stop();
-                                                return next < total ? next++ : 0;
-                                              }) &
-                  tbb::make_filter<hsize_t, Encoded>(
-                      tbb::filter_mode::parallel,
-                      [&](hsize_t i) {
-                        const hsize_t row0 = i * chunk_rows;
-                        return Encoded{
-                            i, EncodeChunk(column + row0, std::min(chunk_rows, n - row0), storage)};
-                      }) &
-                  tbb::make_filter<Encoded, void>(
-                      tbb::filter_mode::serial_in_order, [&](const Encoded& chunk) {
-                        H5Eset_auto2(H5E_DEFAULT, nullptr,
-                                     nullptr);  // errors are thrown, not printed
-                        const hsize_t row0 = chunk.index * chunk_rows;
-                        const hsize_t offset[2] = {row0, column_index};
-                        hdf5::detail::CheckC(H5Dwrite_chunk(dataset_id, H5P_DEFAULT, 0, offset,
-                                                            chunk.bytes.size(), chunk.bytes.data()),
-                                             dataset.file_path(), dataset.path(),
-                                             "write chunk at row " + std::to_string(row0));
-                      }));
+  // Isolated: while this thread waits for the pipeline it holds the HDF5 lock, so it must not
+  // pick up unrelated work (a reader node takes that lock: it would wait for itself).
+  tbb::this_task_arena::isolate([&] {
+    tbb::parallel_pipeline(
+        tokens,
+        tbb::make_filter<void, hsize_t>(tbb::filter_mode::serial_in_order,
+                                        [&](tbb::flow_control& control) -> hsize_t {
+                                          if (next == total) control.stop();
+                                          return next < total ? next++ : 0;
+                                        }) &
+            tbb::make_filter<hsize_t, Encoded>(
+                tbb::filter_mode::parallel,
+                [&](hsize_t i) {
+                  const hsize_t row0 = i * chunk_rows;
+                  return Encoded{
+                      i, EncodeChunk(column + row0, std::min(chunk_rows, n - row0), storage)};
+                }) &
+            tbb::make_filter<Encoded, void>(
+                tbb::filter_mode::serial_in_order, [&](const Encoded& chunk) {
+                  H5Eset_auto2(H5E_DEFAULT, nullptr,
+                               nullptr);  // errors are thrown, not printed
+                  const hsize_t row0 = chunk.index * chunk_rows;
+                  const hsize_t offset[2] = {row0, column_index};
+                  hdf5::detail::CheckC(H5Dwrite_chunk(dataset_id, H5P_DEFAULT, 0, offset,
+                                                      chunk.bytes.size(), chunk.bytes.data()),
+                                       dataset.file_path(), dataset.path(),
+                                       "write chunk at row " + std::to_string(row0));
+                }));
+  });
 }
 
 }  // namespace

@@ -79,7 +79,8 @@ void WriteColumnDataset(hdf5::Group& group, const std::string& name,
                         const std::string& units, const ColumnStorage& storage);
 
 /// The samples of column c, loaded when asked (e.g. read back from a scratch file, so that the
-/// columns need not all be in memory); the pointer stays valid until the next call.
+/// columns need not all be in memory): a pointer to the dataset's `rows` samples, valid until the
+/// next call. The loader checks the length; the writer cannot.
 using ColumnLoader = std::function<const double*(int column)>;
 
 /// WriteColumnDataset with `num_columns` columns of `rows` samples each from `load`, called once

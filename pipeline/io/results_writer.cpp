@@ -5,6 +5,8 @@
 #include <ctime>
 #include <limits>
 #include <optional>
+#include <stdexcept>
+#include <string>
 
 #include "algorithms/common/units.h"
 #include "pipeline/hdf5/atomic_output_file.h"
@@ -255,6 +257,10 @@ class ComponentColumns {
     const MethodResult& r = *axis_.result;
     if (axis_.store != nullptr) {
       axis_.store->Get(kind_, k, &buffer_);
+      if (buffer_.size() != r.preprocessed.signal.size())
+        throw std::runtime_error("scratch file: component " + std::to_string(k) + " has " +
+                                 std::to_string(buffer_.size()) + " samples, the signal " +
+                                 std::to_string(r.preprocessed.signal.size()));
       return buffer_.data();
     }
     if (kind_ == method::ComponentStore::Kind::kFiltered) return r.components[k].Output().data();

@@ -1,9 +1,9 @@
 #include "pipeline/io/spill_store.h"
 
 #include <fcntl.h>
+#include <stdlib.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
@@ -23,12 +23,15 @@ int OpenScratch(const std::string& folder) {
   if (errno != EOPNOTSUPP && errno != EISDIR && errno != EINVAL)
     throw SpillError(folder, "cannot create", errno);
 #endif
-  static std::atomic<unsigned> counter{0};
-  const std::string path =
-      folder + "/.fogpipe-scratch-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-  const int fd = ::open(path.c_str(), O_CREAT | O_EXCL | O_RDWR | O_CLOEXEC, 0600);
+  // mkstemp: a random name no other process (another node on a shared file system) can hold.
+  std::string path = folder + "/.fogpipe-scratch-XXXXXX";
+  const int fd = ::mkostemp(path.data(), O_CLOEXEC);
   if (fd < 0) throw SpillError(folder, "cannot create", errno);
-  ::unlink(path.c_str());
+  if (::unlink(path.c_str()) != 0) {
+    const int error = errno;
+    ::close(fd);
+    throw SpillError(folder, "cannot unlink " + path, error);
+  }
   return fd;
 }
 
@@ -53,7 +56,10 @@ void SpillStore::Put(Kind kind, int k, const Eigen::VectorXd& x) {
   for (std::uint64_t done = 0; done < size;) {
     const ssize_t n = ::pwrite(fd_, data + done, size - done, static_cast<off_t>(offset + done));
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) throw SpillError(folder_, "writing " + std::to_string(size) + " bytes", errno);
+    if (n <= 0) {
+      const int error = n < 0 ? errno : EIO;  // 0 bytes written: no errno of its own
+      throw SpillError(folder_, "writing " + std::to_string(size) + " bytes", error);
+    }
     done += static_cast<std::uint64_t>(n);
   }
   std::lock_guard<std::mutex> lock(mutex_);
@@ -77,7 +83,10 @@ void SpillStore::Get(Kind kind, int k, Eigen::VectorXd* x) const {
     const ssize_t n =
         ::pread(fd_, data + done, size - done, static_cast<off_t>(extent.offset + done));
     if (n < 0 && errno == EINTR) continue;
-    if (n < 0) throw SpillError(folder_, "reading back", errno);
+    if (n < 0) {
+      const int error = errno;
+      throw SpillError(folder_, "reading back", error);
+    }
     if (n == 0) throw ScratchError(folder_, "truncated");
     done += static_cast<std::uint64_t>(n);
   }
