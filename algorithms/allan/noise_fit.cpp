@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <functional>
 #include <optional>
-#include <tuple>
 #include <vector>
 
 #include "algorithms/allan/avar_covariance.h"
@@ -596,18 +595,21 @@ NoiseFitResult AssessNoiseTerms(const AllanTable& table, const NoiseTerms& terms
     if (a > 0.0) positive.push_back(c);
     for (int i = 0; i < npts; ++i) basis(i, c) = Basis(cols[c], p.tau[i]);
   }
-  // Each point's variance under a model theta_alt: the sampling variance 2 v^2 / edf and the
-  // claimed relative shape tolerance.
-  const auto point_variance = [&](const Eigen::VectorXd& theta_alt, int i) {
-    const double v =
-        basis.row(i).dot(theta_alt) + (other_variance ? other_variance(p.tau[i]) : 0.0);
-    return std::pair<double, double>(
-        v, (2.0 / p.edf[i] + relative_tolerance * relative_tolerance) * v * v);
+  // Each point's Allan variance v under a model theta_alt, and the variance of its estimate: the
+  // sampling variance 2 v^2 / edf and the claimed relative shape tolerance.
+  const auto model_at = [&](const Eigen::VectorXd& theta_alt, int i) {
+    return basis.row(i).dot(theta_alt) + (other_variance ? other_variance(p.tau[i]) : 0.0);
   };
-  for (int i = 0; i < npts; ++i) std::tie(model[i], variance[i]) = point_variance(theta, i);
+  const auto variance_of = [&](double v, int i) {
+    return (2.0 / p.edf[i] + relative_tolerance * relative_tolerance) * v * v;
+  };
+  for (int i = 0; i < npts; ++i) {
+    model[i] = model_at(theta, i);
+    variance[i] = variance_of(model[i], i);
+  }
   const auto whiten_at = [&](const Eigen::VectorXd& alternative) {
     Eigen::MatrixXd aw = basis;
-    for (int i = 0; i < npts; ++i) aw.row(i) /= std::sqrt(point_variance(alternative, i).second);
+    for (int i = 0; i < npts; ++i) aw.row(i) /= std::sqrt(variance_of(model_at(alternative, i), i));
     return aw;
   };
   for (int c = 0; c < ncol; ++c) {

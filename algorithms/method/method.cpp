@@ -93,9 +93,9 @@ bool StreamOptions::IsValid(std::string* error) const {
 
 namespace {
 
-/// The IMFs as EMD hands them on (emd::ImfSink): band limited, kept (the store, or in memory
-/// without one), their variances noted and their AR fits started, at most
-/// components_in_flight of them in memory at once.
+/// The IMFs as EMD hands them on (emd::ImfSink): band limited, kept (in the store; without one,
+/// in memory), their variances noted and their AR fits started. With a store at most
+/// components_in_flight of them are in memory at once.
 class ImfStream {
  public:
   ImfStream(const MethodOptions& options, const StreamOptions& stream)
@@ -190,11 +190,9 @@ void FilterComponents(double sample_rate_hz, const MethodOptions& options,
 
   // R per component (white_noise.h): the raw white-noise variance shared by mean period.
   const WhiteNoiseLevels levels = EstimateWhiteNoiseLevels(signal);
-  std::vector<double> periods(num_imfs + 1, static_cast<double>(n));
-  for (int k = 0; k < num_imfs; ++k) periods[k] = d.imf_info[k].mean_period_samples;
   std::vector<double> variances = imfs->variances_;
   variances.push_back(ComponentVariance(d.residue));
-  const std::vector<double> r = ShareWhiteNoise(levels, periods, variances);
+  const std::vector<double> r = ShareWhiteNoise(levels, ComponentPeriods(d, n), variances);
 
   // Method 2 and the reference filters only need the signal.
   ComponentOptions direct_options = options.component;

@@ -86,7 +86,7 @@ std::vector<double> ComponentVariances(const emd::EmdResult& decomposition) {
 
 std::vector<double> ComponentPeriods(const emd::EmdResult& decomposition,
                                      Eigen::Index num_samples) {
-  const int num_imfs = static_cast<int>(decomposition.imfs.size());
+  const int num_imfs = static_cast<int>(decomposition.imf_info.size());
   std::vector<double> periods(num_imfs + 1);
   for (int k = 0; k <= num_imfs; ++k) {
     periods[k] = k < num_imfs ? decomposition.imf_info[k].mean_period_samples

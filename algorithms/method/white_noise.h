@@ -105,8 +105,9 @@ std::vector<double> ShareWhiteNoise(const WhiteNoiseLevels& levels,
                                     const std::vector<double>& mean_period_samples,
                                     const std::vector<double>& imf_variance);
 
-/// Mean period of every IMF, then of the residue, samples. The residue counts as one cycle over
-/// the record (period num_samples), so it gets a tiny share and its filter follows it.
+/// Mean period of every IMF (from decomposition.imf_info, so also when the IMFs were streamed
+/// and not kept), then of the residue, samples. The residue counts as one cycle over the record
+/// (period num_samples), so it gets a tiny share and its filter follows it.
 std::vector<double> ComponentPeriods(const emd::EmdResult& decomposition, Eigen::Index num_samples);
 
 /// Steps 1-2 applied to a decomposition of a signal of `num_samples` samples: R_k for every IMF,

@@ -20,6 +20,8 @@ import tempfile
 import h5py
 import numpy as np
 
+import recording_sources  # beside this script
+
 FOGPIPE = sys.argv[1]
 failures = []
 
@@ -38,37 +40,14 @@ def run(args):
 
 
 def gyro_data(seed, axes=3):
-    """White noise + rate random walk + bias per axis, deg/h (navigation-grade levels)."""
-    rng = np.random.default_rng(seed)
-    white = 0.3 * rng.standard_normal((N, axes))
-    walk = np.cumsum(0.001 * rng.standard_normal((N, axes)), axis=0)
-    return white + walk + np.array([0.02, -0.05, 15.04])[:axes]
-
-
-def write_csv(path, data, temperature):
-    t = np.arange(N) / RATE_HZ
-    table = np.column_stack([t, data, temperature])
-    # %.17g writes every float64 so that it reads back to the same bits.
-    np.savetxt(path, table, fmt="%.17g", delimiter=",", header="t,gx,gy,gz,temp", comments="")
-
-
-def write_mat(path, stored, sample_rate_hz):
-    """`stored` as HDF5 holds it: MATLAB's N x A matrix is HDF5 [A, N] (column-major)."""
-    with h5py.File(path, "w", userblock_size=512) as f:
-        d = f.create_dataset("rate", data=np.ascontiguousarray(stored))
-        d.attrs["MATLAB_class"] = np.bytes_("double")
-        fs = f.create_dataset("fs", data=np.array([[sample_rate_hz]]))
-        fs.attrs["MATLAB_class"] = np.bytes_("double")
-    with open(path, "r+b") as fh:
-        fh.write(b"MATLAB 7.3 MAT-file, Platform: GLNXA64, Created on: Sun Mar  1 08:00:00 2026 "
-                 b"HDF5 schema 1.00 .")
+    return recording_sources.gyro_deg_h(seed, N, axes)
 
 
 def case_csv(tmp):
     data = gyro_data(1)
     temperature = 25.0 + 0.5 * np.sin(np.arange(N) / 600.0)
     source = os.path.join(tmp, "bench_run.csv")
-    write_csv(source, data, temperature)
+    recording_sources.write_csv(source, data, temperature, RATE_HZ)
     out = os.path.join(tmp, "rec", "bench_run.h5")
     os.makedirs(os.path.dirname(out))
     r = run(["import", source, "-o", out, "--units", "deg/h", "--time-column", "t",
@@ -109,7 +88,7 @@ def case_csv(tmp):
 def case_matlab(tmp):
     data = gyro_data(2) / 3600.0 * np.pi / 180.0  # rad/s
     source = os.path.join(tmp, "bench_mat.mat")
-    write_mat(source, data.T, RATE_HZ)  # N x 3 in MATLAB, HDF5 [3, N]
+    recording_sources.write_mat(source, "rate", data.T, RATE_HZ)  # N x 3 in MATLAB, HDF5 [3, N]
     out = os.path.join(tmp, "rec", "bench_mat.h5")
     r = run(["import", source, "-o", out, "--units", "rad/s", "--variable", "rate",
              "--sample-rate-variable", "fs", "--axes", "x,y,z"])
@@ -140,7 +119,8 @@ def case_refusals(tmp):
     check(not os.path.exists(os.path.join(tmp, "jitter.h5")), "nothing written for it")
 
     source = os.path.join(tmp, "wide.mat")
-    write_mat(source, gyro_data(4)[:, :2], RATE_HZ)  # HDF5 [N, 2]: MATLAB 2 x N, 2 samples
+    # HDF5 [N, 2]: MATLAB 2 x N, 2 samples
+    recording_sources.write_mat(source, "rate", gyro_data(4)[:, :2], RATE_HZ)
     r = run(["import", source, "-o", os.path.join(tmp, "wide.h5"), "--units", "deg/h",
              "--variable", "rate", "--sample-rate-variable", "fs"])
     check(r.returncode == 1 and "a transposed matrix?" in r.stderr,

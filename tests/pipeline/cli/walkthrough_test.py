@@ -20,8 +20,9 @@ import sys
 import tempfile
 from html.parser import HTMLParser
 
-import h5py
 import numpy as np
+
+import recording_sources  # beside this script
 
 FOGPIPE = sys.argv[1]
 SOURCE_DIR = sys.argv[2]
@@ -41,30 +42,14 @@ def run(args):
     return subprocess.run([FOGPIPE] + args, capture_output=True, text=True)
 
 
-def gyro_deg_h(seed):
-    """White noise + rate random walk + bias per axis, deg/h."""
-    rng = np.random.default_rng(seed)
-    white = 0.3 * rng.standard_normal((N, 3))
-    walk = np.cumsum(0.001 * rng.standard_normal((N, 3)), axis=0)
-    return white + walk + np.array([0.02, -0.05, 15.04])
-
-
 def write_sources(folder):
     csv = os.path.join(folder, "chamber_25C.csv")
-    t = np.arange(N) / RATE_HZ
-    temperature = 25.0 + 0.5 * np.sin(t / 60.0)
-    np.savetxt(csv, np.column_stack([t, gyro_deg_h(1), temperature]), fmt="%.17g", delimiter=",",
-               header="t,gx,gy,gz,temp", comments="")
+    temperature = 25.0 + 0.5 * np.sin(np.arange(N) / RATE_HZ / 60.0)
+    recording_sources.write_csv(csv, recording_sources.gyro_deg_h(1, N), temperature, RATE_HZ)
     mat = os.path.join(folder, "rate_table.mat")
-    counts = np.round(gyro_deg_h(2) / 0.001)  # a gyro counting 0.001 deg/h per count
-    with h5py.File(mat, "w", userblock_size=512) as f:
-        d = f.create_dataset("gyro", data=np.ascontiguousarray(counts.T))  # MATLAB N x 3
-        d.attrs["MATLAB_class"] = np.bytes_("double")
-        fs = f.create_dataset("fs", data=np.array([[RATE_HZ]]))
-        fs.attrs["MATLAB_class"] = np.bytes_("double")
-    with open(mat, "r+b") as fh:
-        fh.write(b"MATLAB 7.3 MAT-file, Platform: GLNXA64, Created on: Fri Nov 27 08:00:00 2026 "
-                 b"HDF5 schema 1.00 .")
+    # A gyro counting 0.001 deg/h per count; MATLAB's N x 3 matrix is HDF5 [3, N].
+    counts = np.round(recording_sources.gyro_deg_h(2, N) / 0.001)
+    recording_sources.write_mat(mat, "gyro", counts.T, RATE_HZ)
     return csv, mat
 
 
