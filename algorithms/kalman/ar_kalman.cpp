@@ -294,8 +294,11 @@ long long TimeVaryingLoop(Recursion&& recursion, const Eigen::Ref<const Eigen::V
 struct PhaseStart {
   /// P(0|0) is the DARE solution: asked for, and the DARE has a stabilizing solution.
   bool steady_start = false;
-  /// Else P(0|0) = p0 I (eq. 7): the given initial variance or the sample variance of z.
+  /// Else P(0|0) = p0 I (eq. 7): the given initial variance, or the sample variance of z bounded
+  /// by InitialVarianceBound.
   double p0 = 0.0;
+  /// The sample variance of z exceeded the bound and p0 is the bound.
+  bool p0_bounded = false;
   /// q = 0 from P(0|0) = 0: P(k|k-1) = A 0 A' + 0 = 0 at every step, so the gain is exactly 0
   /// from the first sample and the estimate is the mean, whatever the DARE says (it is ill-posed
   /// at q = 0 on the near-unit-root models of slow IMFs and would leave the loop time-varying).
@@ -306,13 +309,30 @@ struct PhaseStart {
   bool may_switch = false;
 };
 
+// The diffuse start's largest variance, R / sqrt(eps), R the measurement-noise variance used.
+// The time-varying recursion keeps P(k|k) to about eps P(0|0) absolute, and its first updates
+// bring P(k|k) down to the order of R: with P(0|0) / R above 1 / eps the covariance, the gains and
+// the smoother built on them are rounding noise (on the slowest IMFs var(z) / R reaches 1e20 and
+// more; the smoother then left the signal by its own size). Below the bound the prior weighs at
+// most sqrt(eps) ~ 1.5e-8 against one sample, so the start stays diffuse for the estimate, and the
+// rounding stays at sqrt(eps) of R; the bound balances the two.
+double InitialVarianceBound(double r) {
+  return r / std::sqrt(std::numeric_limits<double>::epsilon());
+}
+
 PhaseStart DecidePhaseStart(const ArKalmanOptions& options, const DareSolution& dare, double q,
-                            double z_variance) {
+                            double r, double z_variance) {
   PhaseStart start;
   const bool dare_ok = dare.summary.termination == Termination::kSuccess;
   // The steady-state start needs a stabilizing DARE solution; without one, the paper's start.
   start.steady_start = options.initial_covariance == InitialCovariance::kSteadyState && dare_ok;
-  start.p0 = options.initial_variance >= 0.0 ? options.initial_variance : z_variance;
+  if (options.initial_variance >= 0.0) {
+    start.p0 = options.initial_variance;
+  } else {
+    const double bound = InitialVarianceBound(r);
+    start.p0_bounded = r > 0.0 && z_variance > bound;
+    start.p0 = start.p0_bounded ? bound : z_variance;
+  }
   start.zero_covariance = !start.steady_start && q == 0.0 && start.p0 == 0.0;
   start.time_varying =
       !(start.steady_start && options.steady_state_switch) && !start.zero_covariance;
@@ -421,9 +441,10 @@ PhaseEnd RunTimeVaryingPhase(const Eigen::Ref<const Eigen::VectorXd>& z, const E
   PhaseEnd end;
   end.x = Eigen::VectorXd::Zero(p);  // X(0|0) = 0 (eq. 7)
   Eigen::MatrixXd pf(p, p);          // P(0|0)
-  const PhaseStart start = DecidePhaseStart(options, dare, result.q, z_variance);
+  const PhaseStart start = DecidePhaseStart(options, dare, result.q, result.r, z_variance);
   s.initial_covariance =
       start.steady_start ? InitialCovariance::kSteadyState : InitialCovariance::kSampleVariance;
+  s.initial_variance_bounded = !start.steady_start && start.p0_bounded;
   if (start.steady_start) {
     pf = dare.filtered_covariance;
   } else {
@@ -609,7 +630,8 @@ std::vector<TapeLane> MakeGainTapes(const Eigen::VectorXd& phi,
     if (!prepared[i] || options[i].smooth) continue;
     // A switch to come (may_switch) bounds the phase by the cap (a time-varying start without
     // one could run to the end of z), and may_switch implies the paper's start, p0 I.
-    const PhaseStart start = DecidePhaseStart(options[i], dares[i], results[i].q, z_variance);
+    const PhaseStart start =
+        DecidePhaseStart(options[i], dares[i], results[i].q, results[i].r, z_variance);
     const long long cap = options[i].max_time_varying_steps;
     if (start.may_switch && cap > 0 && cap <= kMaxTapeSteps) {
       eligible.push_back(i);

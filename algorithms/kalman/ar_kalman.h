@@ -7,7 +7,9 @@
 // The start P0 (ArKalmanOptions::initial_covariance):
 //  - kSampleVariance, the paper's eq. 7: P0 = var(x0) I. var(x0), which the paper leaves undefined,
 //    is the sample variance of the measured series z (after the mean is removed), a diffuse-enough
-//    start on the scale of the signal; ArKalmanOptions::initial_variance overrides it. The filter
+//    start on the scale of the signal, bounded at R / sqrt(eps) so that the covariance recursion
+//    keeps its digits when the signal is far above the noise (the slowest IMFs: var(z) / R up to
+//    1e20 and more); ArKalmanOptions::initial_variance overrides it. The filter
 //    runs time-varying, in Joseph form (O(p^2) per step, see companion.h), until its gain G(k) is
 //    within `gain_tolerance` (relative, max norm) of the steady-state gain from the DARE
 //    (riccati.h), then switches to a constant-gain loop of O(p) per sample. The switch changes the
@@ -93,7 +95,9 @@ struct ArKalmanOptions {
   /// P(0|0): the paper's sample-variance start (default) or the steady-state start. Why the
   /// default: see "Choice of the default" in the file comment.
   InitialCovariance initial_covariance = InitialCovariance::kSampleVariance;
-  /// With kSampleVariance: P(0|0) = initial_variance * I. < 0: the sample variance of z.
+  /// With kSampleVariance: P(0|0) = initial_variance * I. < 0: the sample variance of z, at most
+  /// R / sqrt(eps) (a larger start leaves P(k|k) as rounding noise; ar_kalman.cpp,
+  /// InitialVarianceBound).
   double initial_variance = -1.0;
   /// Use the constant-gain O(p) loop once the gain is (or starts) at the steady state. false runs
   /// the time-varying recursion to the end whatever the start (a reference for tests).
@@ -130,6 +134,8 @@ struct ArKalmanSummary {
   /// The start actually used: kSampleVariance when kSteadyState was asked but the DARE has no
   /// stabilizing solution.
   InitialCovariance initial_covariance = InitialCovariance::kSampleVariance;
+  /// The sample-variance start was bounded at R / sqrt(eps) (ArKalmanOptions::initial_variance).
+  bool initial_variance_bounded = false;
   /// Why and whether the filter reached its constant-gain loop.
   GainSwitch gain_switch = GainSwitch::kNever;
   /// First sample filtered with the constant gain (0 for the steady-state start); -1 if never.

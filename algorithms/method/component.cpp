@@ -1,5 +1,6 @@
 #include "algorithms/method/component.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <utility>
@@ -102,9 +103,15 @@ bool FilterBrokeDown(const kalman::ArKalmanResult& result, double model_mean,
     return true;
   }
   if (!HasResult(result.summary.termination)) return false;
-  const Eigen::VectorXd& estimate = result.smoothed.size() > 0 ? result.smoothed : result.filtered;
-  return FilterDiverged((estimate.array() - model_mean).square().mean(), component_variance,
-                        message, rms_ratio);
+  if (result.smoothed.size() == 0) {
+    return FilterDiverged((result.filtered.array() - model_mean).square().mean(),
+                          component_variance, message, rms_ratio);
+  }
+  if (!FilterDiverged((result.smoothed.array() - model_mean).square().mean(), component_variance,
+                      message, std::min(rms_ratio, kSmoothedRmsBound)))
+    return false;
+  *message = "smoother " + *message;
+  return true;
 }
 
 bool FilterDiverged(double estimate_mean_square, double component_variance, std::string* message,

@@ -14,6 +14,16 @@ namespace fogpipe::method {
 /// The RMS ratio above which a filter's estimate has diverged (FilterDiverged documents it).
 constexpr double kDivergedRmsRatio = 10.0;
 
+/// The RMS ratio above which an RTS-smoothed estimate has diverged. The fixed-interval smoother is
+/// E[x | z] of the state-space model, x^ - mean = Sx (Sx + R I)^-1 (z - mean) with Sx the model's
+/// covariance of the n samples of x, a symmetric matrix with eigenvalues lambda / (lambda + R) in
+/// [0, 1): the smoothed estimate is never larger than the mean-removed component, whatever the
+/// model, q, R or start (Anderson & Moore 1979, "Optimal Filtering", ch. 7; Durbin & Koopman
+/// 2012, sec. 4.4). An estimate above it is rounding that has taken over the recursion. The slack
+/// covers the steady-state switch, which moves the output by at most 3.5e-9 relative
+/// (ar_kalman.h, stall_tolerance), with a margin of about 300.
+constexpr double kSmoothedRmsBound = 1.0 + 1e-6;
+
 struct ComponentOptions {
   /// Order by BIC up to max_order, or fixed_order > 0 (ArOptions documents the estimator).
   ar::ArOptions ar;
@@ -78,8 +88,9 @@ bool FilterDiverged(double estimate_mean_square, double component_variance, std:
 
 /// Whether a filter on a component broke down, so that a lower AR order should be tried: its
 /// constant-gain loop would not be stable as it runs (kalman::ArKalmanSummary::loop_unstable; the
-/// filter then has no output), or its estimate (smoothed if there is one) diverged about
-/// `model_mean` (FilterDiverged against `component_variance`, units of x^2). Fills *message.
+/// filter then has no output), or its estimate diverged about `model_mean` (FilterDiverged
+/// against `component_variance`, units of x^2): the filtered one above rms_ratio, the smoothed one
+/// (if there is one) above the smaller of rms_ratio and kSmoothedRmsBound. Fills *message.
 /// ModelComponent and the sweep's fallback judge their filters with it.
 bool FilterBrokeDown(const kalman::ArKalmanResult& result, double model_mean,
                      double component_variance, std::string* message,

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
+#include <Eigen/QR>
+#include <cmath>
+#include <random>
 
 #include "algorithms/kalman/ar_kalman.h"
 #include "tests/algorithms/kalman/paper_models.h"
@@ -140,6 +143,48 @@ TEST(RtsSmoother, EmpiricalSmoothedErrorVarianceMatchesTheory) {
   const double se = testing::RelativeStandardErrorOfVariance(es, 2000);
   EXPECT_NEAR(vs / res.steady_state_smoothed_error_variance, 1.0, 5.0 * se) << "se " << se;
   EXPECT_LT(res.steady_state_smoothed_error_variance, res.steady_state_error_variance);
+}
+
+// A slow component measured far above its noise (var(z) / R ~ 1e20, as for the slowest IMFs, whose
+// white-noise share R is 1e-20 of their variance and less) and almost no process noise: the model
+// says x follows its AR recursion exactly, so the smoother must return the least-squares fit of
+// the recursion's solutions to z (the diffuse-start smoother is the generalised least-squares
+// estimate of the initial state; Durbin & Koopman 2012, sec. 5.2). Reference: that fit computed
+// directly, by QR on the two solutions rho^k cos(w k) and rho^k sin(w k) of the AR(2) recursion.
+// Its own noise is sqrt(R / n) ~ 1e-12 of the signal, the process noise moves x by
+// sqrt(q n^3) ~ 1e-9 of it, and P(0|0)'s bound at R / sqrt(eps) (ar_kalman.h) weights the prior
+// by sqrt(eps) ~ 1.5e-8 against one sample: 1e-6 of the signal's RMS leaves a margin of 60 over
+// the sum. A covariance recursion started at var(z) ~ 1e20 R loses every digit of P(k|k) below
+// eps var(z) ~ 1e4 R, and its smoother then left the signal by O(1) and more.
+TEST(RtsSmoother, FollowsTheLeastSquaresTrajectoryWhenTheStartIsFarAboveTheNoise) {
+  const double rho = 0.9999, w = 2.0 * M_PI / 2000.0;
+  Eigen::VectorXd phi(2);
+  phi << 2.0 * rho * std::cos(w), -rho * rho;
+  const long long n = 8000;
+  const double r = 1e-20;
+  std::mt19937_64 rng(4242);
+  std::normal_distribution<double> noise(0.0, std::sqrt(r));
+  Eigen::MatrixXd basis(n, 2);
+  Eigen::VectorXd z(n);
+  for (long long k = 0; k < n; ++k) {
+    const double decay = std::pow(rho, static_cast<double>(k));
+    basis(k, 0) = decay * std::cos(w * k);
+    basis(k, 1) = decay * std::sin(w * k);
+    z[k] = 0.8 * basis(k, 0) - 0.3 * basis(k, 1) + noise(rng);
+  }
+  const Eigen::VectorXd coefficients = basis.householderQr().solve(z);
+  const Eigen::VectorXd reference = basis * coefficients;
+  const double signal_rms = std::sqrt(reference.squaredNorm() / n);
+
+  ArKalmanOptions o;
+  o.q = 1e-30;
+  o.r = r;
+  o.smooth = true;
+  const ArKalmanResult res = FilterAr(z, phi, -1, -1, o);
+  ASSERT_TRUE(HasResult(res.summary.termination)) << res.summary.message;
+  EXPECT_TRUE(res.summary.initial_variance_bounded);
+  const double worst = (res.smoothed - reference).cwiseAbs().maxCoeff();
+  EXPECT_LT(worst, 1e-6 * signal_rms) << "worst " << worst << " signal rms " << signal_rms;
 }
 
 }  // namespace

@@ -3,9 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 #include <string>
 
+#include "algorithms/ar/reflection.h"
 #include "tests/algorithms/kalman/simulate_ar.h"
 
 namespace fogpipe::method {
@@ -106,6 +109,63 @@ TEST(ModelComponent, WhenEveryOrderDivergesTheComponentFailsNamingThemAll) {
     EXPECT_NE(c.order_note.find("AR(" + std::to_string(p) + ") diverged"), std::string::npos)
         << c.order_note;
   EXPECT_NE(c.message().find("diverged"), std::string::npos) << c.message();
+}
+
+// The smoothed estimate is judged against the component itself (kSmoothedRmsBound), the filtered
+// one against ten times it: the same estimate, 1.01x the component's RMS, is a working filter's
+// output (a causal filter's gain matrix is not symmetric, so it may exceed 1x) and a broken-down
+// smoother's.
+TEST(FilterBrokeDown, JudgesASmoothedEstimateAgainstTheComponentItself) {
+  Eigen::VectorXd z(4);
+  z << 1.0, -1.0, 1.0, -1.0;
+  kalman::ArKalmanResult result;
+  result.summary.termination = Termination::kSuccess;
+  result.filtered = 1.01 * z;
+  std::string message;
+  EXPECT_FALSE(FilterBrokeDown(result, 0.0, 1.0, &message)) << message;
+  result.smoothed = 1.01 * z;
+  EXPECT_TRUE(FilterBrokeDown(result, 0.0, 1.0, &message));
+  EXPECT_EQ(message.find("smoother diverged"), 0u) << message;
+  result.smoothed = 0.999 * z;
+  message.clear();
+  EXPECT_FALSE(FilterBrokeDown(result, 0.0, 1.0, &message)) << message;
+}
+
+// The bound's premise, over random models: an exact smoother's estimate is a symmetric shrinkage
+// of the component (eigenvalues in [0, 1)), so its RMS about the mean never exceeds the
+// component's. 120 cases (seeds 5000+): stationary AR(1..8) from reflection coefficients drawn in
+// (-0.99, 0.99), q/R from 1e-6 to 1e4 (both given explicitly), signal far above and far below the
+// noise, through FilterAr with the smoother and the paper's start. None may exceed the bound, and
+// the ratio must stay below 1 up to the steady-state switch's 3.5e-9.
+TEST(FilterBrokeDown, AnExactSmootherNeverExceedsItsComponent) {
+  std::mt19937_64 rng(5000);
+  std::uniform_real_distribution<double> kappa_draw(-0.99, 0.99), log_ratio(-6.0, 4.0);
+  std::uniform_int_distribution<int> order_draw(1, 8);
+  double worst = 0.0;
+  for (int c = 0; c < 120; ++c) {
+    const int p = order_draw(rng);
+    Eigen::VectorXd kappa(p);
+    for (int i = 0; i < p; ++i) kappa[i] = kappa_draw(rng);
+    const Eigen::VectorXd phi = ar::StepUp(kappa);
+    const double q = std::pow(10.0, log_ratio(rng)), r = 1.0;
+    const kalman::testing::ArSimulation sim =
+        kalman::testing::SimulateArPlusNoise(phi, q, r, 4000, 5000 + c);
+    kalman::ArKalmanOptions o;
+    o.q = q;
+    o.r = r;
+    o.mean = sim.z.mean();
+    o.smooth = true;
+    const kalman::ArKalmanResult res = kalman::FilterAr(sim.z, phi, -1, -1, o);
+    ASSERT_TRUE(HasResult(res.summary.termination)) << res.summary.message;
+    const double variance = (sim.z.array() - o.mean).square().mean();
+    const double ratio = std::sqrt((res.smoothed.array() - o.mean).square().mean() / variance);
+    worst = std::max(worst, ratio);
+    std::string message;
+    EXPECT_FALSE(FilterBrokeDown(res, o.mean, variance, &message))
+        << message << " case " << c << " AR(" << p << ") q/R " << q;
+    EXPECT_LE(ratio, 1.0 + 3.5e-9) << "case " << c;
+  }
+  RecordProperty("worst_smoothed_rms_ratio", std::to_string(worst));
 }
 
 }  // namespace
