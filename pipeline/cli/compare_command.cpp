@@ -157,30 +157,51 @@ int Run(const CompareArguments& a) {
     }
   }
   const io::RecordingInfo info = io::InspectRecordingIsolated(a.recording);
+  const std::vector<int> axes = io::SelectAxes(info, a.axis);
+  const bool several = a.axis == io::kAllAxes;
+  if (several && !a.save_model.empty()) {
+    std::cerr << "fogpipe compare: --save-model writes one axis's model; give --axis NAME\n";
+    return 2;
+  }
   io::ReadOptions ro;
-  const Eigen::VectorXd rate = io::ReadAxisRadPerSecondIsolated(info, a.axis, ro);
-  model::CompareInput in;
-  in.rate_rad_s = &rate;
-  in.sample_rate_hz = info.sample_rate_hz;
-  in.latitude_deg = info.latitude_deg;
+  std::vector<model::AuxChannel> aux;
   for (const auto& ch : info.aux) {
     io::ReadOptions ao = ro;
     ao.reject_constant = false;
-    in.aux.push_back({ch.name, ch.units, io::ReadAuxIsolated(info, ch.name, ao)});
+    aux.push_back({ch.name, ch.units, io::ReadAuxIsolated(info, ch.name, ao)});
   }
-  const model::CompareOptions options;
-  const model::CompareResult r = model::Compare(in, terms, options, graph::TbbForEach);
-  if (!HasResult(r.summary.termination)) {
-    std::cerr << "fogpipe compare: " << ToString(r.summary.termination) << ": " << r.summary.message
-              << "\n";
-    return 1;
+  nlohmann::json all = nlohmann::json::array();
+  for (const int axis : axes) {
+    const std::string& name = info.axis_names[axis];
+    const Eigen::VectorXd rate = io::ReadAxisRadPerSecondIsolated(info, name, ro);
+    model::CompareInput in;
+    in.rate_rad_s = &rate;
+    in.sample_rate_hz = info.sample_rate_hz;
+    in.latitude_deg = info.latitude_deg;
+    in.aux = aux;
+    const model::CompareOptions options;
+    const model::CompareResult r = model::Compare(in, terms, options, graph::TbbForEach);
+    if (!HasResult(r.summary.termination)) {
+      std::cerr << "fogpipe compare: axis " << name << ": " << ToString(r.summary.termination)
+                << ": " << r.summary.message << "\n";
+      return 1;
+    }
+    if (a.json && several) {
+      nlohmann::json j = io::CompareJson(r);
+      j["axis"] = name;
+      all.push_back(std::move(j));
+    } else if (a.json) {
+      std::cout << io::CompareJson(r).dump(2) << "\n";
+    } else {
+      if (several) std::printf("%saxis %s\n", axis == axes.front() ? "" : "\n", name.c_str());
+      PrintText(r);
+    }
+    // Each axis is a step of its own, named by the axis's name (never an index or "all").
+    if (!a.results.empty()) io::AppendHistory(a.results, a.recording, name, r);
+    if (!a.save_model.empty()) io::WriteModelFile(a.save_model, r.base);
   }
-  if (a.json)
-    std::cout << io::CompareJson(r).dump(2) << "\n";
-  else
-    PrintText(r);
-  if (!a.results.empty()) io::AppendHistory(a.results, a.recording, a.axis, r);
-  if (!a.save_model.empty()) io::WriteModelFile(a.save_model, r.base);
+  if (a.json && several)
+    std::cout << nlohmann::json{{"file", a.recording}, {"axes", all}}.dump(2) << "\n";
   return 0;
 }
 
@@ -195,7 +216,10 @@ void AddCompareCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("--terms", args->terms, "Comma-separated catalog terms (bias is implicit)")
       ->excludes(model);
   cmd->add_option("--add", args->add, "Add a catalog term (repeatable)");
-  cmd->add_option("--axis", args->axis, "Axis name or index (default 0)");
+  cmd->add_option("--axis", args->axis,
+                  "Axis name, index, or all (every axis: one section, JSON object and history "
+                  "step per axis)")
+      ->capture_default_str();
   cmd->add_flag("--json", args->json, "Print one JSON object");
   cmd->add_option("-o,--results", args->results, "Append the step to this RESULTS file (HDF5)");
   cmd->add_option("--save-model", args->save_model, "Write the fitted model file (JSON)");

@@ -96,6 +96,55 @@ TEST(CompareCommand, FindsAHiddenThermalEffectAndRecordsTheHistory) {
   fs::remove_all(dir);
 }
 
+TEST(CompareCommand, AxisAllComparesEveryAxisAndKeepsTheHistoryPerAxis) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("fogpipe_compare_all_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string rec = (dir / "rec.h5").string(), results = (dir / "results.h5").string();
+  int code = 0;
+  RunFogpipe("simulate --profile nav --seed 3 --axes 2 --duration-s 3600 -o " + rec, &code);
+  ASSERT_EQ(code, 0);
+  const nlohmann::json j = nlohmann::json::parse(
+      RunFogpipe("compare --json --axis all -o " + results + " " + rec, &code));
+  ASSERT_EQ(code, 0);
+  ASSERT_EQ(j["axes"].size(), 2u);
+  std::vector<std::string> names;
+  for (const auto& axis : j["axes"]) {
+    names.push_back(axis["axis"].get<std::string>());
+    EXPECT_TRUE(axis.contains("error") && axis.contains("verdict")) << axis.dump();
+  }
+  EXPECT_NE(names[0], names[1]);
+  // The same numbers as one axis at a time.
+  const nlohmann::json second =
+      nlohmann::json::parse(RunFogpipe("compare --json --axis " + names[1] + " " + rec, &code));
+  ASSERT_EQ(code, 0);
+  EXPECT_EQ(j["axes"][1]["error"], second["error"]);
+
+  // A second round appends one step per axis; each step's change is against its own axis.
+  RunFogpipe("compare --axis all -o " + results + " " + rec, &code);
+  ASSERT_EQ(code, 0);
+  const auto history = io::ReadHistory(results);
+  ASSERT_EQ(history.size(), 4u);
+  EXPECT_EQ(history[0].axis, names[0]);
+  EXPECT_EQ(history[1].axis, names[1]);
+  EXPECT_EQ(history[2].axis, names[0]);
+  EXPECT_EQ(history[3].axis, names[1]);
+  const std::string text = RunFogpipe("compare --history " + results, &code);
+  EXPECT_EQ(code, 0);
+  // The same model on the same data: every repeated step is x1 against its own axis (against
+  // the other axis it would be their ratio).
+  size_t unchanged = 0;
+  for (size_t at = text.find("(error x1)"); at != std::string::npos;
+       at = text.find("(error x1)", at + 1))
+    ++unchanged;
+  EXPECT_EQ(unchanged, 2u) << text;
+  EXPECT_NE(text.find(" " + names[1] + " "), std::string::npos) << text;
+
+  RunFogpipe("compare --axis all --save-model " + (dir / "m.json").string() + " " + rec, &code);
+  EXPECT_EQ(code, 2);
+  fs::remove_all(dir);
+}
+
 TEST(CompareCommand, FlagsTheRingLaserGyrosWhiteNoiseTermWithItsReadOffBesideIt) {
   // The PSINS ring-laser gyro (not in the repository; skipped when absent): on the z axis the
   // default model's N follows the 0.1-0.3 s bump and sits far above the bound the curve sets at
