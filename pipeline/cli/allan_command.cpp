@@ -150,7 +150,8 @@ void AddAllanCommand(CLI::App& app, int* exit_code) {
                   "coverage) or stable32 (Stable32's Alpha column and EDF convention, so that "
                   "bounds match its Min / Max Sigma)")
       ->capture_default_str();
-  cmd->add_option("--confidence", args->confidence, "Two-sided confidence level of the interval")
+  cmd->add_option("--confidence", args->confidence,
+                  "Two-sided confidence level of the interval, a fraction (0.683: 68.3 %)")
       ->capture_default_str();
   cmd->add_option("--max-nan-gap", args->max_nan_gap,
                   "Longest run of missing (NaN) samples bridged by linear interpolation")
