@@ -24,6 +24,7 @@
 #include "algorithms/common/units.h"
 #include "algorithms/model/compare.h"
 #include "pipeline/cli/commands.h"
+#include "pipeline/graph/progress.h"
 #include "pipeline/graph/tbb_for_each.h"
 #include "pipeline/io/isolated_reader.h"
 #include "pipeline/io/model_history.h"
@@ -43,6 +44,7 @@ struct CompareArguments {
   std::string results;
   std::string save_model;
   std::string history;
+  bool progress = false;
 };
 
 // The IMF view (diagnostic, not part of the error): one line per IMF, '*' where it carries misfit.
@@ -170,9 +172,13 @@ int Run(const CompareArguments& a) {
     ao.reject_constant = false;
     aux.push_back({ch.name, ch.units, io::ReadAuxIsolated(info, ch.name, ao)});
   }
+  bool redraw = false;
+  std::FILE* progress_stream = graph::ProgressStream(a.progress, &redraw);
+  graph::WorkProgress progress("compare " + a.recording, progress_stream, redraw);
   nlohmann::json all = nlohmann::json::array();
   for (const int axis : axes) {
     const std::string& name = info.axis_names[axis];
+    progress.Step("axis " + name + ": reading");
     const Eigen::VectorXd rate = io::ReadAxisRadPerSecondIsolated(info, name, ro);
     model::CompareInput in;
     in.rate_rad_s = &rate;
@@ -180,7 +186,11 @@ int Run(const CompareArguments& a) {
     in.latitude_deg = info.latitude_deg;
     in.aux = aux;
     const model::CompareOptions options;
-    const model::CompareResult r = model::Compare(in, terms, options, graph::TbbForEach);
+    // Stage 1 is the trial fits of the missing terms and the IMF view, after the model's fit.
+    progress.Step("axis " + name + ": fitting the model, then the trials");
+    const model::CompareResult r =
+        model::Compare(in, terms, options, progress.Counting(graph::TbbForEach));
+    progress.Finish();
     if (!HasResult(r.summary.termination)) {
       std::cerr << "fogpipe compare: axis " << name << ": " << ToString(r.summary.termination)
                 << ": " << r.summary.message << "\n";
@@ -224,6 +234,9 @@ void AddCompareCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("-o,--results", args->results, "Append the step to this RESULTS file (HDF5)");
   cmd->add_option("--save-model", args->save_model, "Write the fitted model file (JSON)");
   cmd->add_option("--history", args->history, "Print the model history of a RESULTS file");
+  cmd->add_flag("--progress", args->progress,
+                "Progress lines on stderr also when it is not a terminal (on a terminal they are "
+                "always shown)");
   cmd->callback([args, exit_code]() {
     try {
       *exit_code = Run(*args);

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -24,8 +25,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string RunFogpipe(const std::string& args, int* code) {
-  const std::string command = std::string(FOGPIPE_BINARY) + " " + args + " 2>/dev/null";
+/// Runs the binary with `args`; returns its stdout. Its stderr goes to `stderr_path`.
+std::string RunFogpipe(const std::string& args, int* code,
+                       const std::string& stderr_path = "/dev/null") {
+  const std::string command = std::string(FOGPIPE_BINARY) + " " + args + " 2>" + stderr_path;
   std::string out;
   FILE* p = popen(command.c_str(), "r");
   std::array<char, 4096> buf;
@@ -96,14 +99,22 @@ TEST(CompareCommand, FindsAHiddenThermalEffectAndRecordsTheHistory) {
   fs::remove_all(dir);
 }
 
-TEST(CompareCommand, AxisAllComparesEveryAxisAndKeepsTheHistoryPerAxis) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("fogpipe_compare_all_" + std::to_string(getpid()));
+/// A fresh folder `name` holding rec.h5: the nav profile with two axes x, y for `duration_s`.
+fs::path TwoAxisRecording(const std::string& name, int seed, int duration_s) {
+  const fs::path dir = fs::temp_directory_path() / (name + "_" + std::to_string(getpid()));
   fs::create_directories(dir);
+  int code = 0;
+  RunFogpipe("simulate --profile nav --axes 2 --seed " + std::to_string(seed) + " --duration-s " +
+                 std::to_string(duration_s) + " -o " + (dir / "rec.h5").string(),
+             &code);
+  EXPECT_EQ(code, 0);
+  return dir;
+}
+
+TEST(CompareCommand, AxisAllComparesEveryAxisAndKeepsTheHistoryPerAxis) {
+  const fs::path dir = TwoAxisRecording("fogpipe_compare_all", 3, 3600);
   const std::string rec = (dir / "rec.h5").string(), results = (dir / "results.h5").string();
   int code = 0;
-  RunFogpipe("simulate --profile nav --seed 3 --axes 2 --duration-s 3600 -o " + rec, &code);
-  ASSERT_EQ(code, 0);
   const nlohmann::json j = nlohmann::json::parse(
       RunFogpipe("compare --json --axis all -o " + results + " " + rec, &code));
   ASSERT_EQ(code, 0);
@@ -142,6 +153,30 @@ TEST(CompareCommand, AxisAllComparesEveryAxisAndKeepsTheHistoryPerAxis) {
 
   RunFogpipe("compare --axis all --save-model " + (dir / "m.json").string() + " " + rec, &code);
   EXPECT_EQ(code, 2);
+  fs::remove_all(dir);
+}
+
+TEST(CompareCommand, ProgressGoesToStderrWhenAskedAndNeverToStdout) {
+  const fs::path dir = TwoAxisRecording("fogpipe_compare_progress", 5, 1800);
+  const std::string rec = (dir / "rec.h5").string(), err = (dir / "stderr.txt").string();
+  int code = 0;
+  auto read_err = [&err] {
+    std::ifstream in(err);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string asked = RunFogpipe("compare --json --axis all --progress " + rec, &code, err);
+  ASSERT_EQ(code, 0);
+  EXPECT_EQ(nlohmann::json::parse(asked)["axes"].size(), 2u);  // stdout is the JSON alone
+  const std::string lines = read_err();
+  EXPECT_NE(lines.find("compare " + rec + ": axis x: fitting the model"), std::string::npos)
+      << lines;
+  EXPECT_NE(lines.find("compare " + rec + ": axis y: fitting the model"), std::string::npos)
+      << lines;
+  EXPECT_EQ(asked.find("elapsed"), std::string::npos);
+  // Not asked and stderr not a terminal: no progress.
+  RunFogpipe("compare --json --axis all " + rec, &code, err);
+  ASSERT_EQ(code, 0);
+  EXPECT_EQ(read_err().find("elapsed"), std::string::npos) << read_err();
   fs::remove_all(dir);
 }
 
