@@ -1,7 +1,8 @@
 """Every option of every `fogpipe` command that takes a physical quantity shows its unit in
 `fogpipe COMMAND --help`: in its name (`--duration-s`, `--sample-rate-hz`) or in its help text
-(`[s]`, `deg/h`, `in samples`). The rule, which words name a quantity and what counts as a unit,
-is written here and nowhere else.
+(`[s]`, `deg/h`, `in samples`); and its default: `=value`, or the word "default" in its text or
+in the command's footer. The rule, which words name a quantity and what counts as a unit, is
+written here and nowhere else.
 
     help_units_test.py FOGPIPE [COMMAND...]   (default: every command of `fogpipe --help`)
 """
@@ -40,14 +41,19 @@ NOT_A_QUANTITY = {
 # A value that is a number, or a list of numbers written with placeholders such as T_S:DEG_H.
 NUMERIC = re.compile(r"(FLOAT|INT|UINT)\b")
 PLACEHOLDERS = re.compile(r"\b[A-Z][A-Z0-9]*(_[A-Z0-9]+)*:[A-Z]")
+# CLI11's "TYPE=value" or "TYPE:CHECK in [a - b]=value" after the option's name.
+SHOWN_DEFAULT = re.compile(r"^\s*(-\w,)?--[\w-]+ [A-Z]+\S*( in \[[^\]]*\])?=")
 OPTION = re.compile(r"^  (-\w,)?(--[\w-]+)(\s+(\S+))?")
 
 
-def options(fogpipe, command):
+def help_text(fogpipe, command):
+    return subprocess.run([fogpipe, command, "--help"], capture_output=True, text=True,
+                          check=True).stdout
+
+
+def options(text):
     """(name, whole entry) of every option whose value is a number or a list of numbers,
     continuation lines joined."""
-    text = subprocess.run([fogpipe, command, "--help"], capture_output=True, text=True,
-                          check=True).stdout
     entries, current = [], None
     for line in text.splitlines():
         m = OPTION.match(line)
@@ -66,14 +72,20 @@ def options(fogpipe, command):
     return out
 
 
-def missing_units(fogpipe, command):
+def missing_units_and_defaults(fogpipe, command):
+    text = help_text(fogpipe, command)
+    # CLI11 prints the footer last, after a blank line; the options block ends otherwise.
+    last = text.rstrip().split("\n\n")[-1]
+    is_footer = not re.match(r"(Options|Positionals|Subcommands|Usage)", last.lstrip())
+    footer_default = is_footer and "default" in last
     bad = []
-    for name, entry in options(fogpipe, command):
+    for name, entry in options(text):
         if name in NOT_A_QUANTITY or not QUANTITY.search(name.replace("-", " ") + " " + entry):
             continue
-        if NAME_UNIT.search(name) or TEXT_UNIT.search(entry.split(None, 2)[-1]):
-            continue
-        bad.append(f"fogpipe {command} {name}: {entry.strip()}")
+        if not (NAME_UNIT.search(name) or TEXT_UNIT.search(entry.split(None, 2)[-1])):
+            bad.append(f"no unit: fogpipe {command} {name}: {entry.strip()}")
+        if not SHOWN_DEFAULT.search(entry) and "default" not in entry and not footer_default:
+            bad.append(f"no default: fogpipe {command} {name}: {entry.strip()}")
     return bad
 
 
@@ -86,9 +98,9 @@ def main():
     assert commands, "no command found in fogpipe --help"
     # The rule must be able to fail: an option of a quantity without a unit is caught.
     assert QUANTITY.search("Record length") and not TEXT_UNIT.search("Record length")
-    bad = [line for command in commands for line in missing_units(fogpipe, command)]
+    bad = [line for command in commands for line in missing_units_and_defaults(fogpipe, command)]
     for line in bad:
-        print("no unit:", line)
+        print(line)
     print(f"{len(commands)} commands checked: {' '.join(commands)}")
     return 1 if bad else 0
 
