@@ -1,5 +1,6 @@
-// fogpipe allan RECORDING: the Allan table and the five IEEE noise terms of one recording axis,
-// for people who want only that (no decomposition, no output file).
+// fogpipe allan RECORDING: the Allan table and the five IEEE noise terms of one recording axis
+// (or of every axis with --axis all), for people who want only that (no decomposition, no output
+// file).
 //
 // Exit codes: 0 done, 1 the recording cannot be analysed (message names file and problem),
 // 2 usage error.
@@ -13,6 +14,7 @@
 #include "algorithms/allan/model_edf.h"
 #include "algorithms/allan/noise_fit.h"
 #include "pipeline/cli/commands.h"
+#include "pipeline/graph/progress.h"
 #include "pipeline/graph/run_config.h"
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/allan_report.h"
@@ -33,6 +35,7 @@ struct AllanArgs {
   double confidence = 0.683;
   long long max_nan_gap = 10;
   int threads = 0;
+  bool progress = false;
 };
 
 int RunAllan(const AllanArgs& args) {
@@ -62,19 +65,25 @@ int RunAllan(const AllanArgs& args) {
     return 2;
   }
   std::vector<io::AllanReport> reports;
+  bool redraw = false;
+  std::FILE* progress_stream = graph::ProgressStream(args.progress, &redraw);
+  // Steps only: the deviation sums and the fit take no ForEach to count tasks through.
+  graph::WorkProgress progress("allan " + args.recording, progress_stream, redraw);
   try {
     // Inspected and read in child processes: a file that crashes HDF5 is named, not fatal.
     const io::RecordingInfo info = io::InspectRecordingIsolated(args.recording);
     const std::string axis_arg = args.axis.empty() ? "0" : args.axis;
     for (const int axis : io::SelectAxes(info, axis_arg)) {
+      const std::string& name = info.axis_names[axis];
+      progress.Step("axis " + name + ": reading");
       io::ReadOptions read;
       read.max_nan_gap_samples = args.max_nan_gap;
       io::ReadReport read_report;
       const Eigen::VectorXd rate_rad_s =
-          io::ReadAxisRadPerSecondIsolated(info, info.axis_names[axis], read, &read_report);
+          io::ReadAxisRadPerSecondIsolated(info, name, read, &read_report);
       io::AllanReport report;
       report.file = args.recording;
-      report.axis = info.axis_names[axis];
+      report.axis = name;
       report.rate_units = info.rate_units;
       report.rate_unit = info.rate_unit;
       report.sample_rate_hz = info.sample_rate_hz;
@@ -84,6 +93,8 @@ int RunAllan(const AllanArgs& args) {
           io::DescribeRepeatedRun(read_report.repeats, info.sample_rate_hz, info.rate_units);
       report.taus = args.taus;
       report.confidence = options.confidence;
+      progress.Step("axis " + name + ": " + args.deviation + " on the " + args.taus +
+                    " grid and its intervals");
       allan::AllanResult allan = allan::ComputeAllan(rate_rad_s, report.sample_rate_hz, options);
       if (!HasResult(allan.summary.termination)) {
         std::cerr << "fogpipe allan: " << args.recording << ": axis " << report.axis << ": "
@@ -94,6 +105,7 @@ int RunAllan(const AllanArgs& args) {
       // The IEEE terms are coefficients of the Allan variance's response; on any other table
       // they would be wrong without saying so.
       report.fitted = allan::IeeeModelApplies(options.deviation);
+      if (report.fitted) progress.Step("axis " + name + ": noise terms and their EDF");
       if (report.fitted)
         report.fit = allan::FitNoiseTermsAndModelEdf(allan::NoiseFitOptions{}, options.confidence,
                                                      &report.table);
@@ -103,6 +115,7 @@ int RunAllan(const AllanArgs& args) {
     std::cerr << "fogpipe allan: " << e.what() << " [" << e.kind() << "]\n";
     return 1;
   }
+  progress.Finish();
   // One axis prints as it always has; several are labelled by an `axis` column (CSV) or an
   // `axes` list (JSON) so that no row can be taken for another axis's.
   const bool several = args.axis == io::kAllAxes;
@@ -160,6 +173,9 @@ void AddAllanCommand(CLI::App& app, int* exit_code) {
                   "Threads for the deviation sums (0: SLURM_CPUS_PER_TASK if set, else all "
                   "cores); the numbers do not depend on it")
       ->check(CLI::Range(0, 4096));
+  cmd->add_flag("--progress", args->progress,
+                "Progress lines (each axis's steps) on stderr also when it is not a terminal (on "
+                "a terminal they are always shown)");
   cmd->callback([args, exit_code]() { *exit_code = RunAllan(*args); });
 }
 

@@ -1,13 +1,14 @@
 // fogpipe compare: the model loop (fit a gyro model, compare it with a recording, add the missing
 // effect the comparison suggests, repeat).
 //
-//   fogpipe compare RECORDING [--model FILE | --terms a,b,c] [--add TERM ...] [--axis A] [--json]
-//                   [-o RESULTS] [--save-model FILE]
+//   fogpipe compare RECORDING [--model FILE | --terms a,b,c] [--add TERM ...] [--axis A|all]
+//                   [--json] [-o RESULTS] [--save-model FILE] [--progress]
 //   fogpipe compare --history RESULTS
 //
 // Fits the model (algorithms/model/compare.h), prints the error, the failures and the ranked
 // suggestions and the verdict (or, with --json, one JSON object with exactly error, consistent,
-// view_errors, verdict, failures, suggestions, model), appends the step to RESULTS and optionally
+// view_errors, verdict, failures, suggestions, model; with --axis all, {"file", "axes": [those
+// objects, each with its "axis"]}), appends the step to RESULTS (one per axis) and optionally
 // writes the model file that `compare --model` and `run --model` read. The trial fits and the IMF
 // view run in parallel (model::Compare with graph::TbbForEach); the numbers do not depend on the
 // thread count.

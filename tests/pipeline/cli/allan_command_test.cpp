@@ -220,6 +220,24 @@ TEST(AllanCommand, AxisAllLabelsEveryAxisInCsvJsonAndTextWithTheOneAxisNumbers) 
   EXPECT_LT(x_at, y_at);
 }
 
+TEST(AllanCommand, ProgressGoesToStderrWhenAskedAndNeverToStdout) {
+  testing::TempDir dir;
+  const std::string path = WriteTwoAxisRecording(dir);
+  const std::string args = "allan " + Quote(path) + " --axis all --csv";
+  const auto plain = RunFogpipe(args);
+  ASSERT_EQ(plain.exit_code, 0);
+  // stderr not a terminal and not asked: nothing besides stdout.
+  EXPECT_EQ(RunFogpipe(args, /*merge_stderr=*/true).output, plain.output);
+  // Asked: the steps of each axis on stderr, stdout unchanged.
+  EXPECT_EQ(RunFogpipe(args + " --progress").output, plain.output);
+  const auto merged = RunFogpipe(args + " --progress", /*merge_stderr=*/true);
+  ASSERT_EQ(merged.exit_code, 0);
+  for (const std::string step : {": axis x: reading", ": axis y: oadev on the octave grid",
+                                 ": axis y: noise terms and their EDF"})
+    EXPECT_NE(merged.output.find("allan " + path + step), std::string::npos) << step << "\n"
+                                                                             << merged.output;
+}
+
 TEST(AllanCommand, ExitCodesSeparateBadRecordingsFromUsageErrors) {
   testing::TempDir dir;
   const std::string path = WriteNoiseRecording(dir, Noise(1000, 1.0, 0.0, 3), "deg/s", 1.0);
