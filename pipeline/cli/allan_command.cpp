@@ -1,5 +1,6 @@
-// fogpipe allan RECORDING: the Allan table and the five IEEE noise terms of one recording axis,
-// for people who want only that (no decomposition, no output file).
+// fogpipe allan RECORDING: the Allan table and the five IEEE noise terms of one recording axis
+// (or of every axis with --axis all), for people who want only that (no decomposition, no output
+// file).
 //
 // Exit codes: 0 done, 1 the recording cannot be analysed (message names file and problem),
 // 2 usage error.
@@ -7,11 +8,13 @@
 #include <algorithm>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "algorithms/allan/allan.h"
 #include "algorithms/allan/model_edf.h"
 #include "algorithms/allan/noise_fit.h"
 #include "pipeline/cli/commands.h"
+#include "pipeline/graph/progress.h"
 #include "pipeline/graph/run_config.h"
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/allan_report.h"
@@ -32,6 +35,7 @@ struct AllanArgs {
   double confidence = 0.683;
   long long max_nan_gap = 10;
   int threads = 0;
+  bool progress = false;
 };
 
 int RunAllan(const AllanArgs& args) {
@@ -40,8 +44,6 @@ int RunAllan(const AllanArgs& args) {
     return 2;
   }
   hdf5::SilenceHdf5ErrorPrinter();
-  io::AllanReport report;
-  Eigen::VectorXd rate_rad_s;
   allan::AllanOptions options;
   options.confidence = args.confidence;
   options.threads = graph::ResolveThreads(args.threads);
@@ -57,58 +59,79 @@ int RunAllan(const AllanArgs& args) {
               << args.deviation << "'\n";
     return 2;
   }
-  try {
-    io::ReadOptions read;
-    read.max_nan_gap_samples = args.max_nan_gap;
-    io::ReadReport read_report;
-    // Inspected and read in child processes: a file that crashes HDF5 is named, not fatal.
-    const io::RecordingInfo info = io::InspectRecordingIsolated(args.recording);
-    // The axis (name or index) is resolved by the reader in the child; an unknown one throws.
-    const std::string axis_arg = args.axis.empty() ? "0" : args.axis;
-    rate_rad_s = io::ReadAxisRadPerSecondIsolated(info, axis_arg, read, &read_report);
-    const auto named = std::find(info.axis_names.begin(), info.axis_names.end(), axis_arg);
-    const int axis = named != info.axis_names.end()
-                         ? static_cast<int>(named - info.axis_names.begin())
-                         : std::stoi(axis_arg);
-    report.file = args.recording;
-    report.axis = info.axis_names[axis];
-    report.rate_units = info.rate_units;
-    report.rate_unit = info.rate_unit;
-    report.sample_rate_hz = info.sample_rate_hz;
-    report.samples = info.samples;
-    report.nan_bridged = read_report.nan.bridged_samples;
-    report.data_warning =
-        io::DescribeRepeatedRun(read_report.repeats, info.sample_rate_hz, info.rate_units);
-  } catch (const io::RecordingError& e) {
-    std::cerr << "fogpipe allan: " << e.what() << " [" << e.kind() << "]\n";
-    return 1;
-  }
   std::string error;
   if (!allan::ParseTauGrid(args.taus, &options.grid, &error) || !options.IsValid(&error)) {
     std::cerr << "fogpipe allan: " << error << "\n";
     return 2;
   }
-  report.taus = args.taus;
-  report.confidence = options.confidence;
-  allan::AllanResult allan = allan::ComputeAllan(rate_rad_s, report.sample_rate_hz, options);
-  if (!HasResult(allan.summary.termination)) {
-    std::cerr << "fogpipe allan: " << args.recording << ": " << allan.summary.message << " ["
-              << ToString(allan.summary.termination) << "]\n";
+  std::vector<io::AllanReport> reports;
+  bool redraw = false;
+  std::FILE* progress_stream = graph::ProgressStream(args.progress, &redraw);
+  // Steps only: the deviation sums and the fit take no ForEach to count tasks through.
+  graph::WorkProgress progress("allan " + args.recording, progress_stream, redraw);
+  try {
+    // Inspected and read in child processes: a file that crashes HDF5 is named, not fatal.
+    const io::RecordingInfo info = io::InspectRecordingIsolated(args.recording);
+    const std::string axis_arg = args.axis.empty() ? "0" : args.axis;
+    for (const int axis : io::SelectAxes(info, axis_arg)) {
+      const std::string& name = info.axis_names[axis];
+      progress.Step("axis " + name + ": reading");
+      io::ReadOptions read;
+      read.max_nan_gap_samples = args.max_nan_gap;
+      io::ReadReport read_report;
+      const Eigen::VectorXd rate_rad_s =
+          io::ReadAxisRadPerSecondIsolated(info, name, read, &read_report);
+      io::AllanReport report;
+      report.file = args.recording;
+      report.axis = name;
+      report.rate_units = info.rate_units;
+      report.rate_unit = info.rate_unit;
+      report.sample_rate_hz = info.sample_rate_hz;
+      report.samples = info.samples;
+      report.nan_bridged = read_report.nan.bridged_samples;
+      report.data_warning =
+          io::DescribeRepeatedRun(read_report.repeats, info.sample_rate_hz, info.rate_units);
+      report.taus = args.taus;
+      report.confidence = options.confidence;
+      progress.Step("axis " + name + ": " + args.deviation + " on the " + args.taus +
+                    " grid and its intervals");
+      allan::AllanResult allan = allan::ComputeAllan(rate_rad_s, report.sample_rate_hz, options);
+      if (!HasResult(allan.summary.termination)) {
+        std::cerr << "fogpipe allan: " << args.recording << ": axis " << report.axis << ": "
+                  << allan.summary.message << " [" << ToString(allan.summary.termination) << "]\n";
+        return 1;
+      }
+      report.table = std::move(allan.table);
+      // The IEEE terms are coefficients of the Allan variance's response; on any other table
+      // they would be wrong without saying so.
+      report.fitted = allan::IeeeModelApplies(options.deviation);
+      if (report.fitted) progress.Step("axis " + name + ": noise terms and their EDF");
+      if (report.fitted)
+        report.fit = allan::FitNoiseTermsAndModelEdf(allan::NoiseFitOptions{}, options.confidence,
+                                                     &report.table);
+      reports.push_back(std::move(report));
+    }
+  } catch (const io::RecordingError& e) {
+    std::cerr << "fogpipe allan: " << e.what() << " [" << e.kind() << "]\n";
     return 1;
   }
-  report.table = std::move(allan.table);
-  // The IEEE terms are coefficients of the Allan variance's response; on any other table they
-  // would be wrong without saying so.
-  report.fitted = allan::IeeeModelApplies(options.deviation);
-  if (report.fitted)
-    report.fit = allan::FitNoiseTermsAndModelEdf(allan::NoiseFitOptions{}, options.confidence,
-                                                 &report.table);
+  progress.Finish();
+  // One axis prints as it always has; several are labelled by an `axis` column (CSV) or an
+  // `axes` list (JSON) so that no row can be taken for another axis's.
+  const bool several = args.axis == io::kAllAxes;
   if (args.json) {
-    std::cout << io::AllanReportJson(report).dump(2) << "\n";
+    std::cout << (several ? io::AllanReportJson(reports) : io::AllanReportJson(reports[0])).dump(2)
+              << "\n";
   } else if (args.csv) {
-    io::PrintAllanCsv(std::cout, report);
+    if (several)
+      io::PrintAllanCsv(std::cout, reports);
+    else
+      io::PrintAllanCsv(std::cout, reports[0]);
   } else {
-    io::PrintAllanText(std::cout, report);
+    for (size_t i = 0; i < reports.size(); ++i) {
+      if (i > 0) std::cout << "\n";
+      io::PrintAllanText(std::cout, reports[i]);
+    }
   }
   return 0;
 }
@@ -124,7 +147,9 @@ void AddAllanCommand(CLI::App& app, int* exit_code) {
       "stored (`run` first drops --drop-start-s and replaces outliers, so its raw terms can "
       "differ). Exit code 0: done, 1: bad recording, 2: usage error.");
   cmd->add_option("RECORDING", args->recording, "HDF5 recording (input contract v1)");
-  cmd->add_option("--axis", args->axis, "Axis name (from the file's `axes`) or index; default 0");
+  cmd->add_option("--axis", args->axis,
+                  "Axis name (from the file's `axes`), index, or all (every axis, each labelled); "
+                  "default 0");
   cmd->add_option("--deviation", args->deviation, io::DeviationHelp())->capture_default_str();
   cmd->add_option("--taus", args->taus,
                   "Tau grid: octave (1, 2, 4, ... samples), decade:K (K log-spaced per decade), "
@@ -138,7 +163,8 @@ void AddAllanCommand(CLI::App& app, int* exit_code) {
                   "coverage) or stable32 (Stable32's Alpha column and EDF convention, so that "
                   "bounds match its Min / Max Sigma)")
       ->capture_default_str();
-  cmd->add_option("--confidence", args->confidence, "Two-sided confidence level of the interval")
+  cmd->add_option("--confidence", args->confidence,
+                  "Two-sided confidence level of the interval, a fraction (0.683: 68.3 %)")
       ->capture_default_str();
   cmd->add_option("--max-nan-gap", args->max_nan_gap,
                   "Longest run of missing (NaN) samples bridged by linear interpolation")
@@ -147,6 +173,9 @@ void AddAllanCommand(CLI::App& app, int* exit_code) {
                   "Threads for the deviation sums (0: SLURM_CPUS_PER_TASK if set, else all "
                   "cores); the numbers do not depend on it")
       ->check(CLI::Range(0, 4096));
+  cmd->add_flag("--progress", args->progress,
+                "Progress lines (each axis's steps) on stderr also when it is not a terminal (on "
+                "a terminal they are always shown)");
   cmd->callback([args, exit_code]() { *exit_code = RunAllan(*args); });
 }
 

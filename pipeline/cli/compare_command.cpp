@@ -1,13 +1,14 @@
 // fogpipe compare: the model loop (fit a gyro model, compare it with a recording, add the missing
 // effect the comparison suggests, repeat).
 //
-//   fogpipe compare RECORDING [--model FILE | --terms a,b,c] [--add TERM ...] [--axis A] [--json]
-//                   [-o RESULTS] [--save-model FILE]
+//   fogpipe compare RECORDING [--model FILE | --terms a,b,c] [--add TERM ...] [--axis A|all]
+//                   [--json] [-o RESULTS] [--save-model FILE] [--progress]
 //   fogpipe compare --history RESULTS
 //
 // Fits the model (algorithms/model/compare.h), prints the error, the failures and the ranked
 // suggestions and the verdict (or, with --json, one JSON object with exactly error, consistent,
-// view_errors, verdict, failures, suggestions, model), appends the step to RESULTS and optionally
+// view_errors, verdict, failures, suggestions, model; with --axis all, {"file", "axes": [those
+// objects, each with its "axis"]}), appends the step to RESULTS (one per axis) and optionally
 // writes the model file that `compare --model` and `run --model` read. The trial fits and the IMF
 // view run in parallel (model::Compare with graph::TbbForEach); the numbers do not depend on the
 // thread count.
@@ -24,6 +25,7 @@
 #include "algorithms/common/units.h"
 #include "algorithms/model/compare.h"
 #include "pipeline/cli/commands.h"
+#include "pipeline/graph/progress.h"
 #include "pipeline/graph/tbb_for_each.h"
 #include "pipeline/io/isolated_reader.h"
 #include "pipeline/io/model_history.h"
@@ -43,6 +45,7 @@ struct CompareArguments {
   std::string results;
   std::string save_model;
   std::string history;
+  bool progress = false;
 };
 
 // The IMF view (diagnostic, not part of the error): one line per IMF, '*' where it carries misfit.
@@ -157,30 +160,59 @@ int Run(const CompareArguments& a) {
     }
   }
   const io::RecordingInfo info = io::InspectRecordingIsolated(a.recording);
+  const std::vector<int> axes = io::SelectAxes(info, a.axis);
+  const bool several = a.axis == io::kAllAxes;
+  if (several && !a.save_model.empty()) {
+    std::cerr << "fogpipe compare: --save-model writes one axis's model; give --axis NAME\n";
+    return 2;
+  }
   io::ReadOptions ro;
-  const Eigen::VectorXd rate = io::ReadAxisRadPerSecondIsolated(info, a.axis, ro);
-  model::CompareInput in;
-  in.rate_rad_s = &rate;
-  in.sample_rate_hz = info.sample_rate_hz;
-  in.latitude_deg = info.latitude_deg;
+  std::vector<model::AuxChannel> aux;
   for (const auto& ch : info.aux) {
     io::ReadOptions ao = ro;
     ao.reject_constant = false;
-    in.aux.push_back({ch.name, ch.units, io::ReadAuxIsolated(info, ch.name, ao)});
+    aux.push_back({ch.name, ch.units, io::ReadAuxIsolated(info, ch.name, ao)});
   }
-  const model::CompareOptions options;
-  const model::CompareResult r = model::Compare(in, terms, options, graph::TbbForEach);
-  if (!HasResult(r.summary.termination)) {
-    std::cerr << "fogpipe compare: " << ToString(r.summary.termination) << ": " << r.summary.message
-              << "\n";
-    return 1;
+  bool redraw = false;
+  std::FILE* progress_stream = graph::ProgressStream(a.progress, &redraw);
+  graph::WorkProgress progress("compare " + a.recording, progress_stream, redraw);
+  nlohmann::json all = nlohmann::json::array();
+  for (const int axis : axes) {
+    const std::string& name = info.axis_names[axis];
+    progress.Step("axis " + name + ": reading");
+    const Eigen::VectorXd rate = io::ReadAxisRadPerSecondIsolated(info, name, ro);
+    model::CompareInput in;
+    in.rate_rad_s = &rate;
+    in.sample_rate_hz = info.sample_rate_hz;
+    in.latitude_deg = info.latitude_deg;
+    in.aux = aux;
+    const model::CompareOptions options;
+    // Stage 1 is the trial fits of the missing terms and the IMF view, after the model's fit.
+    progress.Step("axis " + name + ": fitting the model, then the trials");
+    const model::CompareResult r =
+        model::Compare(in, terms, options, progress.Counting(graph::TbbForEach));
+    progress.Finish();
+    if (!HasResult(r.summary.termination)) {
+      std::cerr << "fogpipe compare: axis " << name << ": " << ToString(r.summary.termination)
+                << ": " << r.summary.message << "\n";
+      return 1;
+    }
+    if (a.json && several) {
+      nlohmann::json j = io::CompareJson(r);
+      j["axis"] = name;
+      all.push_back(std::move(j));
+    } else if (a.json) {
+      std::cout << io::CompareJson(r).dump(2) << "\n";
+    } else {
+      if (several) std::printf("%saxis %s\n", axis == axes.front() ? "" : "\n", name.c_str());
+      PrintText(r);
+    }
+    // Each axis is a step of its own, named by the axis's name (never an index or "all").
+    if (!a.results.empty()) io::AppendHistory(a.results, a.recording, name, r);
+    if (!a.save_model.empty()) io::WriteModelFile(a.save_model, r.base);
   }
-  if (a.json)
-    std::cout << io::CompareJson(r).dump(2) << "\n";
-  else
-    PrintText(r);
-  if (!a.results.empty()) io::AppendHistory(a.results, a.recording, a.axis, r);
-  if (!a.save_model.empty()) io::WriteModelFile(a.save_model, r.base);
+  if (a.json && several)
+    std::cout << nlohmann::json{{"file", a.recording}, {"axes", all}}.dump(2) << "\n";
   return 0;
 }
 
@@ -195,11 +227,17 @@ void AddCompareCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("--terms", args->terms, "Comma-separated catalog terms (bias is implicit)")
       ->excludes(model);
   cmd->add_option("--add", args->add, "Add a catalog term (repeatable)");
-  cmd->add_option("--axis", args->axis, "Axis name or index (default 0)");
+  cmd->add_option("--axis", args->axis,
+                  "Axis name, index, or all (every axis: one section, JSON object and history "
+                  "step per axis)")
+      ->capture_default_str();
   cmd->add_flag("--json", args->json, "Print one JSON object");
   cmd->add_option("-o,--results", args->results, "Append the step to this RESULTS file (HDF5)");
   cmd->add_option("--save-model", args->save_model, "Write the fitted model file (JSON)");
   cmd->add_option("--history", args->history, "Print the model history of a RESULTS file");
+  cmd->add_flag("--progress", args->progress,
+                "Progress lines on stderr also when it is not a terminal (on a terminal they are "
+                "always shown)");
   cmd->callback([args, exit_code]() {
     try {
       *exit_code = Run(*args);

@@ -393,6 +393,12 @@ void AddSimulateCommand(CLI::App& app, int* exit_code) {
                   "Rate-table input, deg/h, summed components: constant:W, step:T_S:S, "
                   "ramp:T0_S:T1_S:SLOPE_PER_S, sine:F_HZ:A[:PHASE_DEG]; e.g. "
                   "step:600:10,ramp:1200:1800:0.01,sine:0.01:5");
+  cmd->footer(
+      "An option shown without a default keeps the --profile's value: none: 1 h at 10 Hz, no\n"
+      "error terms; paper: 1 h at 1 Hz, navigation-grade N, B, K, Q and bias drawn from the seed;\n"
+      "nav: 6 h at 10 Hz, navigation grade drawn from the seed, aux temperature cycling. No\n"
+      "--latitude-deg: no Earth rate. Exit codes: 0 every file written, 1 a simulation or write\n"
+      "failed, 2 invalid options.");
   cmd->callback([args, exit_code]() { *exit_code = Run(*args); });
 }
 

@@ -24,6 +24,7 @@
 #include <sstream>
 
 #include "algorithms/common/units.h"
+#include "pipeline/graph/progress.h"
 #include "pipeline/graph/tbb_for_each.h"
 #include "pipeline/hdf5/atomic_output_file.h"
 #include "pipeline/hdf5/file.h"
@@ -151,7 +152,12 @@ bool SweepRecording(const std::string& recording, const SweepRunOptions& options
   }
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
                               static_cast<std::size_t>(std::max(1, options.threads)));
+  bool redraw = false;
+  std::FILE* progress_stream = ProgressStream(options.progress, &redraw);
+  WorkProgress progress("sweep " + recording, progress_stream, redraw);
+  const std::size_t table_count = info.axis_names.size() * options.emd_sifts.size();
   for (const std::string& axis : info.axis_names) {
+    progress.Step("axis " + axis + ": reading");
     Eigen::VectorXd x;
     try {
       x = io::ReadAxisRadPerSecondIsolated(info, axis, options.read);
@@ -173,8 +179,11 @@ bool SweepRecording(const std::string& recording, const SweepRunOptions& options
       table.axis = axis;
       table.emd_sifts = sifts;
       table.has_truth = truth.has_value();
-      table.result =
-          method::RunSweep(x, info.sample_rate_hz, sweep, truth ? &*truth : nullptr, TbbForEach);
+      progress.Step("table " + std::to_string(tables->size() + 1) + "/" +
+                    std::to_string(table_count) + " (axis " + axis + ", " + std::to_string(sifts) +
+                    " sifts)");
+      table.result = method::RunSweep(x, info.sample_rate_hz, sweep, truth ? &*truth : nullptr,
+                                      progress.Counting(TbbForEach));
       if (!HasResult(table.result.summary.termination)) {
         *error = recording + ": axis " + axis + ": " + table.result.summary.message;
         return false;
@@ -184,6 +193,8 @@ bool SweepRecording(const std::string& recording, const SweepRunOptions& options
   }
   const std::string stem = fs::path(recording).stem().string();
   const fs::path out = fs::path(options.output_dir) / (stem + ".sweep");
+  progress.Step("writing " + out.string() + ".h5 and .csv");
+  progress.Finish();
   try {
     fs::create_directories(options.output_dir);
     WriteSweepHdf5(out.string() + ".h5", *tables, options.rank_by);

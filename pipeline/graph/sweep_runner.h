@@ -27,6 +27,9 @@ struct SweepRunOptions {
   /// How many ranked settings to print per axis.
   int top = 5;
   std::FILE* report_stream = stdout;
+  /// Progress lines on stderr (graph::WorkProgress) even when it is not a terminal; on a terminal
+  /// they are always shown, as `run` does.
+  bool progress = false;
 };
 
 /// One decomposition's sweep of one axis.

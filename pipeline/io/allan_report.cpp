@@ -120,28 +120,53 @@ void PrintAllanText(std::ostream& out, const AllanReport& r) {
   out << "  " << NoiseTypeCrossCheckLine(t, r.fit) << "\n";
 }
 
-void PrintAllanCsv(std::ostream& out, const AllanReport& r) {
-  const allan::AllanTable& t = r.table;
-  const DeviationUnits du = UnitsOf(t.deviation, r.rate_units, r.rate_unit);
-  const std::string e = UnitToken(du.engineering);
+namespace {
+
+void PrintAllanCsvComments(std::ostream& out, const AllanReport& r) {
   out << "# fogpipe allan: " << r.file << ", axis " << r.axis << ", " << r.samples << " samples at "
-      << r.sample_rate_hz << " Hz, " << allan::ToString(t.deviation) << ", " << r.taus
-      << " taus, CI " << r.confidence << ", noise types by the " << allan::ToString(t.noise_id_rule)
-      << " rule\n";
+      << r.sample_rate_hz << " Hz, " << allan::ToString(r.table.deviation) << ", " << r.taus
+      << " taus, CI " << r.confidence << ", noise types by the "
+      << allan::ToString(r.table.noise_id_rule) << " rule\n";
   if (!r.data_warning.empty()) out << "# warning: " << r.data_warning << "\n";
+}
+
+// One header and the rows of every report; with `axis_column` each row starts with its axis.
+// The reports share the recording, so they share the units of the header.
+void PrintAllanCsvTable(std::ostream& out, const std::vector<AllanReport>& reports,
+                        bool axis_column) {
+  const AllanReport& first = reports.front();
+  const DeviationUnits du = UnitsOf(first.table.deviation, first.rate_units, first.rate_unit);
+  const std::string e = UnitToken(du.engineering);
   // A recording in the engineering unit (deg/h) has one sigma column, not two of the same name.
   const bool both = UnitToken(du.primary) != e;
-  out << "tau_s,m," << (both ? "sigma_" + UnitToken(du.primary) + "," : "") << "sigma_" << e
-      << ",ci_low_" << e << ",ci_high_" << e << ",edf,edf_source,alpha,alpha_method,count\n";
+  out << (axis_column ? "axis," : "") << "tau_s,m,"
+      << (both ? "sigma_" + UnitToken(du.primary) + "," : "") << "sigma_" << e << ",ci_low_" << e
+      << ",ci_high_" << e << ",edf,edf_source,alpha,alpha_method,count\n";
   auto g = [](double v) { return Fixed(v, "%.17g"); };
-  for (size_t i = 0; i < t.size(); ++i) {
-    out << g(t.tau_s[i]) << "," << t.m[i] << ","
-        << (both ? g(t.sigma[i] * du.primary_per_si) + "," : "")
-        << g(t.sigma[i] * du.engineering_per_si) << "," << g(t.ci_low[i] * du.engineering_per_si)
-        << "," << g(t.ci_high[i] * du.engineering_per_si) << "," << g(t.edf[i]) << ","
-        << allan::ToString(t.edf_source[i]) << "," << t.alpha[i] << ","
-        << allan::ToString(t.alpha_method[i]) << "," << t.count[i] << "\n";
+  for (const AllanReport& r : reports) {
+    const allan::AllanTable& t = r.table;
+    for (size_t i = 0; i < t.size(); ++i) {
+      out << (axis_column ? r.axis + "," : "") << g(t.tau_s[i]) << "," << t.m[i] << ","
+          << (both ? g(t.sigma[i] * du.primary_per_si) + "," : "")
+          << g(t.sigma[i] * du.engineering_per_si) << "," << g(t.ci_low[i] * du.engineering_per_si)
+          << "," << g(t.ci_high[i] * du.engineering_per_si) << "," << g(t.edf[i]) << ","
+          << allan::ToString(t.edf_source[i]) << "," << t.alpha[i] << ","
+          << allan::ToString(t.alpha_method[i]) << "," << t.count[i] << "\n";
+    }
   }
+}
+
+}  // namespace
+
+void PrintAllanCsv(std::ostream& out, const AllanReport& r) {
+  PrintAllanCsvComments(out, r);
+  PrintAllanCsvTable(out, {r}, false);
+}
+
+void PrintAllanCsv(std::ostream& out, const std::vector<AllanReport>& reports) {
+  if (reports.empty()) return;
+  for (const AllanReport& r : reports) PrintAllanCsvComments(out, r);
+  PrintAllanCsvTable(out, reports, true);
 }
 
 nlohmann::json AllanReportJson(const AllanReport& r) {
@@ -215,6 +240,12 @@ nlohmann::json AllanReportJson(const AllanReport& r) {
                          {"terms", NoiseFitAssessmentJson(r.fit)}};
   report["slope_readoff"] = terms_json(r.fit.slope_readoff);
   return report;
+}
+
+nlohmann::json AllanReportJson(const std::vector<AllanReport>& reports) {
+  nlohmann::json axes = nlohmann::json::array();
+  for (const AllanReport& r : reports) axes.push_back(AllanReportJson(r));
+  return {{"file", reports.empty() ? "" : reports.front().file}, {"axes", axes}};
 }
 
 }  // namespace fogpipe::io

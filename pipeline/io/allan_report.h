@@ -56,6 +56,10 @@ void PrintAllanText(std::ostream& out, const AllanReport& report);
 void PrintAllanCsv(std::ostream& out, const AllanReport& report);
 /// One JSON object with the table and the terms (units in every key name).
 nlohmann::json AllanReportJson(const AllanReport& report);
+/// Several axes of one recording (`--axis all`): CSV with an `axis` column first (one header,
+/// every axis's comment lines before it); JSON as {"file", "axes": [one object per axis]}.
+void PrintAllanCsv(std::ostream& out, const std::vector<AllanReport>& reports);
+nlohmann::json AllanReportJson(const std::vector<AllanReport>& reports);
 
 /// "deg/s" -> "deg_s", "deg/h" -> "deg_h", "rad/s" -> "rad_s": unit spelling for column names.
 std::string UnitToken(const std::string& units);

@@ -8,6 +8,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -419,6 +420,7 @@ std::vector<HistoryStep> ReadHistory(const std::string& results) {
     // Steps written before the verdict existed have none.
     if (s.HasAttribute("verdict")) h.verdict = s.ReadStringAttribute("verdict");
     h.recording = s.ReadStringAttribute("recording");
+    h.axis = s.ReadStringAttribute("axis");
     const auto text = s.OpenDataset("model_json").ReadStrings();
     h.model_json = text.empty() ? "" : text[0];
     out.push_back(h);
@@ -429,23 +431,25 @@ std::vector<HistoryStep> ReadHistory(const std::string& results) {
 std::string FormatHistory(const std::vector<HistoryStep>& steps) {
   std::string out;
   char line[512];
-  std::snprintf(line, sizeof(line), "%-5s %-10s %-11s %-12s %-18s %s\n", "step", "error",
-                "consistent", "verdict", "next suggestion", "terms");
+  std::snprintf(line, sizeof(line), "%-5s %-8s %-10s %-11s %-12s %-18s %s\n", "step", "axis",
+                "error", "consistent", "verdict", "next suggestion", "terms");
   out += line;
-  double prev = 0;
+  std::map<std::string, double> previous;  // the last error of each axis
   for (const auto& s : steps) {
     std::string terms;
     for (const auto& t : s.terms) terms += (terms.empty() ? "" : ",") + t;
-    std::snprintf(line, sizeof(line), "%-5d %-10.4g %-11s %-12s %-18s ", s.index, s.error,
-                  s.consistent ? "yes" : "no", s.verdict.empty() ? "-" : s.verdict.c_str(),
+    std::snprintf(line, sizeof(line), "%-5d %-8s %-10.4g %-11s %-12s %-18s ", s.index,
+                  s.axis.c_str(), s.error, s.consistent ? "yes" : "no",
+                  s.verdict.empty() ? "-" : s.verdict.c_str(),
                   s.first_suggestion.empty() ? "-" : s.first_suggestion.c_str());
     out += line + terms;
-    if (s.index > 0 && s.error > 0) {
-      std::snprintf(line, sizeof(line), "   (error x%.2g)", s.error / prev);
+    const auto before = previous.find(s.axis);
+    if (before != previous.end() && before->second > 0) {
+      std::snprintf(line, sizeof(line), "   (error x%.2g)", s.error / before->second);
       out += line;
     }
     out += "\n";
-    prev = s.error;
+    previous[s.axis] = s.error;
   }
   return out;
 }

@@ -49,6 +49,7 @@ struct HistoryStep {
   std::string first_suggestion;  ///< "" when none
   std::string verdict;           ///< "consistent" | "inconsistent" | "unexplained"; "" if absent
   std::string recording;
+  std::string axis;        ///< the axis compared
   std::string model_json;  ///< the "model" object
 };
 
@@ -63,8 +64,9 @@ int AppendHistory(const std::string& results, const std::string& recording, cons
 /// Reads every step (takes the HDF5 lock). Throws on a file without /compare.
 std::vector<HistoryStep> ReadHistory(const std::string& results);
 
-/// The history as a table, one line per step: error, consistent, the next suggestion, the terms
-/// and the error's change from the step before.
+/// The history as a table, one line per step: axis, error, consistent, the next suggestion, the
+/// terms and the error's change from the step before on the same axis (`compare --axis all`
+/// interleaves the axes' steps).
 std::string FormatHistory(const std::vector<HistoryStep>& steps);
 
 }  // namespace fogpipe::io

@@ -520,21 +520,32 @@ RecordingReader::RecordingReader(const std::string& path) : file_(OpenHdf5ReadOn
   }
 }
 
-int RecordingReader::AxisIndex(const std::string& axis) const {
-  const auto found = std::find(info_.axis_names.begin(), info_.axis_names.end(), axis);
-  if (found != info_.axis_names.end()) return static_cast<int>(found - info_.axis_names.begin());
+int AxisIndex(const RecordingInfo& info, const std::string& axis) {
+  const auto found = std::find(info.axis_names.begin(), info.axis_names.end(), axis);
+  if (found != info.axis_names.end()) return static_cast<int>(found - info.axis_names.begin());
   if (!axis.empty() &&
       std::all_of(axis.begin(), axis.end(), [](unsigned char c) { return std::isdigit(c); }) &&
       axis.size() < 9) {
     const int index = std::stoi(axis);
-    if (index < info_.axis_count) return index;
+    if (index < info.axis_count) return index;
   }
   std::string names;
-  for (const std::string& n : info_.axis_names) names += (names.empty() ? "" : ", ") + n;
-  throw RecordingError(error_kind::kUnknownAxis, info_.path,
+  for (const std::string& n : info.axis_names) names += (names.empty() ? "" : ", ") + n;
+  throw RecordingError(error_kind::kUnknownAxis, info.path,
                        "has no axis '" + axis + "' (axes: " + names + ", or an index 0.." +
-                           std::to_string(info_.axis_count - 1) + ")");
+                           std::to_string(info.axis_count - 1) + ")");
 }
+
+std::vector<int> SelectAxes(const RecordingInfo& info, const std::string& axis) {
+  const bool named =
+      std::find(info.axis_names.begin(), info.axis_names.end(), axis) != info.axis_names.end();
+  if (axis != kAllAxes || named) return {AxisIndex(info, axis)};
+  std::vector<int> all(info.axis_count);
+  for (int i = 0; i < info.axis_count; ++i) all[i] = i;
+  return all;
+}
+
+int RecordingReader::AxisIndex(const std::string& axis) const { return io::AxisIndex(info_, axis); }
 
 Eigen::VectorXd RecordingReader::ReadColumn(const hdf5::Dataset& dataset, int column,
                                             const std::string& what, const ReadOptions& options,

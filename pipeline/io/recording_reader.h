@@ -83,6 +83,15 @@ struct ReadReport {
   long long blocks_read = 0;  ///< hyperslab reads issued
 };
 
+/// The column of `axis` in `info`, given by name (an entry of axis_names) or by decimal index.
+/// Throws RecordingError (unknown_axis) naming the axes there are.
+int AxisIndex(const RecordingInfo& info, const std::string& axis);
+/// The value of --axis that selects every axis of a recording (allan, compare).
+inline constexpr const char* kAllAxes = "all";
+/// The columns `axis` selects: every one for kAllAxes (unless the file names an axis "all"),
+/// otherwise AxisIndex's one. Throws RecordingError as AxisIndex.
+std::vector<int> SelectAxes(const RecordingInfo& info, const std::string& axis);
+
 /// An open recording whose metadata passed every contract check. Caller holds LockHdf5().
 class RecordingReader {
  public:

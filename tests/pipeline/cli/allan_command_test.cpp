@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
@@ -154,6 +155,87 @@ TEST(AllanCommand, CsvAndTextCarryTheSameNumbersInTheRecordingUnitAndInDegPerHou
                              "count", "deg/sqrt(h)", "arcsec", "deg/h/sqrt(h)", "deg/h^2"}) {
     EXPECT_NE(text.output.find(header), std::string::npos) << header << "\n" << text.output;
   }
+}
+
+/// Two axes "x" and "y" of different noise, row-major [N, 2] as the contract stores them.
+std::string WriteTwoAxisRecording(const testing::TempDir& dir) {
+  const std::vector<double> x = Noise(3000, 2.0, 0.0, 21), y = Noise(3000, 0.5, 0.0, 22);
+  std::vector<double> both;
+  for (size_t k = 0; k < x.size(); ++k) both.insert(both.end(), {x[k], y[k]});
+  const std::string path = dir.File("two.h5");
+  testing::RawFile file(path);
+  file.Dataset("/rate", {x.size(), 2}, both, {H5T_IEEE_F64LE, {512, 2}, 4, true});
+  file.StringAttribute("/rate", "units", "deg/h");
+  file.StringArrayAttribute("/rate", "axes", {"x", "y"});
+  file.DoubleAttribute("/", "sample_rate_hz", 10.0);
+  return path;
+}
+
+TEST(AllanCommand, AxisAllLabelsEveryAxisInCsvJsonAndTextWithTheOneAxisNumbers) {
+  testing::TempDir dir;
+  const std::string path = WriteTwoAxisRecording(dir);
+  const auto csv = RunFogpipe("allan " + Quote(path) + " --axis all --csv");
+  ASSERT_EQ(csv.exit_code, 0) << csv.output;
+  std::map<std::string, std::vector<std::string>> rows;  // axis -> rows without the axis
+  std::istringstream lines(csv.output);
+  std::string line, header;
+  while (std::getline(lines, line)) {
+    if (line.rfind("#", 0) == 0) continue;
+    if (header.empty()) {
+      header = line;
+      continue;
+    }
+    const size_t comma = line.find(',');
+    rows[line.substr(0, comma)].push_back(line.substr(comma + 1));
+  }
+  EXPECT_EQ(header.rfind("axis,tau_s,m,sigma_deg_h,", 0), 0u) << header;
+  ASSERT_EQ(rows.size(), 2u) << csv.output;
+  for (const std::string axis : {"x", "y"}) {
+    const auto one = RunFogpipe("allan " + Quote(path) + " --axis " + axis + " --csv");
+    ASSERT_EQ(one.exit_code, 0);
+    std::vector<std::string> expected;
+    std::istringstream one_lines(one.output);
+    while (std::getline(one_lines, line))
+      if (line.rfind("#", 0) != 0 && line.rfind("tau_s", 0) != 0) expected.push_back(line);
+    EXPECT_EQ(rows[axis], expected) << axis;
+  }
+  EXPECT_NE(rows["x"], rows["y"]);
+
+  const auto json = RunFogpipe("allan " + Quote(path) + " --axis all --json");
+  ASSERT_EQ(json.exit_code, 0) << json.output;
+  const nlohmann::json j = nlohmann::json::parse(json.output);
+  ASSERT_EQ(j["axes"].size(), 2u);
+  EXPECT_EQ(j["axes"][0]["axis"], "x");
+  EXPECT_EQ(j["axes"][1]["axis"], "y");
+  const nlohmann::json y =
+      nlohmann::json::parse(RunFogpipe("allan " + Quote(path) + " --axis 1 --json").output);
+  EXPECT_EQ(j["axes"][1]["table"], y["table"]);
+  EXPECT_EQ(j["axes"][1]["noise_terms"], y["noise_terms"]);
+
+  const auto text = RunFogpipe("allan " + Quote(path) + " --axis all");
+  ASSERT_EQ(text.exit_code, 0);
+  const size_t x_at = text.output.find(", axis x\n"), y_at = text.output.find(", axis y\n");
+  ASSERT_NE(x_at, std::string::npos) << text.output;
+  ASSERT_NE(y_at, std::string::npos) << text.output;
+  EXPECT_LT(x_at, y_at);
+}
+
+TEST(AllanCommand, ProgressGoesToStderrWhenAskedAndNeverToStdout) {
+  testing::TempDir dir;
+  const std::string path = WriteTwoAxisRecording(dir);
+  const std::string args = "allan " + Quote(path) + " --axis all --csv";
+  const auto plain = RunFogpipe(args);
+  ASSERT_EQ(plain.exit_code, 0);
+  // stderr not a terminal and not asked: nothing besides stdout.
+  EXPECT_EQ(RunFogpipe(args, /*merge_stderr=*/true).output, plain.output);
+  // Asked: the steps of each axis on stderr, stdout unchanged.
+  EXPECT_EQ(RunFogpipe(args + " --progress").output, plain.output);
+  const auto merged = RunFogpipe(args + " --progress", /*merge_stderr=*/true);
+  ASSERT_EQ(merged.exit_code, 0);
+  for (const std::string step : {": axis x: reading", ": axis y: oadev on the octave grid",
+                                 ": axis y: noise terms and their EDF"})
+    EXPECT_NE(merged.output.find("allan " + path + step), std::string::npos) << step << "\n"
+                                                                             << merged.output;
 }
 
 TEST(AllanCommand, ExitCodesSeparateBadRecordingsFromUsageErrors) {

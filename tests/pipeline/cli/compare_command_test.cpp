@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -24,8 +25,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string RunFogpipe(const std::string& args, int* code) {
-  const std::string command = std::string(FOGPIPE_BINARY) + " " + args + " 2>/dev/null";
+/// Runs the binary with `args`; returns its stdout. Its stderr goes to `stderr_path`.
+std::string RunFogpipe(const std::string& args, int* code,
+                       const std::string& stderr_path = "/dev/null") {
+  const std::string command = std::string(FOGPIPE_BINARY) + " " + args + " 2>" + stderr_path;
   std::string out;
   FILE* p = popen(command.c_str(), "r");
   std::array<char, 4096> buf;
@@ -93,6 +96,87 @@ TEST(CompareCommand, FindsAHiddenThermalEffectAndRecordsTheHistory) {
   const io::ModelFile m = io::ReadModelFile(model);
   ASSERT_EQ(m.deterministic.components.size(), 1u);
   EXPECT_NEAR(m.deterministic.components[0].coefficients[0], coef / (180.0 / M_PI * 3600.0), 1e-12);
+  fs::remove_all(dir);
+}
+
+/// A fresh folder `name` holding rec.h5: the nav profile with two axes x, y for `duration_s`.
+fs::path TwoAxisRecording(const std::string& name, int seed, int duration_s) {
+  const fs::path dir = fs::temp_directory_path() / (name + "_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  int code = 0;
+  RunFogpipe("simulate --profile nav --axes 2 --seed " + std::to_string(seed) + " --duration-s " +
+                 std::to_string(duration_s) + " -o " + (dir / "rec.h5").string(),
+             &code);
+  EXPECT_EQ(code, 0);
+  return dir;
+}
+
+TEST(CompareCommand, AxisAllComparesEveryAxisAndKeepsTheHistoryPerAxis) {
+  const fs::path dir = TwoAxisRecording("fogpipe_compare_all", 3, 3600);
+  const std::string rec = (dir / "rec.h5").string(), results = (dir / "results.h5").string();
+  int code = 0;
+  const nlohmann::json j = nlohmann::json::parse(
+      RunFogpipe("compare --json --axis all -o " + results + " " + rec, &code));
+  ASSERT_EQ(code, 0);
+  ASSERT_EQ(j["axes"].size(), 2u);
+  std::vector<std::string> names;
+  for (const auto& axis : j["axes"]) {
+    names.push_back(axis["axis"].get<std::string>());
+    EXPECT_TRUE(axis.contains("error") && axis.contains("verdict")) << axis.dump();
+  }
+  EXPECT_NE(names[0], names[1]);
+  // The same numbers as one axis at a time.
+  const nlohmann::json second =
+      nlohmann::json::parse(RunFogpipe("compare --json --axis " + names[1] + " " + rec, &code));
+  ASSERT_EQ(code, 0);
+  EXPECT_EQ(j["axes"][1]["error"], second["error"]);
+
+  // A second round appends one step per axis; each step's change is against its own axis.
+  RunFogpipe("compare --axis all -o " + results + " " + rec, &code);
+  ASSERT_EQ(code, 0);
+  const auto history = io::ReadHistory(results);
+  ASSERT_EQ(history.size(), 4u);
+  EXPECT_EQ(history[0].axis, names[0]);
+  EXPECT_EQ(history[1].axis, names[1]);
+  EXPECT_EQ(history[2].axis, names[0]);
+  EXPECT_EQ(history[3].axis, names[1]);
+  const std::string text = RunFogpipe("compare --history " + results, &code);
+  EXPECT_EQ(code, 0);
+  // The same model on the same data: every repeated step is x1 against its own axis (against
+  // the other axis it would be their ratio).
+  size_t unchanged = 0;
+  for (size_t at = text.find("(error x1)"); at != std::string::npos;
+       at = text.find("(error x1)", at + 1))
+    ++unchanged;
+  EXPECT_EQ(unchanged, 2u) << text;
+  EXPECT_NE(text.find(" " + names[1] + " "), std::string::npos) << text;
+
+  RunFogpipe("compare --axis all --save-model " + (dir / "m.json").string() + " " + rec, &code);
+  EXPECT_EQ(code, 2);
+  fs::remove_all(dir);
+}
+
+TEST(CompareCommand, ProgressGoesToStderrWhenAskedAndNeverToStdout) {
+  const fs::path dir = TwoAxisRecording("fogpipe_compare_progress", 5, 1800);
+  const std::string rec = (dir / "rec.h5").string(), err = (dir / "stderr.txt").string();
+  int code = 0;
+  auto read_err = [&err] {
+    std::ifstream in(err);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string asked = RunFogpipe("compare --json --axis all --progress " + rec, &code, err);
+  ASSERT_EQ(code, 0);
+  EXPECT_EQ(nlohmann::json::parse(asked)["axes"].size(), 2u);  // stdout is the JSON alone
+  const std::string lines = read_err();
+  EXPECT_NE(lines.find("compare " + rec + ": axis x: fitting the model"), std::string::npos)
+      << lines;
+  EXPECT_NE(lines.find("compare " + rec + ": axis y: fitting the model"), std::string::npos)
+      << lines;
+  EXPECT_EQ(asked.find("elapsed"), std::string::npos);
+  // Not asked and stderr not a terminal: no progress.
+  RunFogpipe("compare --json --axis all " + rec, &code, err);
+  ASSERT_EQ(code, 0);
+  EXPECT_EQ(read_err().find("elapsed"), std::string::npos) << read_err();
   fs::remove_all(dir);
 }
 

@@ -87,8 +87,8 @@ INFO_LINES = {
     "campaign": ["3 rows, 3 recordings (2 ok, 0 failed, 1 missing)", "raw N [deg/sqrt(h)]",
                  "raw K [deg/h/sqrt(h)]", " +- ", "missing"],
     "sweep": ["(6 settings, ", "ranked by rms_error", "  1  ", "  dflt ", "  ref   "],
-    "compare": ["model history", "step  error      consistent", "gauss_markov   (error x"],
-    "results with compare": ["Table 5:", "model history", "step  error"],
+    "compare": ["model history", "step  axis     error      consistent", "gauss_markov   (error x"],
+    "results with compare": ["Table 5:", "model history", "step  axis     error"],
 }
 
 # One required object per kind to remove, and the text the problem must contain.

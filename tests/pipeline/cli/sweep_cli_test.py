@@ -7,12 +7,16 @@
   the HDF5 table has one column per metric with units, one row per setting (the default rule of
   every order included), the CSV has the same rows, the ranking is sorted by the RMS error, and
   scripts/plot_sweep.py draws the picture; an unknown config key is a usage error (exit 2);
+- progress: with stderr on a terminal, sweep's progress lines appear there (one per table and
+  stage, redrawn in place) and never on stdout; with stderr in a file there are none;
 - plan + run + merge: a campaign merged twice (idempotent), one recording processed twice
   (--force) still gives one row, and a recording listed in the manifest but never run is
   "missing".
 """
 import csv
 import os
+import pty
+import select
 import shutil
 import subprocess
 import sys
@@ -27,6 +31,44 @@ def run(*args, ok=(0,)):
     if p.returncode not in ok:
         sys.exit(f"FAIL: {' '.join(map(str, args))} -> {p.returncode}\n{p.stdout}\n{p.stderr}")
     return p
+
+
+def run_with_terminal_stderr(*args):
+    """(exit code, stdout, stderr) of a run whose stderr is a pseudo-terminal."""
+    master, slave = pty.openpty()
+    p = subprocess.Popen([str(a) for a in args], stdout=subprocess.PIPE, stderr=slave)
+    os.close(slave)
+    err = b""
+    while True:  # drain the terminal while the program runs, or it blocks on a full one
+        if select.select([master], [], [], 0.5)[0]:
+            try:
+                chunk = os.read(master, 65536)
+            except OSError:  # EIO: the program closed its end
+                break
+            if not chunk:
+                break
+            err += chunk
+        elif p.poll() is not None:
+            break
+    out = p.stdout.read()
+    p.wait()
+    os.close(master)
+    return p.returncode, out.decode(), err.decode()
+
+
+def check_progress(fogpipe, rec, out):
+    """Progress on a terminal's stderr, none on stdout, none in a log by default."""
+    grid = ["--ar-order", "2,4", "--q-scale", "1", "--r-scale", "1"]
+    code, stdout, stderr = run_with_terminal_stderr(fogpipe, "sweep", rec, "-o", out, *grid)
+    assert code == 0, (code, stdout, stderr)
+    for line in ["sweep " + rec + ": table 1/1 (axis axis0, 10 sifts)", ", stage ", "ETA",
+                 "writing "]:
+        assert line in stderr, (line, stderr)
+    assert "\r\x1b[K" in stderr, "a terminal's progress line is redrawn in place"
+    assert "sweep " + rec + ":" not in stdout and "stage" not in stdout, stdout
+    assert "rank" in stdout, stdout
+    logged = run(fogpipe, "sweep", rec, "-o", out, *grid)
+    assert "stage" not in logged.stderr and "stage" not in logged.stdout, logged.stderr
 
 
 def main():
@@ -71,6 +113,7 @@ def main():
     with open(config, "a") as f:
         f.write("no-such-key = 1\n")
     run(fogpipe, "sweep", rec, "-o", out, "--config", config, ok=(2,))
+    check_progress(fogpipe, rec, os.path.join(tmp, "progress"))
 
     data = os.path.join(tmp, "data")
     run(fogpipe, "simulate", "-o", data, "--files", "3", "--profile", "paper", "--duration-s",
