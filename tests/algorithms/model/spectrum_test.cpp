@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <boost/math/distributions/normal.hpp>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <random>
 
 namespace fogpipe::model {
@@ -112,6 +116,30 @@ TEST(Spectrum, WilsonHilfertyAndNormalTailsMatchKnownQuantiles) {
   // chi2(10)/10 upper 5 % point is 1.8307: Wilson-Hilferty gives z ~ 1.645 there (to ~0.01).
   EXPECT_NEAR(WilsonHilfertyZ(1.8307, 10), 1.645, 0.02);
   EXPECT_NEAR(WilsonHilfertyZ(ChiSquareMedianOverNu(20), 20), 0.0, 1e-12);
+}
+
+// UpperTailZ refines Acklam's approximation by a Halley step on Phi(z) - p, Phi from erfc. Its
+// error: the residual carries ~2 eps p (erfc's few ulps and p's rounding), which moves z by that
+// over the density phi(z), plus the rounding of the step itself (~2 eps |z|); Boost.Math's normal
+// quantile (in long double) adds < 1 eps. From p = 1e-300 to 1 - 1e-16, 10 points per decade.
+TEST(Spectrum, UpperTailZAgreesWithBoostMathFromTinyTailsToTheCentre) {
+  const double eps = std::numeric_limits<double>::epsilon();
+  const boost::math::normal normal;
+  double max_error = 0.0;
+  for (double l = -300.0; l < -0.30103; l += 0.1) {
+    for (double p : {std::pow(10.0, l), 1.0 - std::pow(10.0, l)}) {
+      if (p > 1.0 - 1e-16) continue;
+      // Phi^{-1}(1 - p) from the smaller tail (1 - p is exact for p >= 1/2).
+      const double z_ref =
+          p <= 0.5 ? -boost::math::quantile(normal, p) : boost::math::quantile(normal, 1.0 - p);
+      const double tol = 4.0 * eps * std::min(p, 1.0 - p) / boost::math::pdf(normal, z_ref) +
+                         3.0 * eps * std::abs(z_ref);
+      const double error = std::abs(UpperTailZ(p) - z_ref);
+      EXPECT_LE(error, tol) << p;
+      max_error = std::max(max_error, error / std::max(std::abs(z_ref), 1e-300));
+    }
+  }
+  std::printf("UpperTailZ against Boost.Math: max relative error %.3g\n", max_error);
 }
 
 TEST(Spectrum, BandMedianBackgroundOfWhiteNoiseIsItsMeanLevel) {
