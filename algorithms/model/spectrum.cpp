@@ -49,6 +49,7 @@ std::vector<std::complex<double>> RealDftHalf(const std::vector<double>& x) {
   const long n = static_cast<long>(x.size());
   std::vector<std::complex<double>> out;
   if (n == 0) return out;
+  if (n == 1) return {x[0]};  // Eigen's kissfft has no plan for one point (it crashes)
   if (IsFastFftSize(n)) {
     Eigen::FFT<double> fft;
     fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);  // real input: bins 0 .. n/2 only
