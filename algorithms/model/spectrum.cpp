@@ -49,6 +49,7 @@ std::vector<std::complex<double>> RealDftHalf(const std::vector<double>& x) {
   const long n = static_cast<long>(x.size());
   std::vector<std::complex<double>> out;
   if (n == 0) return out;
+  if (n == 1) return {x[0]};  // Eigen's kissfft has no plan for one point (it crashes)
   if (IsFastFftSize(n)) {
     Eigen::FFT<double> fft;
     fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);  // real input: bins 0 .. n/2 only
@@ -80,8 +81,10 @@ std::vector<std::complex<double>> RealDftHalf(const std::vector<double>& x) {
 
 namespace {
 
-// Inverse standard normal CDF (Acklam's rational approximation, relative error < 1.2e-9).
-double NormalQuantile(double p) {
+// Inverse standard normal CDF: Acklam's rational approximation (relative error < 1.2e-9), then
+// one Halley step on Phi(z) - p with Phi from erfc, which Acklam gives as the refinement to full
+// double precision (the step's error is cubic in the approximation's).
+double AcklamNormalQuantile(double p) {
   static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02,  -2.759285104469687e+02,
                              1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00};
   static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
@@ -96,10 +99,21 @@ double NormalQuantile(double p) {
     return (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
            ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
   }
-  if (p > hi) return -NormalQuantile(1 - p);
+  if (p > hi) return -AcklamNormalQuantile(1 - p);
   double q = p - 0.5, r = q * q;
   return (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
          (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1);
+}
+
+double NormalQuantile(double p) {
+  // The lower tail is refined directly; for p > 1/2 the quantile is minus that of 1 - p (exact in
+  // floating point there), so that the step works on the small tail and keeps its digits.
+  if (p > 0.5) return -NormalQuantile(1 - p);
+  const double z = AcklamNormalQuantile(p);
+  constexpr double kSqrt2Pi = 2.506628274631000502415765284811;
+  const double e = 0.5 * std::erfc(-z / std::sqrt(2.0)) - p;
+  const double u = e * kSqrt2Pi * std::exp(0.5 * z * z);
+  return z - u / (1 + 0.5 * z * u);
 }
 
 }  // namespace

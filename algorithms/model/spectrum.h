@@ -53,7 +53,8 @@ double ChiSquareMedianOverNu(double nu);
 /// (Wilson & Hilferty 1931). Positive when the estimate is above its expectation.
 double WilsonHilfertyZ(double ratio, double nu);
 
-/// z with upper-tail probability p: Phi^{-1}(1 - p), accurate for tiny p.
+/// z with upper-tail probability p: Phi^{-1}(1 - p), accurate for tiny p (within 5e-16 relative
+/// of Boost.Math from p = 1e-300 to 1 - 1e-16, spectrum_test).
 double UpperTailZ(double p);
 
 /// Upper tail of the standard normal, P(Z > z): the inverse of UpperTailZ.

@@ -29,6 +29,7 @@
 #include "pipeline/hdf5/atomic_output_file.h"
 #include "pipeline/hdf5/file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/csv_writer.h"
 #include "pipeline/io/file_validation.h"
 #include "pipeline/io/isolated_reader.h"
 #include "pipeline/io/recording_reader.h"
@@ -267,19 +268,24 @@ void WriteSweepHdf5(const std::string& path, const std::vector<SweepTable>& tabl
 
 std::string FormatSweepCsv(const std::vector<SweepTable>& tables) {
   const std::vector<Column> columns = Columns();
+  std::vector<std::string> names = {"recording", "axis", "emd_sifts"};
+  for (const Column& c : columns) names.push_back(io::CsvColumnName(c.name, c.units));
+  names.push_back("fit_one_step_percent_per_component");  // ';'-separated, one per component
+  names.push_back("status");
   std::ostringstream out;
-  out << "recording,axis,emd_sifts";
-  for (const Column& c : columns) out << "," << c.name << " [" << c.units << "]";
-  out << ",fit_one_step_percent_per_component [%],status\n";
+  io::CsvWriter csv(out, {}, names);
   for (const SweepTable& table : tables) {
     for (const auto& point : table.result.points) {
-      out << "\"" << table.recording << "\"," << table.axis << "," << table.emd_sifts;
-      for (const Column& c : columns) out << "," << Format(c.value(point));
-      out << ",";
+      std::vector<std::string> fields = {table.recording, table.axis,
+                                         std::to_string(table.emd_sifts)};
+      for (const Column& c : columns) fields.push_back(io::CsvNumber(c.value(point), 6));
+      std::string per_component;
       for (std::size_t k = 0; k < point.fit_one_step_percent.size(); ++k) {
-        out << (k ? ";" : "") << Format(point.fit_one_step_percent[k]);
+        per_component += (k ? ";" : "") + io::CsvNumber(point.fit_one_step_percent[k], 6);
       }
-      out << "," << (HasResult(point.termination) ? "ok" : "failed") << "\n";
+      fields.push_back(per_component);
+      fields.push_back(HasResult(point.termination) ? "ok" : "failed");
+      csv.Row(fields);
     }
   }
   return out.str();

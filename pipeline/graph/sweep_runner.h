@@ -50,7 +50,7 @@ bool SweepRecording(const std::string& recording, const SweepRunOptions& options
 /// Writes the tables atomically to `path` (layout in sweep_runner.cpp). Throws on failure.
 void WriteSweepHdf5(const std::string& path, const std::vector<SweepTable>& tables,
                     const std::string& rank_by);
-/// One CSV line per setting of every table, header first, units in the header.
+/// One CSV line per setting of every table (pipeline/io/csv_writer.h), units in the column names.
 std::string FormatSweepCsv(const std::vector<SweepTable>& tables);
 /// Root `fogpipe_format` of a sweep file (schemas/sweep-v1.json).
 inline constexpr const char* kSweepFormat = "fogpipe-sweep-v1";

@@ -7,6 +7,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "pipeline/io/csv_writer.h"
 #include "pipeline/io/noise_fit_report.h"
 
 namespace fogpipe::io {
@@ -74,12 +75,6 @@ DeviationUnits UnitsOf(allan::Deviation deviation, const std::string& rate_units
           units::RadPerSecondToDegPerHour(1.0)};
 }
 
-std::string UnitToken(const std::string& units) {
-  std::string token = units;
-  std::replace(token.begin(), token.end(), '/', '_');
-  return token;
-}
-
 void PrintAllanText(std::ostream& out, const AllanReport& r) {
   const allan::AllanTable& t = r.table;
   const DeviationUnits du = UnitsOf(t.deviation, r.rate_units, r.rate_unit);
@@ -122,57 +117,72 @@ void PrintAllanText(std::ostream& out, const AllanReport& r) {
 
 namespace {
 
-void PrintAllanCsvComments(std::ostream& out, const AllanReport& r) {
-  out << "# fogpipe allan: " << r.file << ", axis " << r.axis << ", " << r.samples << " samples at "
-      << r.sample_rate_hz << " Hz, " << allan::ToString(r.table.deviation) << ", " << r.taus
-      << " taus, CI " << r.confidence << ", noise types by the "
-      << allan::ToString(r.table.noise_id_rule) << " rule\n";
-  if (!r.data_warning.empty()) out << "# warning: " << r.data_warning << "\n";
+std::vector<std::string> AllanCsvComments(const AllanReport& r) {
+  std::ostringstream about;
+  about << "fogpipe allan: " << r.file << ", axis " << r.axis << ", " << r.samples << " samples at "
+        << r.sample_rate_hz << " Hz, " << allan::ToString(r.table.deviation) << ", " << r.taus
+        << " taus, CI " << r.confidence << ", noise types by the "
+        << allan::ToString(r.table.noise_id_rule) << " rule";
+  std::vector<std::string> comments = {about.str()};
+  if (!r.data_warning.empty()) comments.push_back("warning: " + r.data_warning);
+  return comments;
 }
 
-// One header and the rows of every report; with `axis_column` each row starts with its axis.
-// The reports share the recording, so they share the units of the header.
+// The comments of every report, one header and the rows of every report; with `axis_column`
+// each row starts with its axis. The reports share the recording, so they share the units of the
+// header.
 void PrintAllanCsvTable(std::ostream& out, const std::vector<AllanReport>& reports,
                         bool axis_column) {
   const AllanReport& first = reports.front();
   const DeviationUnits du = UnitsOf(first.table.deviation, first.rate_units, first.rate_unit);
-  const std::string e = UnitToken(du.engineering);
+  std::vector<std::string> comments;
+  for (const AllanReport& r : reports) {
+    const std::vector<std::string> c = AllanCsvComments(r);
+    comments.insert(comments.end(), c.begin(), c.end());
+  }
   // A recording in the engineering unit (deg/h) has one sigma column, not two of the same name.
-  const bool both = UnitToken(du.primary) != e;
-  out << (axis_column ? "axis," : "") << "tau_s,m,"
-      << (both ? "sigma_" + UnitToken(du.primary) + "," : "") << "sigma_" << e << ",ci_low_" << e
-      << ",ci_high_" << e << ",edf,edf_source,alpha,alpha_method,count\n";
-  auto g = [](double v) { return Fixed(v, "%.17g"); };
+  const bool both = CsvUnitToken(du.primary) != CsvUnitToken(du.engineering);
+  std::vector<std::string> columns;
+  if (axis_column) columns.push_back("axis");
+  columns.insert(columns.end(), {"tau_s", "m"});
+  if (both) columns.push_back(CsvColumnName("sigma", du.primary));
+  for (const char* name : {"sigma", "ci_low", "ci_high"}) {
+    columns.push_back(CsvColumnName(name, du.engineering));
+  }
+  for (const char* name : {"edf", "edf_source", "alpha", "alpha_method", "count"}) {
+    columns.push_back(name);
+  }
+  CsvWriter csv(out, comments, columns);
+  auto g = [](double v) { return CsvNumber(v, 17); };
   for (const AllanReport& r : reports) {
     const allan::AllanTable& t = r.table;
     for (size_t i = 0; i < t.size(); ++i) {
-      out << (axis_column ? r.axis + "," : "") << g(t.tau_s[i]) << "," << t.m[i] << ","
-          << (both ? g(t.sigma[i] * du.primary_per_si) + "," : "")
-          << g(t.sigma[i] * du.engineering_per_si) << "," << g(t.ci_low[i] * du.engineering_per_si)
-          << "," << g(t.ci_high[i] * du.engineering_per_si) << "," << g(t.edf[i]) << ","
-          << allan::ToString(t.edf_source[i]) << "," << t.alpha[i] << ","
-          << allan::ToString(t.alpha_method[i]) << "," << t.count[i] << "\n";
+      std::vector<std::string> row;
+      if (axis_column) row.push_back(r.axis);
+      row.insert(row.end(), {g(t.tau_s[i]), std::to_string(t.m[i])});
+      if (both) row.push_back(g(t.sigma[i] * du.primary_per_si));
+      row.insert(row.end(),
+                 {g(t.sigma[i] * du.engineering_per_si), g(t.ci_low[i] * du.engineering_per_si),
+                  g(t.ci_high[i] * du.engineering_per_si), g(t.edf[i]),
+                  allan::ToString(t.edf_source[i]), std::to_string(t.alpha[i]),
+                  allan::ToString(t.alpha_method[i]), std::to_string(t.count[i])});
+      csv.Row(row);
     }
   }
 }
 
 }  // namespace
 
-void PrintAllanCsv(std::ostream& out, const AllanReport& r) {
-  PrintAllanCsvComments(out, r);
-  PrintAllanCsvTable(out, {r}, false);
-}
+void PrintAllanCsv(std::ostream& out, const AllanReport& r) { PrintAllanCsvTable(out, {r}, false); }
 
 void PrintAllanCsv(std::ostream& out, const std::vector<AllanReport>& reports) {
   if (reports.empty()) return;
-  for (const AllanReport& r : reports) PrintAllanCsvComments(out, r);
   PrintAllanCsvTable(out, reports, true);
 }
 
 nlohmann::json AllanReportJson(const AllanReport& r) {
   const allan::AllanTable& t = r.table;
   const DeviationUnits du = UnitsOf(t.deviation, r.rate_units, r.rate_unit);
-  const std::string e = UnitToken(du.engineering);
   nlohmann::json table;
   std::vector<nlohmann::json> sigma_file, sigma_eng, low, high, edf;
   for (size_t i = 0; i < t.size(); ++i) {
@@ -184,10 +194,10 @@ nlohmann::json AllanReportJson(const AllanReport& r) {
   }
   table["tau_s"] = t.tau_s;
   table["m"] = t.m;
-  table["sigma_" + UnitToken(du.primary)] = sigma_file;
-  table["sigma_" + e] = sigma_eng;
-  table["ci_low_" + e] = low;
-  table["ci_high_" + e] = high;
+  table[CsvColumnName("sigma", du.primary)] = sigma_file;
+  table[CsvColumnName("sigma", du.engineering)] = sigma_eng;
+  table[CsvColumnName("ci_low", du.engineering)] = low;
+  table[CsvColumnName("ci_high", du.engineering)] = high;
   table["edf"] = edf;
   table["edf_source"] = allan::EdfSourceNames(t.edf_source);
   table["alpha"] = t.alpha;

@@ -52,7 +52,7 @@ struct AllanReport {
 
 /// Human-readable table + noise terms, units in every header.
 void PrintAllanText(std::ostream& out, const AllanReport& report);
-/// The table as CSV (header row with units; '#' comment lines before and after).
+/// The table as CSV (pipeline/io/csv_writer.h; '#' comment lines before the header).
 void PrintAllanCsv(std::ostream& out, const AllanReport& report);
 /// One JSON object with the table and the terms (units in every key name).
 nlohmann::json AllanReportJson(const AllanReport& report);
@@ -60,8 +60,5 @@ nlohmann::json AllanReportJson(const AllanReport& report);
 /// every axis's comment lines before it); JSON as {"file", "axes": [one object per axis]}.
 void PrintAllanCsv(std::ostream& out, const std::vector<AllanReport>& reports);
 nlohmann::json AllanReportJson(const std::vector<AllanReport>& reports);
-
-/// "deg/s" -> "deg_s", "deg/h" -> "deg_h", "rad/s" -> "rad_s": unit spelling for column names.
-std::string UnitToken(const std::string& units);
 
 }  // namespace fogpipe::io

@@ -20,6 +20,7 @@
 #include "pipeline/hdf5/atomic_output_file.h"
 #include "pipeline/hdf5/file.h"
 #include "pipeline/hdf5/hdf5_lock.h"
+#include "pipeline/io/csv_writer.h"
 #include "pipeline/io/file_validation.h"
 #include "pipeline/io/inputs.h"
 #include "pipeline/io/isolated_reader.h"
@@ -219,13 +220,6 @@ const std::string& TextOf(const Column& column, const CampaignRow& row) {
   return column.text(const_cast<CampaignRow&>(row));
 }
 
-std::string CsvField(const std::string& text) {
-  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
-}
-
 bool IsResultsFile(const fs::directory_entry& entry) {
   const std::string name = entry.path().filename().string();
   const std::size_t suffix = std::string(kResultsSuffix).size();
@@ -391,23 +385,16 @@ void WriteCampaignTable(const std::string& path, const CampaignTable& table) {
 
 std::string FormatCampaignCsv(const CampaignTable& table) {
   const std::vector<Column> columns = Columns();
+  std::vector<std::string> names;
+  for (const Column& column : columns) names.push_back(CsvColumnName(column.name, column.units));
   std::ostringstream out;
-  for (std::size_t c = 0; c < columns.size(); ++c) {
-    out << (c ? "," : "") << columns[c].name
-        << (columns[c].units.empty() ? "" : " [" + columns[c].units + "]");
-  }
-  out << "\n";
-  out.precision(10);
+  CsvWriter csv(out, {}, names);
   for (const CampaignRow& row : table.rows) {
-    for (std::size_t c = 0; c < columns.size(); ++c) {
-      if (c) out << ",";
-      if (columns[c].number) {
-        out << NumberOf(columns[c], row);
-      } else {
-        out << CsvField(TextOf(columns[c], row));
-      }
+    std::vector<std::string> fields;
+    for (const Column& column : columns) {
+      fields.push_back(column.number ? CsvNumber(NumberOf(column, row), 10) : TextOf(column, row));
     }
-    out << "\n";
+    csv.Row(fields);
   }
   return out.str();
 }

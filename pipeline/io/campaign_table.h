@@ -84,7 +84,8 @@ CampaignTable CollectCampaign(const std::string& outdir, const std::string& mani
 /// std::runtime_error.
 void WriteCampaignTable(const std::string& path, const CampaignTable& table);
 
-/// The table as CSV (header line, one line per row), the same columns as /campaign.
+/// The table as CSV (pipeline/io/csv_writer.h), the columns of /campaign with their units in
+/// the names (`raw_N_deg_sqrt_h`).
 std::string FormatCampaignCsv(const CampaignTable& table);
 
 /// Reads a campaign table back (rows, source folder, recordings; takes the HDF5 lock). Throws

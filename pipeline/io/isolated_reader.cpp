@@ -89,13 +89,15 @@ std::string ToWire(const RecordingInfo& info) {
   j["axis_names_from_file"] = info.axis_names_from_file;
   j["rate_units"] = info.rate_units;
   j["rate_dtype"] = info.rate_dtype;
+  j["rate_scale_factor"] = info.rate_scale_factor;
   j["rate_chunk"] = info.rate_chunk;
   j["sample_rate_hz"] = info.sample_rate_hz;
   if (info.start_time_utc) j["start_time_utc"] = *info.start_time_utc;
   if (info.instrument) j["instrument"] = *info.instrument;
   if (info.serial) j["serial"] = *info.serial;
   if (info.latitude_deg) j["latitude_deg"] = *info.latitude_deg;
-  for (const AuxChannelInfo& a : info.aux) j["aux"].push_back({a.name, a.units, a.dtype});
+  for (const AuxChannelInfo& a : info.aux)
+    j["aux"].push_back({a.name, a.units, a.dtype, a.scale_factor});
   j["file_size_bytes"] = info.file_size_bytes;
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
@@ -114,6 +116,7 @@ RecordingInfo FromWire(const std::string& wire) {
   if (!unit) throw std::runtime_error("unknown units '" + info.rate_units + "'");
   info.rate_unit = *unit;
   info.rate_dtype = j.at("rate_dtype").get<std::string>();
+  info.rate_scale_factor = j.at("rate_scale_factor").get<double>();
   info.rate_chunk = j.at("rate_chunk").get<std::vector<unsigned long long>>();
   info.sample_rate_hz = j.at("sample_rate_hz").get<double>();
   if (j.contains("start_time_utc")) info.start_time_utc = j["start_time_utc"].get<std::string>();
@@ -121,7 +124,7 @@ RecordingInfo FromWire(const std::string& wire) {
   if (j.contains("serial")) info.serial = j["serial"].get<std::string>();
   if (j.contains("latitude_deg")) info.latitude_deg = j["latitude_deg"].get<double>();
   if (j.contains("aux")) {
-    for (const auto& a : j["aux"]) info.aux.push_back({a[0], a[1], a[2]});
+    for (const auto& a : j["aux"]) info.aux.push_back({a[0], a[1], a[2], a[3].get<double>()});
   }
   info.file_size_bytes = j.at("file_size_bytes").get<long long>();
   return info;

@@ -24,6 +24,8 @@ inline constexpr const char* kWrongRank = "wrong_rank";    ///< /rate not [N] or
 inline constexpr const char* kWrongShape = "wrong_shape";  ///< [N, 0]
 inline constexpr const char* kUnknownUnits = "unknown_units";
 inline constexpr const char* kBadSampleRate = "bad_sample_rate";  ///< <= 0, NaN or Inf
+/// an integer dataset's `scale_factor` is 0, NaN or Inf (contract v1.1)
+inline constexpr const char* kBadScaleFactor = "bad_scale_factor";
 inline constexpr const char* kBadAxes = "bad_axes";  ///< `axes` of wrong length, empty or repeated
 inline constexpr const char* kUnknownAxis = "unknown_axis";  ///< asked for an axis not in the file
 inline constexpr const char* kAuxLengthMismatch = "aux_length_mismatch";

@@ -215,6 +215,51 @@ std::string RequiredUnits(const hdf5::Dataset& dataset) {
   return dataset.ReadStringAttribute("units");
 }
 
+/// The dataset's type as a name: "float32", "int16", "uint16", ...
+std::string SampleTypeName(const hdf5::Dataset& dataset, const hdf5::TypeInfo& type) {
+  if (type.type_class != TypeClass::kInteger) return FloatName(type);
+  const hid_t t = H5Dget_type(dataset.id());
+  const bool is_signed = t >= 0 && H5Tget_sign(t) != H5T_SGN_NONE;
+  if (t >= 0) H5Tclose(t);
+  return (is_signed ? "int" : "uint") + std::to_string(type.size_bytes * 8);
+}
+
+/// Contract v1.1: what one stored value is worth in the dataset's unit. 1 for float32 / float64;
+/// an integer dataset holds counts and needs a `scale_factor` attribute (units per count: one
+/// finite, non-zero number), by which the reader multiplies every count.
+double SampleScale(const hdf5::Dataset& dataset, const hdf5::TypeInfo& type) {
+  const std::string& path = dataset.file_path();
+  if (type.type_class == TypeClass::kFloat) return 1.0;
+  if (type.type_class != TypeClass::kInteger) {
+    throw RecordingError(error_kind::kWrongType, path,
+                         dataset.path() + " has type " + DescribeTypeClass(type) +
+                             "; contract v1.1 requires float32, float64, or integer counts with "
+                             "a 'scale_factor' attribute");
+  }
+  if (!dataset.HasAttribute("scale_factor")) {
+    throw RecordingError(error_kind::kMissingAttribute, path,
+                         dataset.path() + " holds integers (" + SampleTypeName(dataset, type) +
+                             ") but has no 'scale_factor' attribute: contract v1.1 reads integer "
+                             "counts only with their scale factor (the unit per count)");
+  }
+  const hdf5::AttributeInfo a = dataset.DescribeAttribute("scale_factor");
+  if ((a.type.type_class != TypeClass::kFloat && a.type.type_class != TypeClass::kInteger) ||
+      a.size() != 1) {
+    throw RecordingError(error_kind::kWrongType, path,
+                         dataset.path() + " attribute 'scale_factor' must be one number, found " +
+                             DescribeTypeClass(a.type) + " " + ShapeText(a.dims));
+  }
+  const double scale = dataset.ReadDoubleAttribute("scale_factor");
+  if (!std::isfinite(scale) || scale == 0.0) {
+    std::ostringstream value;
+    value << scale;
+    throw RecordingError(error_kind::kBadScaleFactor, path,
+                         dataset.path() + " attribute 'scale_factor' is " + value.str() +
+                             "; it must be a finite, non-zero number of units per count");
+  }
+  return scale;
+}
+
 /// Refuses samples beyond limits::kMaxMagnitude or, zero aside, below kMinMagnitude (NaNs are
 /// bridged already, infinities refused).
 void CheckMagnitudes(const Eigen::VectorXd& x, const std::string& what, const std::string& path) {
@@ -359,12 +404,8 @@ void InspectRate(const hdf5::Group& root, RecordingInfo* info) {
   }
   const hdf5::Dataset rate = root.OpenDataset("rate");
   const hdf5::TypeInfo type = rate.type();
-  if (type.type_class != TypeClass::kFloat) {
-    throw RecordingError(
-        error_kind::kWrongType, path,
-        "/rate has type " + DescribeTypeClass(type) + "; contract v1 requires float32 or float64");
-  }
-  info->rate_dtype = FloatName(type);
+  info->rate_scale_factor = SampleScale(rate, type);
+  info->rate_dtype = SampleTypeName(rate, type);
   const std::vector<hsize_t> dims = rate.dims();
   if (dims.size() != 1 && dims.size() != 2) {
     throw RecordingError(error_kind::kWrongRank, path,
@@ -468,11 +509,7 @@ void InspectAux(const hdf5::Group& root, RecordingInfo* info) {
     if (aux.KindOf(name) != ObjectKind::kDataset) continue;  // unknown things are ignored
     const hdf5::Dataset channel = aux.OpenDataset(name);
     const hdf5::TypeInfo type = channel.type();
-    if (type.type_class != TypeClass::kFloat) {
-      throw RecordingError(error_kind::kWrongType, path,
-                           channel.path() + " has type " + DescribeTypeClass(type) +
-                               "; contract v1 requires float32 or float64");
-    }
+    const double scale = SampleScale(channel, type);
     const std::vector<hsize_t> dims = channel.dims();
     if (dims.size() != 1) {
       throw RecordingError(
@@ -487,7 +524,7 @@ void InspectAux(const hdf5::Group& root, RecordingInfo* info) {
     }
     CheckDatasetStorage(channel, dims[0], type.size_bytes, info->file_size_bytes);
     CheckFiltersAvailable(channel);
-    info->aux.push_back({name, RequiredUnits(channel), FloatName(type)});
+    info->aux.push_back({name, RequiredUnits(channel), SampleTypeName(channel, type), scale});
   }
 }
 
@@ -581,6 +618,8 @@ Eigen::VectorXd RecordingReader::ReadColumn(const hdf5::Dataset& dataset, int co
     }
     ++local.blocks_read;
   }
+  const double scale = SampleScale(dataset, dataset.type());
+  if (scale != 1.0) x *= scale;
   if (!BridgeNanRuns(x, options.max_nan_gap_samples, &local.nan)) {
     const BridgeReport& r = local.nan;
     if (r.infinite_samples > 0) {
@@ -601,7 +640,7 @@ Eigen::VectorXd RecordingReader::ReadColumn(const hdf5::Dataset& dataset, int co
                              (r.longest_run == n ? " (every sample is NaN)" : ""));
   }
   CheckMagnitudes(x, what, info_.path);
-  local.repeats = FindRepeatedRun(x, FillValue(dataset));
+  local.repeats = FindRepeatedRun(x, FillValue(dataset) * scale);
   if (reject_constant && IsConstant(x)) {
     std::ostringstream value;
     value << x[0];
@@ -668,14 +707,19 @@ std::string FormatRecordingSummary(const RecordingInfo& info) {
   for (std::size_t i = 0; i < info.axis_names.size(); ++i) {
     out << (i ? ", " : "") << info.axis_names[i];
   }
-  out << ") in " << info.rate_units << ", " << info.rate_dtype << ", "
-      << (info.rate_chunk.empty() ? "contiguous" : "chunked") << "\n";
+  out << ") in " << info.rate_units << ", " << info.rate_dtype;
+  if (info.rate_scale_factor != 1.0) {
+    out << " counts x " << info.rate_scale_factor << " " << info.rate_units;
+  }
+  out << ", " << (info.rate_chunk.empty() ? "contiguous" : "chunked") << "\n";
   if (info.start_time_utc) out << "  start      " << *info.start_time_utc << "\n";
   if (info.instrument) out << "  instrument " << *info.instrument << "\n";
   if (info.serial) out << "  serial     " << *info.serial << "\n";
   if (info.latitude_deg) out << "  latitude   " << *info.latitude_deg << " deg\n";
   for (const AuxChannelInfo& aux : info.aux) {
-    out << "  aux        " << aux.name << " in " << aux.units << ", " << aux.dtype << "\n";
+    out << "  aux        " << aux.name << " in " << aux.units << ", " << aux.dtype;
+    if (aux.scale_factor != 1.0) out << " counts x " << aux.scale_factor << " " << aux.units;
+    out << "\n";
   }
   return out.str();
 }

@@ -1,7 +1,8 @@
-// Reader of gyro recordings, input contract v1 (schemas/README.md, "Recording contract v1";
+// Reader of gyro recordings, input contract v1.1 (schemas/README.md, "Recording contract v1.1";
 // schemas/recording-v1.json).
 //
-// Accepts every file that follows the contract: /rate [N] or [N, A], float32 or float64, any
+// Accepts every file that follows the contract: /rate [N] or [N, A], float32 or float64 (or, v1.1,
+// integer counts with a `scale_factor`, returned as counts times the factor), any
 // chunking or compression HDF5 can decode, `units` deg/h, deg/s or rad/s, optional `axes`,
 // optional /aux/<name> [N] channels with `units`, optional root attributes. Anything else in the
 // file is ignored. Reads one column at a time by hyperslabs of a bounded number of rows (aligned
@@ -29,9 +30,10 @@
 namespace fogpipe::io {
 
 struct AuxChannelInfo {
-  std::string name;   ///< "temperature" for /aux/temperature
-  std::string units;  ///< as written, e.g. "degC"
-  std::string dtype;  ///< "float32" or "float64"
+  std::string name;           ///< "temperature" for /aux/temperature
+  std::string units;          ///< as written, e.g. "degC"
+  std::string dtype;          ///< "float32", "float64", or an integer type ("int16", "uint32", ...)
+  double scale_factor = 1.0;  ///< units per count of an integer channel (contract v1.1); 1 else
 };
 
 /// Metadata of one recording (nothing but attributes and shapes is read).
@@ -45,7 +47,10 @@ struct RecordingInfo {
   bool axis_names_from_file = false;
   std::string rate_units;  ///< as written: "deg/h", "deg/s" or "rad/s"
   units::RateUnit rate_unit = units::RateUnit::kRadPerSecond;
-  std::string rate_dtype;                      ///< "float32" or "float64"
+  std::string rate_dtype;  ///< "float32", "float64", or an integer type ("int16", "uint32", ...)
+  /// Units per count of an integer /rate (its `scale_factor`, contract v1.1); 1 for floats. The
+  /// reader returns counts times this factor.
+  double rate_scale_factor = 1.0;
   std::vector<unsigned long long> rate_chunk;  ///< chunk shape; empty when contiguous
   double sample_rate_hz = 0.0;                 ///< > 0 and finite
   std::optional<std::string> start_time_utc;

@@ -1,19 +1,27 @@
-// SHA-256 (FIPS 180-4, section 6.2), implemented here so that provenance needs no crypto library.
-// Used to fingerprint input recordings and the effective configuration in every results file.
+// SHA-256 (FIPS 180-4) through OpenSSL's libcrypto (EVP interface): fingerprints input recordings
+// and the effective configuration in every results file. docs/dependencies.md says why a library
+// and not a hand-written hash.
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 
+struct evp_md_ctx_st;  // OpenSSL's EVP_MD_CTX, kept out of this header
+
 namespace fogpipe::io {
 
-/// Incremental SHA-256: Update() any number of times, then Finish() once.
+/// Incremental SHA-256: Update() any number of times, then Finish() once. Throws
+/// std::runtime_error if libcrypto fails (it does not for SHA-256 short of running out of memory).
 class Sha256 {
  public:
   Sha256();
+  ~Sha256();
+  Sha256(Sha256&&) noexcept;
+  Sha256& operator=(Sha256&&) noexcept;
   void Update(const void* data, std::size_t size);
   void Update(const std::string& text) { Update(text.data(), text.size()); }
   /// The 32-byte digest. The object must not be updated afterwards.
@@ -22,11 +30,10 @@ class Sha256 {
   std::string FinishHex();
 
  private:
-  void Compress(const std::uint8_t* block);
-  std::array<std::uint32_t, 8> state_;
-  std::array<std::uint8_t, 64> buffer_{};
-  std::size_t buffer_size_ = 0;
-  std::uint64_t total_bytes_ = 0;
+  struct FreeContext {
+    void operator()(evp_md_ctx_st* context) const;
+  };
+  std::unique_ptr<evp_md_ctx_st, FreeContext> context_;
 };
 
 /// Hex SHA-256 of a string.

@@ -1,9 +1,17 @@
-// Tests of algorithms/common/chi_square.{h,cpp} against closed forms and printed tables.
+// Tests of algorithms/common/chi_square.{h,cpp} against closed forms, printed tables and
+// Boost.Math (an independent implementation, a test-only dependency: algorithms/ uses Eigen only).
 #include "algorithms/common/chi_square.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/special_functions/gamma.hpp>
 #include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
 
 namespace fogpipe::stats {
 namespace {
@@ -46,7 +54,6 @@ TEST(ChiSquareQuantile, InvertsTheCdf) {
   }
 }
 
-
 // The upper tail is computed directly, so p-values far below 1e-16 keep their digits; for two
 // degrees of freedom Q(1, x/2) = exp(-x/2) exactly.
 TEST(ChiSquareSurvival, KeepsTinyTailsForTwoDegreesOfFreedom) {
@@ -54,6 +61,94 @@ TEST(ChiSquareSurvival, KeepsTinyTailsForTwoDegreesOfFreedom) {
     EXPECT_NEAR(ChiSquareSurvival(x, 2.0) / std::exp(-0.5 * x), 1.0, 1e-12) << x;
   }
   EXPECT_NEAR(ChiSquareSurvival(3.0, 4.0) + ChiSquareCdf(3.0, 4.0), 1.0, 1e-15);
+}
+
+// The grid of the Boost.Math comparisons: degrees of freedom 0.5 .. 1e6, 20 per decade, and
+// probabilities 1e-12 .. 1 - 1e-12, 10 per decade on either side of 1/2.
+std::vector<double> DegreesOfFreedom() {
+  std::vector<double> dofs;
+  for (double l = std::log10(0.5); l <= 6.0 + 1e-9; l += 0.05) dofs.push_back(std::pow(10.0, l));
+  return dofs;
+}
+std::vector<double> Probabilities() {
+  std::vector<double> ps;
+  for (double l = -12.0; l < std::log10(0.5); l += 0.1) {
+    ps.push_back(std::pow(10.0, l));
+    ps.push_back(1.0 - std::pow(10.0, l));
+  }
+  ps.push_back(0.5);
+  return ps;
+}
+// The chi-square quantile by Boost.Math, from the smaller tail (1 - p is exact for p >= 1/2).
+double BoostQuantile(double p, double dof) {
+  const boost::math::chi_squared law(dof);
+  return p < 0.5 ? boost::math::quantile(law, p)
+                 : boost::math::quantile(boost::math::complement(law, 1.0 - p));
+}
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+// Relative error bound of P(a, x) and Q(a, x) where the smaller of them is >= 1e-12:
+//   - the prefactor x^a e^-x / Gamma(a) = sqrt(a / 2 pi) exp(-bd0 - StirlingError(a)) has an
+//     exponent of at most ln(1e12) + ln(sqrt(a)) ~ 35 there, summed from positive series terms:
+//     a few ulps of 35, i.e. < 150 eps relative after exp, including sqrt and exp's own ulp;
+//   - the series (x < a + 1) and the continued fraction add <= 1 eps per term, and both need
+//     ~ sqrt(2 a ln(1 / eps)) < 9 sqrt(a) terms near x = a (fewer away from it), plus ~ 50;
+//   - the complement 1 - P or 1 - Q is taken only for the larger of the two (>= ~0.3), which at
+//     most triples a relative error;
+//   - Boost.Math evaluates double arguments in long double (its default promote_double policy):
+//     its own error is below 1 eps.
+// Together 3 (200 + 9 sqrt(a)) eps, 1.6e-12 at a = 5e5; the hand-written form before Loader's
+// prefactor was off by 1.1e-9 there.
+double GammaTolerance(double a) { return 3.0 * (200.0 + 9.0 * std::sqrt(a)) * kEps; }
+
+TEST(RegularizedGamma, AgreesWithBoostMathOverTheChiSquareRange) {
+  double max_error = 0.0;
+  for (double dof : DegreesOfFreedom()) {
+    const boost::math::chi_squared law(dof);
+    const double a = 0.5 * dof;
+    for (double p : Probabilities()) {
+      const double x = BoostQuantile(p, dof);
+      const double lower = boost::math::gamma_p(a, 0.5 * x);
+      const double upper = boost::math::gamma_q(a, 0.5 * x);
+      const double errors[] = {
+          std::abs(RegularizedGammaP(a, 0.5 * x) / lower - 1.0),
+          std::abs(RegularizedGammaQ(a, 0.5 * x) / upper - 1.0),
+          std::abs(ChiSquareCdf(x, dof) / boost::math::cdf(law, x) - 1.0),
+          std::abs(ChiSquareSurvival(x, dof) / boost::math::cdf(boost::math::complement(law, x)) -
+                   1.0)};
+      for (double e : errors) {
+        EXPECT_LE(e, GammaTolerance(a)) << "dof " << dof << " p " << p;
+        max_error = std::max(max_error, e);
+      }
+    }
+  }
+  RecordProperty("max_relative_error", std::to_string(max_error));
+  std::printf("P, Q, CDF and survival against Boost.Math: max relative error %.3g\n", max_error);
+}
+
+// The quantile solves ChiSquareCdf(x) = p. Near the root the CDF carries an absolute error of
+// eps / 2 (the rounding of p itself, and of 1 - Q for p > 1/2) plus min(p, 1 - p) times its
+// relative error (GammaTolerance), which moves the root by that over the density; the iteration
+// stops within 1e-14 x; Boost.Math's quantile is good to ~1 eps. Near p = 1 - 1e-12 the first
+// term dominates: there the spacing of doubles, not the method, limits the answer.
+TEST(ChiSquareQuantile, AgreesWithBoostMathOverTheChiSquareRange) {
+  double max_error = 0.0, max_ratio = 0.0;
+  for (double dof : DegreesOfFreedom()) {
+    const boost::math::chi_squared law(dof);
+    for (double p : Probabilities()) {
+      const double x = BoostQuantile(p, dof);
+      const double error = std::abs(ChiSquareQuantile(p, dof) - x);
+      const double tol =
+          (kEps + std::min(p, 1.0 - p) * GammaTolerance(0.5 * dof)) / boost::math::pdf(law, x) +
+          (1e-14 + kEps) * x;
+      EXPECT_LE(error, tol) << "dof " << dof << " p " << p;
+      max_error = std::max(max_error, error / x);
+      max_ratio = std::max(max_ratio, error / tol);
+    }
+  }
+  std::printf("quantile against Boost.Math: max relative error %.3g, max error / bound %.3g\n",
+              max_error, max_ratio);
 }
 
 }  // namespace

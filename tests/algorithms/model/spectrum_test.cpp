@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <boost/math/distributions/normal.hpp>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <random>
 
 namespace fogpipe::model {
@@ -73,22 +77,39 @@ TEST(Spectrum, FastFftSizeAtMostIsTheLargestFiveSmoothSize) {
   }
 }
 
-TEST(Spectrum, RealDftOfAnyLengthMatchesTheDefinition) {
-  // Smooth lengths go through kissfft, others (prime 1009, 2 x 109 x 7 = 1526, the time view's
-  // 2 x 109 x 1201 pattern) through Bluestein. Reference: the O(n^2) sum with exact integer phase
-  // reduction (j k mod n). Rounding of either is ~eps log2(n) per unit of sum |x_j| = n E|x|, so
-  // 1e-11 relative to n covers it.
-  for (long n : {1000L, 1009L, 1526L, 1L << 12}) {
+// Reference: the O(n^2) sum in long double (64-bit mantissa, 2^11 times finer than double) with
+// exact integer phase reduction (j k mod n) and a long double table of exp(-2 pi i q / n): its own
+// error is ~1e-19 relative, negligible. Bound on the FFT's normwise relative error (Higham,
+// Accuracy and Stability of Numerical Algorithms, 2nd ed., Theorem 24.2): log2(n) eta with
+// eta = mu + gamma_4 (sqrt 2 + mu) ~ 3.9 eps for radix 2 (twiddles good to mu ~ eps); a radix-r
+// butterfly does r - 1 additions where log2(r) radix-2 stages do log2(r), at most 1.8 times as many
+// (r = 5), so 7 eps log2(n) for kissfft's radix 2, 3, 4, 5. Bluestein does three such transforms of
+// size m >= 2 n - 1 (m < 4 n) and two chirp products (~4 eps); the chirp's spectrum is flat, so the
+// pointwise product of spectra does not amplify the error: 3 x 7 eps log2(4 n) + 4 eps.
+TEST(Spectrum, RealDftOfAnyLengthMatchesTheDefinitionInLongDouble) {
+  const double eps = std::numeric_limits<double>::epsilon();
+  const long double two_pi = 6.283185307179586476925286766559005768L;
+  // Smooth lengths (kissfft): 2, 3, 1000, 3^7, 5^5, 2^12. Others (Bluestein): the primes 7, 97,
+  // 1009, 8191 and 10007, 2 x 109 x 7 = 1526, 2 x 4999; and one point.
+  for (long n :
+       {1L, 2L, 3L, 7L, 97L, 1000L, 1009L, 1526L, 2187L, 3125L, 4096L, 8191L, 9998L, 10007L}) {
     const Eigen::VectorXd x = WhiteNoise(n, 1.0, 5 + n);
     const std::vector<double> v(x.data(), x.data() + n);
     const auto fast = RealDftHalf(v);
     ASSERT_EQ(static_cast<long>(fast.size()), n / 2 + 1);
-    for (long k = 0; k <= n / 2; k += (k < 8 ? 1 : 37)) {
-      std::complex<double> ref = 0;
-      for (long j = 0; j < n; ++j)
-        ref += x[j] * std::polar(1.0, -2.0 * M_PI * static_cast<double>((j * k) % n) / n);
-      EXPECT_NEAR(std::abs(fast[k] - ref), 0.0, 1e-11 * n) << "n " << n << " k " << k;
+    std::vector<std::complex<long double>> w(n);
+    for (long q = 0; q < n; ++q) w[q] = std::polar(1.0L, -two_pi * q / n);
+    long double error2 = 0, norm2 = 0;
+    for (long k = 0; k <= n / 2; ++k) {
+      std::complex<long double> ref = 0;
+      for (long j = 0; j < n; ++j) ref += static_cast<long double>(x[j]) * w[(j * k) % n];
+      error2 += std::norm(std::complex<long double>(fast[k]) - ref);
+      norm2 += std::norm(ref);
     }
+    const double log2n = std::log2(std::max(2.0, static_cast<double>(n)));
+    const double bound =
+        IsFastFftSize(n) ? 7.0 * eps * log2n : 21.0 * eps * (log2n + 2.0) + 4 * eps;
+    EXPECT_LE(static_cast<double>(std::sqrt(error2 / norm2)), bound) << "n " << n;
   }
 }
 
@@ -112,6 +133,30 @@ TEST(Spectrum, WilsonHilfertyAndNormalTailsMatchKnownQuantiles) {
   // chi2(10)/10 upper 5 % point is 1.8307: Wilson-Hilferty gives z ~ 1.645 there (to ~0.01).
   EXPECT_NEAR(WilsonHilfertyZ(1.8307, 10), 1.645, 0.02);
   EXPECT_NEAR(WilsonHilfertyZ(ChiSquareMedianOverNu(20), 20), 0.0, 1e-12);
+}
+
+// UpperTailZ refines Acklam's approximation by a Halley step on Phi(z) - p, Phi from erfc. Its
+// error: the residual carries ~2 eps p (erfc's few ulps and p's rounding), which moves z by that
+// over the density phi(z), plus the rounding of the step itself (~2 eps |z|); Boost.Math's normal
+// quantile (in long double) adds < 1 eps. From p = 1e-300 to 1 - 1e-16, 10 points per decade.
+TEST(Spectrum, UpperTailZAgreesWithBoostMathFromTinyTailsToTheCentre) {
+  const double eps = std::numeric_limits<double>::epsilon();
+  const boost::math::normal normal;
+  double max_error = 0.0;
+  for (double l = -300.0; l < -0.30103; l += 0.1) {
+    for (double p : {std::pow(10.0, l), 1.0 - std::pow(10.0, l)}) {
+      if (p > 1.0 - 1e-16) continue;
+      // Phi^{-1}(1 - p) from the smaller tail (1 - p is exact for p >= 1/2).
+      const double z_ref =
+          p <= 0.5 ? -boost::math::quantile(normal, p) : boost::math::quantile(normal, 1.0 - p);
+      const double tol = 4.0 * eps * std::min(p, 1.0 - p) / boost::math::pdf(normal, z_ref) +
+                         3.0 * eps * std::abs(z_ref);
+      const double error = std::abs(UpperTailZ(p) - z_ref);
+      EXPECT_LE(error, tol) << p;
+      max_error = std::max(max_error, error / std::max(std::abs(z_ref), 1e-300));
+    }
+  }
+  std::printf("UpperTailZ against Boost.Math: max relative error %.3g\n", max_error);
 }
 
 TEST(Spectrum, BandMedianBackgroundOfWhiteNoiseIsItsMeanLevel) {

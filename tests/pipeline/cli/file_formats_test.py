@@ -7,7 +7,8 @@ The kinds: recordings (simulate, import), a results file (run), a campaign table
 missing recording), a sweep table (sweep), a model history of its own (compare -o NEW) and one
 appended to a results file (compare -o RESULTS). Each must be valid (exit 0) and summarised by
 info (exit 0, its key lines). A copy with one required object removed with h5py must be invalid
-(exit 1) with a message naming that object.
+(exit 1) with a message naming that object. Integer counts with a scale_factor (contract v1.1)
+run to the numbers of the float file they stand for.
 """
 import os
 import shutil
@@ -102,6 +103,61 @@ DAMAGE = {
 }
 
 
+def numeric_datasets(path):
+    """Every numeric dataset of a results file outside /provenance, by name."""
+    found = {}
+    with h5py.File(path, "r") as f:
+        def visit(name, obj):
+            if (isinstance(obj, h5py.Dataset) and obj.dtype.kind in "fiu"
+                    and not name.startswith("provenance")):
+                found[name] = obj[()]
+        f.visititems(visit)
+    return found
+
+
+def check_integer_counts(tmp):
+    """Contract v1.1: an int16 / int32 /rate with scale_factor is read as counts x scale_factor,
+    so `run` gives the numbers of a float64 file holding those products; without scale_factor, or
+    with a zero one, validate refuses it naming the problem."""
+    rng = np.random.default_rng(11)
+    counts = np.round(rng.normal(0, 3000, (6000, 2))).astype(np.int16)
+    scale = 0.0025  # deg/h per count
+    files = {}
+    for kind, data in (("float64", counts * scale), ("int16", counts),
+                       ("int32", counts.astype(np.int32))):
+        files[kind] = os.path.join(tmp, f"counts_{kind}.h5")
+        with h5py.File(files[kind], "w") as f:
+            f.attrs["sample_rate_hz"] = 10.0
+            d = f.create_dataset("rate", data=data)
+            d.attrs["units"] = "deg/h"
+            if kind != "float64":
+                d.attrs["scale_factor"] = scale
+    outdir = os.path.join(tmp, "counts_out")
+    run("run", *files.values(), "-o", outdir, "--threads", "2")
+    reference = numeric_datasets(os.path.join(outdir, "counts_float64.fogpipe.h5"))
+    for kind in ("int16", "int32"):
+        v = run("validate", files[kind], ok=(0, 1, 2))
+        check(v.returncode == 0, f"{kind} counts with scale_factor: validate exit 0 ({v.stdout})")
+        got = numeric_datasets(os.path.join(outdir, f"counts_{kind}.fogpipe.h5"))
+        same = got.keys() == reference.keys() and all(
+            np.array_equal(got[k], reference[k], equal_nan=got[k].dtype.kind == "f")
+            for k in reference)
+        check(same and len(reference) > 10, f"run on {kind} counts x scale_factor gives every "
+              f"dataset of the float64 file ({len(reference)} datasets)")
+    for name, value, problem in (("no_scale", None, "has no 'scale_factor' attribute"),
+                                 ("zero_scale", 0.0, "'scale_factor' is 0")):
+        path = os.path.join(tmp, f"counts_{name}.h5")
+        shutil.copy(files["int16"], path)
+        with h5py.File(path, "r+") as f:
+            del f["rate"].attrs["scale_factor"]
+            if value is not None:
+                f["rate"].attrs["scale_factor"] = value
+        v = run("validate", path, ok=(0, 1, 2))
+        check(v.returncode == 1 and problem in v.stdout and path in v.stdout,
+              f"int16 counts, {name}: validate exit 1 naming the file and the problem "
+              f"({v.returncode}: {v.stdout.strip()})")
+
+
 def main():
     tmp = tempfile.mkdtemp(prefix="fogpipe_file_formats_")
     files = make_files(tmp)
@@ -135,6 +191,7 @@ def main():
     v = run("validate", campaign, ok=(0, 1, 2))
     check(v.returncode == 1 and f"/results/{name}: external link to '/provenance'" in v.stdout,
           f"a campaign link to another object is a problem ({v.stdout.strip()})")
+    check_integer_counts(tmp)
     if failures:
         sys.exit(f"{len(failures)} failure(s): " + "; ".join(failures))
     shutil.rmtree(tmp)

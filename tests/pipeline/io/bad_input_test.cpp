@@ -118,9 +118,27 @@ std::vector<BadCase> Corpus() {
          file.Dataset("/rate", {100}, Signal(100));
          file.DoubleAttribute("/", "sample_rate_hz", 10.0);
        }},
-      {"integer_rate", kWrongType, "/rate has type int32",
+      {"integer_rate_without_scale_factor", kMissingAttribute,
+       "/rate holds integers (int32) but has no 'scale_factor' attribute",
        [](const std::string& p) {
          WriteRate(p, Signal(100), Layout{H5T_STD_I32LE, {}, 0, false});
+       }},
+      {"integer_rate_with_zero_scale_factor", kBadScaleFactor,
+       "/rate attribute 'scale_factor' is 0; it must be a finite, non-zero number",
+       [](const std::string& p) {
+         RawFile file(p);
+         file.Dataset("/rate", {100}, Signal(100), Layout{H5T_STD_I16LE, {}, 0, false});
+         file.StringAttribute("/rate", "units", "rad/s");
+         file.DoubleAttribute("/rate", "scale_factor", 0.0);
+         file.DoubleAttribute("/", "sample_rate_hz", 10.0);
+       }},
+      {"integer_rate_with_nan_scale_factor", kBadScaleFactor, "'scale_factor' is nan",
+       [](const std::string& p) {
+         RawFile file(p);
+         file.Dataset("/rate", {100}, Signal(100), Layout{H5T_STD_I16LE, {}, 0, false});
+         file.StringAttribute("/rate", "units", "rad/s");
+         file.DoubleAttribute("/rate", "scale_factor", std::nan(""));
+         file.DoubleAttribute("/", "sample_rate_hz", 10.0);
        }},
       {"string_sample_rate", kWrongType, "'sample_rate_hz' must be one float64",
        [](const std::string& p) {

@@ -146,6 +146,69 @@ TEST_P(EveryContractVariant, ReadsBackExactlyAndConvertsUnits) {
 INSTANTIATE_TEST_SUITE_P(RecordingReader, EveryContractVariant, ::testing::ValuesIn(AllVariants()),
                          [](const auto& info) { return info.param.name; });
 
+// Contract v1.1: integer counts with a scale_factor (the unit per count) read as counts times the
+// factor, exactly the doubles a float64 file of those products holds (one IEEE multiplication).
+TEST(RecordingReader, ReadsInt16AndInt32CountsTimesTheirScaleFactor) {
+  TempDir dir;
+  std::vector<double> counts;
+  for (int k = 0; k < 500; ++k) counts.push_back(std::round(3000.0 * std::sin(0.37 * k * k)));
+  const double scale = 0.0025;  // deg/h per count
+  for (hid_t type : {H5T_STD_I16LE, H5T_STD_I32LE}) {
+    const std::string path = dir.File(type == H5T_STD_I16LE ? "i16.h5" : "i32.h5");
+    {
+      testing::RawFile file(path);
+      file.Dataset("/rate", {counts.size()}, counts, Layout{type, {}, 0, false});
+      file.StringAttribute("/rate", "units", "deg/h");
+      file.DoubleAttribute("/rate", "scale_factor", scale);
+      file.Dataset("/aux/temperature", {counts.size()}, counts,
+                   Layout{H5T_STD_U16LE, {}, 0, false});
+      file.StringAttribute("/aux/temperature", "units", "degC");
+      file.DoubleAttribute("/aux/temperature", "scale_factor", 0.01);
+      file.DoubleAttribute("/", "sample_rate_hz", 10.0);
+    }
+    const RecordingInfo info = InspectRecording(path);
+    EXPECT_EQ(info.rate_dtype, type == H5T_STD_I16LE ? "int16" : "int32");
+    EXPECT_EQ(info.rate_scale_factor, scale);
+    ASSERT_EQ(info.aux.size(), 1u);
+    EXPECT_EQ(info.aux[0].dtype, "uint16");
+    auto lock = hdf5::LockHdf5();
+    const RecordingReader reader(path);
+    const Eigen::VectorXd rate = reader.ReadAxisNative(0, ReadOptions{});
+    const Eigen::VectorXd temperature = reader.ReadAux("temperature", ReadOptions{});
+    for (std::size_t k = 0; k < counts.size(); ++k) {
+      ASSERT_EQ(rate[k], counts[k] * scale) << k;
+      // HDF5 clips the negative counts to 0 when it writes them as uint16.
+      const double stored = counts[k] < 0 ? 0.0 : counts[k];
+      ASSERT_EQ(temperature[k], stored * 0.01) << k;
+    }
+  }
+}
+
+// Without its scale_factor an integer dataset is refused (the counts' unit is unknown), by the
+// reader and by validate's metadata check, naming the file and the attribute.
+TEST(RecordingReader, RefusesIntegerCountsWithoutAScaleFactor) {
+  TempDir dir;
+  const std::string path = dir.File("counts.h5");
+  {
+    testing::RawFile file(path);
+    file.Dataset("/rate", {100}, std::vector<double>(100, 7.0),
+                 Layout{H5T_STD_I16LE, {}, 0, false});
+    file.StringAttribute("/rate", "units", "deg/h");
+    file.DoubleAttribute("/", "sample_rate_hz", 10.0);
+  }
+  try {
+    InspectRecording(path);
+    ADD_FAILURE() << "admitted";
+  } catch (const RecordingError& e) {
+    EXPECT_EQ(e.kind(), std::string(error_kind::kMissingAttribute));
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'scale_factor'"), std::string::npos) << e.what();
+  }
+  auto lock = hdf5::LockHdf5();
+  const RecordingCheck check = CheckRecordingMetadata(path, OpenHdf5ReadOnly(path));
+  EXPECT_FALSE(check.admitted());
+}
+
 TEST(RecordingReader, NamesAxesByIndexWhenTheFileGivesNoNames) {
   TempDir dir;
   RecordingSpec spec;

@@ -228,13 +228,14 @@ INSTANTIATE_TEST_SUITE_P(
                      f.DoubleAttribute("/", "sample_rate_hz", 1.0);
                    },
                    "/rate: numeric dataset has no 'units' attribute"},
-        LayoutCase{"integer_rate",
+        LayoutCase{"string_scale_factor",
                    [](RawFile& f) {
                      f.Dataset("/rate", {100}, Signal(100), {H5T_STD_I16LE, {}, 0, false});
                      f.StringAttribute("/rate", "units", "rad/s");
+                     f.StringAttribute("/rate", "scale_factor", "0.01");
                      f.DoubleAttribute("/", "sample_rate_hz", 1.0);
                    },
-                   "/rate: has type integer, expected float"},
+                   "/rate: attribute 'scale_factor'"},
         LayoutCase{"rank_3",
                    [](RawFile& f) {
                      f.Dataset("/rate", {10, 5, 2}, Signal(100));
