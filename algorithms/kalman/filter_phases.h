@@ -14,8 +14,8 @@
 #include "algorithms/kalman/ar_kalman.h"
 #include "algorithms/kalman/companion.h"
 #include "algorithms/kalman/covariance_recursion.h"
-#include "algorithms/kalman/mul_add.h"
 #include "algorithms/kalman/riccati.h"
+#include "algorithms/kernels/lanes.h"
 
 namespace fogpipe::kalman::internal {
 
@@ -81,7 +81,7 @@ long long TimeVaryingLoop(Recursion&& recursion, const Eigen::Ref<const Eigen::V
   const int p = P > 0 ? P : static_cast<int>(phi.size());
   // The state X(k|k) and phi in plain arrays (order P at compile time where it is known); every
   // multiply-add spelled out, so FilterAr and ArFilterBank, which instantiate this loop with
-  // different emitters, compute the same bits (mul_add.h).
+  // different emitters, compute the same bits (algorithms/kernels/lanes.h).
   fixed_order::Buffer<P> x_buffer(p), phi_buffer(p), g_inf_buffer(p);
   double* x = x_buffer.get();
   double* phi_a = phi_buffer.get();
@@ -144,10 +144,10 @@ long long TimeVaryingLoop(Recursion&& recursion, const Eigen::Ref<const Eigen::V
     }
     const double* gk = recursion.gain();
     double pred = 0.0;
-    for (int i = 0; i < p; ++i) pred = MulAdd(phi_a[i], x[i], pred);
+    for (int i = 0; i < p; ++i) pred = kernels::MulAdd(phi_a[i], x[i], pred);
     const double e = (z[k] - options.mean) - pred;
-    for (int i = p - 1; i >= 1; --i) x[i] = MulAdd(gk[i], e, x[i - 1]);
-    x[0] = MulAdd(gk[0], e, pred);
+    for (int i = p - 1; i >= 1; --i) x[i] = kernels::MulAdd(gk[i], e, x[i - 1]);
+    x[0] = kernels::MulAdd(gk[0], e, pred);
     emit(k, x[0] + options.mean, e, gk, innovation_var);
   }
   for (int i = 0; i < p; ++i) end->x[i] = x[i];
