@@ -10,11 +10,16 @@
 #include <vector>
 
 #include "algorithms/allan/workers.h"
-#include "algorithms/common/lanes.h"
 #include "algorithms/common/units.h"
+#include "algorithms/kernels/kernels.h"
 
 namespace fogpipe::allan {
 namespace {
+
+using kernels::Lanes4;
+using kernels::LoadColumns4;
+using kernels::LoadLanes4;
+using kernels::StoreLanes4;
 
 constexpr long long kMinAcfPoints = 30;  // Riley & Greenhall 2004: the lag-1 method needs ~30.
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -157,24 +162,21 @@ void AddModifiedWindows(const double* x, long long m, long long j, long long win
                         ModifiedWindows* w) {
   double s0 = w->s0, s1 = w->s1, s2 = w->s2, sum = w->sum;
   for (;; ++j) {
-    const double v = s2 - 2.0 * s1 + s0;
-    sum += v * v;
+    kernels::AddModifiedWindow(s0, s1, s2, &sum);
     if (j + 1 >= windows) break;
-    const double a = x[j], b = x[j + m], c = x[j + 2 * m], e = x[j + 3 * m];
-    s0 += b - a, s1 += c - b, s2 += e - c;
+    kernels::SlideModifiedWindow(x[j], x[j + m], x[j + 2 * m], x[j + 3 * m], &s0, &s1, &s2);
   }
   *w = {s0, s1, s2, sum};
 }
-
-Lanes4 Broadcast(double v) { return Lanes4{v, v, v, v}; }
 
 // The windows of up to four factors (increasing, so with non-increasing window counts; each with
 // at least one window) side by side, one factor per vector element: the chain of additions of one
 // factor has to stay in order, and four of them side by side fill the vector units that one
 // leaves idle. Every element computes exactly what AddModifiedWindows computes for its factor
-// (lanes.h). Four windows at a time, each stream's four values transposed into the four windows'
-// vectors; a factor whose windows end takes its last window from AddModifiedWindows and its
-// element then follows the first factor's streams, discarded.
+// (the same kernels, algorithms/kernels/kernels.h). Four windows at a time, each stream's four
+// values transposed into the four windows' vectors; a factor whose windows end takes its last
+// window from AddModifiedWindows and its element then follows the first factor's streams,
+// discarded.
 void AddModifiedWindowsSideBySide(const double* x, const long long* m, int count, long long n_phase,
                                   ModifiedWindows* out) {
   Lanes4 s0{}, s1{}, s2{}, sum{};
@@ -188,9 +190,8 @@ void AddModifiedWindowsSideBySide(const double* x, const long long* m, int count
     windows[k] = n_phase - 3 * mk + 1;
   }
   const auto step = [&](Lanes4 b, Lanes4 c, Lanes4 e, double a) {
-    const Lanes4 v = s2 - 2.0 * s1 + s0;
-    sum += v * v;
-    s0 += b - Broadcast(a), s1 += c - b, s2 += e - c;
+    kernels::AddModifiedWindow(s0, s1, s2, &sum);
+    kernels::SlideModifiedWindow(kernels::Splat<Lanes4>(a), b, c, e, &s0, &s1, &s2);
   };
   long long j = 0;
   for (int done = count; done > 0; --done) {

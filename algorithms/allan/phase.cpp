@@ -2,12 +2,13 @@
 
 #include <cmath>
 
-#include "algorithms/common/lanes.h"
+#include "algorithms/kernels/lanes.h"
 
 namespace fogpipe::allan {
 namespace {
 
-using Lanes = Lanes4;  // (algorithms/common/lanes.h)
+using kernels::LoadLanes4;
+using Lanes = kernels::Lanes4;
 
 // Compensated running sum (Kahan-Babuska-Neumaier class): Knuth's branch-free TwoSum gives the
 // exact rounding error of every addition, accumulated in `carry`; value = sum + carry is within

@@ -8,7 +8,7 @@
 #include "algorithms/ar/autocorrelation.h"
 #include "algorithms/common/chi_square.h"
 #include "algorithms/common/fixed_order.h"
-#include "algorithms/common/lanes.h"
+#include "algorithms/kernels/kernels.h"
 
 namespace fogpipe::ar {
 namespace {
@@ -51,8 +51,9 @@ double FitPercent(double error_energy, double centered_energy) {
 // The residuals of samples [t0, t0 + len) into out: e_t = (x_t - mean) - sum_i phi_i (x_{t-i} -
 // mean), the terms subtracted in order i = 1..p. Four samples at a time with the p taps in the
 // inner loop (order P at compile time where it can), so each output is written once instead of
-// once per tap; element-wise arithmetic without contraction (this file is compiled with
-// -ffp-contract=off), so every e_t has the same bits whatever its position in a vector.
+// once per tap; the same kernel alone or four at a time (kernels::ArResidual,
+// algorithms/kernels/kernels.h), so every e_t has the same bits whatever its position in a
+// vector.
 template <int P>
 void ResidualBlock(const double* x, const double* phi_in, int p_runtime, double mean,
                    Eigen::Index t0, Eigen::Index len, double* out) {
@@ -63,15 +64,13 @@ void ResidualBlock(const double* x, const double* phi_in, int p_runtime, double 
   Eigen::Index k = 0;
   for (; k + 4 <= len; k += 4) {
     const double* xt = x + t0 + k;
-    Lanes4 acc = LoadLanes4(xt) - mean;
-    for (int i = 1; i <= p; ++i) acc -= phi[i - 1] * (LoadLanes4(xt - i) - mean);
-    StoreLanes4(out + k, acc);
+    kernels::StoreLanes4(out + k,
+                         kernels::ArResidual<kernels::Lanes4>(
+                             [xt](int i) { return kernels::LoadLanes4(xt - i); }, phi, p, mean));
   }
   for (; k < len; ++k) {
     const double* xt = x + t0 + k;
-    double acc = xt[0] - mean;
-    for (int i = 1; i <= p; ++i) acc -= phi[i - 1] * (xt[-i] - mean);
-    out[k] = acc;
+    out[k] = kernels::ArResidual<double>([xt](int i) { return xt[-i]; }, phi, p, mean);
   }
 }
 
@@ -97,10 +96,10 @@ Eigen::VectorXd OneStepResiduals(const Eigen::Ref<const Eigen::VectorXd>& x, con
 
 namespace {
 
-// One per free run (algorithms/common/lanes.h): each lane computes exactly what it would compute
-// alone, whatever the others do.
+// One per free run: each lane computes exactly what it would compute alone, whatever the others
+// do (kernels::FreeRunSample, algorithms/kernels/kernels.h).
 constexpr int kLanes = 4;
-using Lanes = Lanes4;
+using Lanes = kernels::Lanes4;
 
 // sum_t ((x_t - mean) - s_t)^2, t = p..N-1, for the free runs s_t of up to four models of the same
 // order p, each on its own series of n samples (see the header): s_t = x_t - mean for t < p, then
@@ -148,11 +147,7 @@ void FreeRunErrorEnergies(const SimulationFitJob* jobs, int count, int p_runtime
   while (t < n) {
     const Eigen::Index end = std::min(n, t + kBlock);
     for (; t < end; ++t) {
-      Lanes older = {};
-      for (int i = 1; i < p; ++i) older += phi[i] * h[i];
-      const Lanes s = phi[0] * h[0] + older;
-      for (int i = p - 1; i >= 1; --i) h[i] = h[i - 1];
-      h[0] = s;
+      const Lanes s = kernels::FreeRunSample(phi, p, h);
       const Lanes xt = {x[0][t * x_step[0]], x[1][t * x_step[1]], x[2][t * x_step[2]],
                         x[3][t * x_step[3]]};
       const Lanes d = xt - mean - s;

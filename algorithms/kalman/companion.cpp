@@ -1,6 +1,6 @@
 #include "algorithms/kalman/companion.h"
 
-#include "algorithms/kalman/mul_add.h"
+#include "algorithms/kernels/lanes.h"
 
 namespace fogpipe::kalman {
 
@@ -21,9 +21,10 @@ void PredictCovariance(const Eigen::MatrixXd& filtered, const Eigen::VectorXd& p
   // (A P A')(i, j) = P(i-1, j-1) for i, j >= 1: the old state shifted down by one lag.
   out.bottomRightCorner(p - 1, p - 1) = filtered.topLeftCorner(p - 1, p - 1);
   // Row 0: (A P A')(0, j) = (phi' P)(j-1) for j >= 1, and (0, 0) = phi' P phi.
-  // Every multiply-add is spelled out (internal::MulAdd) so that the fused step of
-  // covariance_recursion.h, written the same way, gives the same bits.
-  using internal::MulAdd;
+  // Every multiply-add is spelled out (kernels::MulAdd) so that the fused step
+  // kernels::CovarianceStep (algorithms/kernels/kernels.h), written the same way, gives the same
+  // bits.
+  using kernels::MulAdd;
   double top = 0.0;
   for (Eigen::Index j = 0; j < p; ++j) {
     double v = 0.0;
@@ -47,7 +48,7 @@ double JosephUpdate(const Eigen::MatrixXd& predicted, double r, Eigen::VectorXd*
   out.resize(p, p);
   // The lower triangle column by column (contiguous), then mirrored: the same value per element.
   // P - G c' - c G' + S G G', each multiply-add spelled out (see PredictCovariance).
-  using internal::MulAdd;
+  using kernels::MulAdd;
   for (Eigen::Index j = 0; j < p; ++j) {
     const double cj = predicted(j, 0);
     for (Eigen::Index i = j; i < p; ++i) {

@@ -6,7 +6,7 @@
 
 #include "algorithms/ar/stationarity.h"
 #include "algorithms/common/fixed_order.h"
-#include "algorithms/common/lanes.h"
+#include "algorithms/kernels/kernels.h"
 
 namespace fogpipe::kalman {
 namespace {
@@ -17,7 +17,7 @@ using fixed_order::Buffer;
 inline void Betas(const double* phi, const double* gain, int p, double* beta, int stride) {
   for (int m = 0; m < p; ++m) {
     double b = 0.0;
-    for (int i = m; i < p; ++i) b += phi[i] * gain[i - m];
+    for (int i = m; i < p; ++i) b = kernels::MulAdd(phi[i], gain[i - m], b);
     beta[m * stride] = b;
   }
 }
@@ -37,12 +37,9 @@ void Kernel(const double* z, long long n, double mean, const double* phi_in, con
   }
   const double g0 = gain[0];
   for (long long k = 0; k < n; ++k) {
-    const double pred = s[0];
-    const double e = (z[k] - mean) - pred;
-    filtered[k] = (pred + g0 * e) + mean;
+    double e;
+    filtered[k] = kernels::SteadyStateSample(z[k], mean, g0, phi, beta, p, s, &e) + mean;
     if constexpr (kStoreInnovations) innovations[k] = e;
-    for (int m = 0; m + 1 < p; ++m) s[m] = (phi[m] * pred + s[m + 1]) + beta[m] * e;
-    s[p - 1] = phi[p - 1] * pred + beta[p - 1] * e;
   }
   for (int m = 0; m < p; ++m) partial[m] = s[m];
 }
@@ -50,9 +47,9 @@ void Kernel(const double* z, long long n, double mean, const double* phi_in, con
 // Orders up to this run side by side (state on the stack); higher ones one lane at a time.
 constexpr int kMaxLaneOrder = 32;
 constexpr int kLanes = 4;
-// One per lane (algorithms/common/lanes.h): each lane computes exactly what the scalar Kernel
-// computes.
-using Lanes = Lanes4;
+// One per lane: each lane computes exactly what the scalar Kernel computes (the same
+// kernels::SteadyStateSample, algorithms/kernels/kernels.h).
+using Lanes = kernels::Lanes4;
 
 // Up to 4 G filters side by side in G groups of four, `active` of them real (the others have
 // gain 0 and no output). The state s_j of each group is one vector, so every update of the
@@ -98,16 +95,14 @@ void AddLanes(const double* z, long long n, const double* phi, int p_runtime,
     const double zk = z[k];
 #pragma GCC unroll 4
     for (int g = 0; g < G; ++g) {
-      const Lanes pred = s[g][0];
-      const Lanes e = (zk - mean[g]) - pred;
-      const Lanes deviation = pred + g0[g] * e;
+      Lanes e;
+      const Lanes deviation =
+          kernels::SteadyStateSample(zk, mean[g], g0[g], phi_v, beta[g], p, s[g], &e);
       const Lanes est = deviation + mean[g];
       square_sum[g] += deviation * deviation;
-      for (int j = 0; j + 1 < p; ++j) s[g][j] = (phi_v[j] * pred + s[g][j + 1]) + beta[g][j] * e;
-      s[g][p - 1] = phi_v[p - 1] * pred + beta[g][p - 1] * e;
       if (kInterleaved && g < full_groups) {
         double* sum = out[g * kLanes] + k * stride[g * kLanes];
-        StoreLanes4(sum, LoadLanes4(sum) + est);
+        kernels::StoreLanes4(sum, kernels::LoadLanes4(sum) + est);
       } else {
         for (int m = 0; m < kLanes && g * kLanes + m < active; ++m)
           out[g * kLanes + m][k * stride[g * kLanes + m]] += est[m];
@@ -198,7 +193,7 @@ void PartialPredictions(const Eigen::VectorXd& phi, const Eigen::VectorXd& state
   const int p = static_cast<int>(phi.size());
   for (int m = 0; m < p; ++m) {
     double sm = 0.0;
-    for (int i = m; i < p; ++i) sm += phi[i] * state[i - m];
+    for (int i = m; i < p; ++i) sm = kernels::MulAdd(phi[i], state[i - m], sm);
     partial[m] = sm;
   }
 }

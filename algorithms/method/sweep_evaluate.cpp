@@ -14,7 +14,7 @@
 #include "algorithms/ar/diagnostics.h"
 #include "algorithms/ar/order_selection.h"
 #include "algorithms/common/units.h"
-#include "algorithms/kalman/ar_kalman.h"
+#include "algorithms/kalman/ar_filter_bank.h"
 #include "algorithms/method/component.h"
 #include "algorithms/method/white_noise.h"
 

@@ -26,8 +26,9 @@ struct SweepConfig {
   std::string emd_sifts = "10";
   std::string rank_by = "rms_error";
   std::string kalman_start = "paper";
-  int threads = 0;
   int top = 5;
+  /// `run`'s options that sweep shares (--threads), with run's defaults for the rest.
+  graph::RunConfig run;
 };
 
 int RunSweepCommand(CLI::App* cmd, const SweepConfig& config) {
@@ -36,10 +37,8 @@ int RunSweepCommand(CLI::App* cmd, const SweepConfig& config) {
     std::cerr << "fogpipe sweep: " << error << "\n";
     return 2;
   }
-  graph::RunConfig run_defaults;
-  run_defaults.threads = config.threads;
   graph::CampaignOptions campaign;
-  if (!graph::ToCampaignOptions(run_defaults, &campaign, &error)) {
+  if (!graph::ToCampaignOptions(config.run, &campaign, &error)) {
     std::cerr << "fogpipe sweep: " << error << "\n";
     return 2;
   }
@@ -102,9 +101,7 @@ void AddSweepCommand(CLI::App& app, int* exit_code) {
       ->check(CLI::IsMember({"paper", "steady"}));
   cmd->add_option("--top", c->top, "Ranked settings printed per axis")
       ->check(CLI::Range(0, 100000));
-  cmd->add_option("--threads", c->threads,
-                  "Worker threads (0: SLURM_CPUS_PER_TASK if set, else all cores)")
-      ->check(CLI::Range(0, 4096));
+  graph::AddRunOptions(cmd, &c->run, {"threads"});
   cmd->footer("Exit codes: 0 all swept, 1 some recording failed, 2 usage error.");
   cmd->callback([cmd, c, exit_code]() { *exit_code = RunSweepCommand(cmd, *c); });
 }

@@ -1,16 +1,19 @@
 #include "pipeline/graph/run_config.h"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <sstream>
+#include <stdexcept>
 #include <thread>
+#include <type_traits>
 
 #include "pipeline/graph/memory_budget.h"
 #include "pipeline/io/inputs.h"
 #include "pipeline/io/model_history.h"
 #include "pipeline/io/results_layout.h"
+#include "pipeline/io/results_writer.h"
 #include "pipeline/io/sha256.h"
 
 namespace fogpipe::graph {
@@ -67,87 +70,305 @@ bool ReadModelCompensation(const std::string& path, CampaignOptions* o, std::str
   return true;
 }
 
+// The choices of the enumerated options, each spelled by its own ToString.
+constexpr ar::Estimator kEstimators[] = {ar::Estimator::kBurg, ar::Estimator::kLeastSquaresQr,
+                                         ar::Estimator::kYuleWalker,
+                                         ar::Estimator::kMaximumLikelihood};
+constexpr emd::StopRule kStopRules[] = {emd::StopRule::kFixedSifts, emd::StopRule::kCauchy,
+                                        emd::StopRule::kSNumber, emd::StopRule::kRilling};
+constexpr method::ComponentNoiseRule kNoiseRules[] = {
+    method::ComponentNoiseRule::kShareOfInnovation, method::ComponentNoiseRule::kInnovationMatch};
+constexpr io::ImfStorage kImfStorages[] = {io::ImfStorage::kFloat64, io::ImfStorage::kFloat32,
+                                           io::ImfStorage::kNone};
+constexpr allan::NoiseIdRule kNoiseIdRules[] = {allan::NoiseIdRule::kCalibrated,
+                                                allan::NoiseIdRule::kStable32};
+
+template <typename Enum, std::size_t N>
+std::vector<std::string> Names(const Enum (&values)[N]) {
+  std::vector<std::string> names;
+  for (Enum value : values) names.push_back(ToString(value));
+  return names;
+}
+
+// The value whose ToString is `name`; false if none.
+template <typename Enum, std::size_t N>
+bool FromName(const std::string& name, const Enum (&values)[N], Enum* value) {
+  for (Enum v : values) {
+    if (name == ToString(v)) {
+      *value = v;
+      return true;
+    }
+  }
+  return false;
+}
+
+// "--key: expected a, b or c, got 'x'".
+std::string ChoiceError(const RunOption& option, const std::string& got) {
+  std::string list;
+  for (std::size_t i = 0; i < option.choices.size(); ++i) {
+    list += (i == 0 ? "" : i + 1 == option.choices.size() ? " or " : ", ") + option.choices[i];
+  }
+  return "--" + option.key + ": expected " + list + ", got '" + got + "'";
+}
+
+const RunOption& Find(const std::string& key) {
+  for (const RunOption& option : RunOptions()) {
+    if (option.key == key) return option;
+  }
+  throw std::logic_error("no run option " + key);
+}
+
+template <typename T, T kLo, T kHi>
+void InRange(CLI::Option* option) {
+  option->check(CLI::Range(kLo, kHi));
+}
+void NonNegative(CLI::Option* option) { option->check(CLI::NonNegativeNumber); }
+void Positive(CLI::Option* option) { option->check(CLI::PositiveNumber); }
+void ExistingFolder(CLI::Option* option) { option->check(CLI::ExistingDirectory); }
+void Ratio(CLI::Option* option) { option->check(CLI::Range(0.0, 1.0)); }
+
+// The value of `member` in `config` as TOML.
+std::string TomlValue(const RunConfig& config, const RunOption::Member& member) {
+  return std::visit(
+      [&](auto pointer) -> std::string {
+        const auto& value = config.*pointer;
+        using T = std::decay_t<decltype(value)>;
+        if constexpr (std::is_same_v<T, double>) {
+          return Number(value);
+        } else if constexpr (std::is_same_v<T, int>) {
+          return std::to_string(value);
+        } else if constexpr (std::is_same_v<T, bool>) {
+          return value ? "true" : "false";
+        } else if constexpr (std::is_same_v<T, std::string>) {
+          return Quoted(value);
+        } else {
+          std::string list = "[";
+          for (std::size_t i = 0; i < value.size(); ++i)
+            list += (i == 0 ? "" : ", ") + Quoted(value[i]);
+          return list + "]";
+        }
+      },
+      member);
+}
+
 }  // namespace
 
-void AddRunOptions(CLI::App* cmd, RunConfig* c) {
-  cmd->add_option("inputs", c->inputs,
-                  "Recordings: files, folders (recursive *.h5) or quoted glob patterns");
-  cmd->add_option("--manifest", c->manifest,
-                  "File with one recording path per line ('#' comments; optional size column)");
-  cmd->add_option("--shard", c->shard,
-                  "Process only shard I of the sorted input list (Slurm arrays)")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--num-shards", c->num_shards,
-                  "Number of shards N; pass it explicitly (SLURM_ARRAY_TASK_COUNT changes when "
-                  "only failed indices are resubmitted)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--shard-by", c->shard_by,
-                  "stride (every N-th file) or size (balanced by bytes)");
-  cmd->add_option("-o,--output", c->output_dir, "Output folder (one results file per recording)");
-  cmd->add_option("--scratch-dir", c->scratch_dir,
-                  "Folder for the IMFs between the decomposition and the results file, about "
-                  "8 bytes per sample per IMF, removed as each recording ends (empty: the "
-                  "output folder; on a cluster, node-local scratch such as $TMPDIR)")
-      ->check(CLI::ExistingDirectory);
-  cmd->add_option("--config", c->config_file,
-                  "TOML file of options (keys are the long option names; unknown keys are errors)");
-  cmd->add_option("--threads", c->threads,
-                  "Worker threads (0: SLURM_CPUS_PER_TASK if set, else all cores)")
-      ->check(CLI::Range(0l, kMaxThreads));
-  cmd->add_option("--memory-budget", c->memory_budget,
-                  "Memory for recordings in flight, e.g. 512M, 8G, or auto (default: 80 % of "
-                  "SLURM_MEM_PER_NODE, else half the physical memory)");
-  cmd->add_flag("--dry-run", c->dry_run, "List what would be done; write nothing");
-  cmd->add_flag("--force", c->force, "Redo files whose results exist with the same configuration");
-  cmd->add_option("--drop-start-s", c->drop_start_s, "Seconds dropped at the start (transient)")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--max-nan-gap", c->max_nan_gap,
-                  "Longest run of NaN samples bridged by interpolation")
-      ->check(CLI::Range(0, 1000000));
-  cmd->add_option("--max-ar-order", c->max_ar_order, "Largest AR order tried by BIC")
-      ->check(CLI::Range(1, 200));
-  cmd->add_option("--ar-order", c->ar_order, "Fixed AR order of every component (0: by BIC)")
-      ->check(CLI::Range(0, 200));
-  cmd->add_option("--ar-estimator", c->ar_estimator, "AR estimator")
-      ->check(CLI::IsMember({"burg", "least_squares_qr", "yule_walker", "maximum_likelihood"}));
-  cmd->add_option("--emd-sifts", c->emd_sifts, "Sifts per IMF (fixed_sifts rule)")
-      ->check(CLI::Range(1, 10000));
-  cmd->add_option("--emd-stop-rule", c->emd_stop_rule, "EMD sifting stop rule")
-      ->check(CLI::IsMember({"fixed_sifts", "cauchy", "s_number", "rilling"}));
-  cmd->add_option("--max-imfs", c->max_imfs, "Maximum number of IMFs (0: until monotonic)")
-      ->check(CLI::Range(0, 1000));
-  cmd->add_option("--band-limit-ratio", c->band_limit_ratio,
-                  "Each IMF's content below this / its mean period (cycles per sample) moves to "
-                  "the next component before modelling; 0: EMD's IMFs as they are (the paper's)")
-      ->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--q", c->q, "Kalman process-noise variance, (rad/s)^2 (<0: default rule)");
-  cmd->add_option("--r", c->r,
-                  "Kalman measurement-noise variance, (rad/s)^2 (<0: white-noise rule)");
-  cmd->add_option("--noise-rule", c->noise_rule,
-                  "How each IMF's Kalman q and R follow from its white-noise share: share "
-                  "(default) or innovation (see schemas/results-v1.md)")
-      ->check(CLI::IsMember({"share", "innovation"}));
-  cmd->add_option("--q-scale", c->q_scale, "Multiplier of q")->check(CLI::PositiveNumber);
-  cmd->add_option("--r-scale", c->r_scale, "Multiplier of R")->check(CLI::PositiveNumber);
-  cmd->add_flag("--smooth", c->smooth, "Use the RTS smoother output instead of the filter's");
-  cmd->add_option("--imf-storage", c->imf_storage, "How IMFs are stored")
-      ->check(CLI::IsMember({"float64", "float32", "none"}));
-  cmd->add_flag("--store-filtered-imfs", c->store_filtered_imfs,
-                "Also store every filtered component");
-  cmd->add_option("--direct-ar-order", c->direct_ar_order,
-                  "Method 2's AR order (0: by BIC; the paper used 6)")
-      ->check(CLI::Range(0, 200));
-  cmd->add_option("--taus", c->taus,
-                  "Allan tau grid: octave, decade (10 per decade), decade:K, all, or log10 "
-                  "(allantools' taus='log10')");
-  cmd->add_option("--noise-id", c->noise_id,
-                  "Noise identification behind the Allan intervals: calibrated (chosen by measured "
-                  "coverage) or stable32 (Stable32's Alpha column and EDF convention)")
-      ->check(CLI::IsMember({"calibrated", "stable32"}));
-  cmd->add_option(
-      "--model", c->model,
-      "Model file of `compare --save-model`: its deterministic effects are subtracted before the "
-      "EMD (thermal terms use each recording's /aux/temperature)");
+const std::vector<RunOption>& RunOptions() {
+  using C = RunConfig;
+  // Columns: names, key, member, help, unit, choices, check, hashed, changed (a valid non-default
+  // value for the hash test). The options that cannot change a number say where files go, how to
+  // schedule (results are identical whatever the thread count, checked by the campaign test) and
+  // whether to run at all; `config` names a file whose values set the other options.
+  static const std::vector<RunOption> options = {
+      {"inputs", "inputs", &C::inputs,
+       "Recordings: files, folders (recursive *.h5) or quoted glob patterns"},
+      {"--manifest", "manifest", &C::manifest,
+       "File with one recording path per line ('#' comments; optional size column)"},
+      {"--shard",
+       "shard",
+       &C::shard,
+       "Process only shard I of the sorted input list (Slurm arrays)",
+       "",
+       {},
+       NonNegative},
+      {"--num-shards",
+       "num-shards",
+       &C::num_shards,
+       "Number of shards N; pass it explicitly (SLURM_ARRAY_TASK_COUNT changes when only failed "
+       "indices are resubmitted)",
+       "",
+       {},
+       Positive},
+      {"--shard-by", "shard-by", &C::shard_by,
+       "stride (every N-th file) or size (balanced by bytes)"},
+      {"-o,--output", "output", &C::output_dir, "Output folder (one results file per recording)"},
+      {"--scratch-dir",
+       "scratch-dir",
+       &C::scratch_dir,
+       "Folder for the IMFs between the decomposition and the results file, about 8 bytes per "
+       "sample per IMF, removed as each recording ends (empty: the output folder; on a cluster, "
+       "node-local scratch such as $TMPDIR)",
+       "",
+       {},
+       ExistingFolder},
+      {"--config", "config", &C::config_file,
+       "TOML file of options (keys are the long option names; unknown keys are errors)"},
+      {"--threads",
+       "threads",
+       &C::threads,
+       "Worker threads (0: SLURM_CPUS_PER_TASK if set, else all cores)",
+       "",
+       {},
+       InRange<long, 0, kMaxThreads>},
+      {"--memory-budget", "memory-budget", &C::memory_budget,
+       "Memory for recordings in flight, e.g. 512M, 8G, or auto (default: 80 % of "
+       "SLURM_MEM_PER_NODE, else half the physical memory)"},
+      {"--dry-run", "dry-run", &C::dry_run, "List what would be done; write nothing"},
+      {"--force", "force", &C::force, "Redo files whose results exist with the same configuration"},
+      {"--drop-start-s",
+       "drop-start-s",
+       &C::drop_start_s,
+       "Time dropped at the start (transient)",
+       "s",
+       {},
+       NonNegative,
+       true,
+       "12.5"},
+      {"--max-nan-gap",
+       "max-nan-gap",
+       &C::max_nan_gap,
+       "Longest run of NaN samples bridged by interpolation",
+       "samples",
+       {},
+       InRange<int, 0, 1000000>,
+       true,
+       "7"},
+      {"--max-ar-order",
+       "max-ar-order",
+       &C::max_ar_order,
+       "Largest AR order tried by BIC",
+       "",
+       {},
+       InRange<int, 1, 200>,
+       true,
+       "13"},
+      {"--ar-order",
+       "ar-order",
+       &C::ar_order,
+       "Fixed AR order of every component (0: by BIC)",
+       "",
+       {},
+       InRange<int, 0, 200>,
+       true,
+       "3"},
+      {"--ar-estimator", "ar-estimator", &C::ar_estimator, "AR estimator", "", Names(kEstimators),
+       nullptr, true, "yule_walker"},
+      {"--emd-sifts",
+       "emd-sifts",
+       &C::emd_sifts,
+       "Sifts per IMF (fixed_sifts rule)",
+       "",
+       {},
+       InRange<int, 1, 10000>,
+       true,
+       "17"},
+      {"--emd-stop-rule", "emd-stop-rule", &C::emd_stop_rule, "EMD sifting stop rule", "",
+       Names(kStopRules), nullptr, true, "rilling"},
+      {"--max-imfs",
+       "max-imfs",
+       &C::max_imfs,
+       "Maximum number of IMFs (0: until monotonic)",
+       "",
+       {},
+       InRange<int, 0, 1000>,
+       true,
+       "5"},
+      {"--band-limit-ratio",
+       "band-limit-ratio",
+       &C::band_limit_ratio,
+       "Each IMF's content below this / its mean period moves to the next component before "
+       "modelling; 0: EMD's IMFs as they are (the paper's)",
+       "cycles per sample",
+       {},
+       Ratio,
+       true,
+       "0.35"},
+      {"--q",
+       "q",
+       &C::q,
+       "Kalman process-noise variance (<0: default rule)",
+       "(rad/s)^2",
+       {},
+       nullptr,
+       true,
+       "1e-9"},
+      {"--r",
+       "r",
+       &C::r,
+       "Kalman measurement-noise variance (<0: white-noise rule)",
+       "(rad/s)^2",
+       {},
+       nullptr,
+       true,
+       "2e-8"},
+      {"--noise-rule", "noise-rule", &C::noise_rule,
+       "How each IMF's Kalman q and R follow from its white-noise share: share (default) or "
+       "innovation (see schemas/results-v1.md)",
+       "", Names(kNoiseRules), nullptr, true, "innovation"},
+      {"--q-scale", "q-scale", &C::q_scale, "Multiplier of q", "", {}, Positive, true, "2"},
+      {"--r-scale", "r-scale", &C::r_scale, "Multiplier of R", "", {}, Positive, true, "3"},
+      {"--smooth",
+       "smooth",
+       &C::smooth,
+       "Use the RTS smoother output instead of the filter's",
+       "",
+       {},
+       nullptr,
+       true},
+      {"--imf-storage", "imf-storage", &C::imf_storage, "How IMFs are stored", "",
+       Names(kImfStorages), nullptr, true, "none"},
+      {"--store-filtered-imfs",
+       "store-filtered-imfs",
+       &C::store_filtered_imfs,
+       "Also store every filtered component",
+       "",
+       {},
+       nullptr,
+       true},
+      {"--direct-ar-order",
+       "direct-ar-order",
+       &C::direct_ar_order,
+       "Method 2's AR order (0: by BIC; the paper used 6)",
+       "",
+       {},
+       InRange<int, 0, 200>,
+       true,
+       "6"},
+      {"--taus",
+       "taus",
+       &C::taus,
+       "Allan tau grid: octave, decade (10 per decade), decade:K, all, or log10 (allantools' "
+       "taus='log10')",
+       "",
+       {},
+       nullptr,
+       true,
+       "decade"},
+      {"--noise-id", "noise-id", &C::noise_id,
+       "Noise identification behind the Allan intervals: calibrated (chosen by measured coverage) "
+       "or stable32 (Stable32's Alpha column and EDF convention)",
+       "", Names(kNoiseIdRules), nullptr, true, "stable32"},
+      {"--model",
+       "model",
+       &C::model,
+       "Model file of `compare --save-model`: its deterministic effects are subtracted before the "
+       "EMD (thermal terms use each recording's /aux/temperature)",
+       "",
+       {},
+       nullptr,
+       true,
+       "thermal.model.json"},
+  };
+  return options;
+}
+
+void AddRunOptions(CLI::App* cmd, RunConfig* c, const std::vector<std::string>& keys) {
+  for (const RunOption& o : RunOptions()) {
+    if (!keys.empty() && std::find(keys.begin(), keys.end(), o.key) == keys.end()) continue;
+    const std::string help = o.unit.empty() ? o.help : o.help + " [" + o.unit + "]";
+    CLI::Option* option = std::visit(
+        [&](auto pointer) -> CLI::Option* {
+          auto& value = c->*pointer;
+          if constexpr (std::is_same_v<std::decay_t<decltype(value)>, bool>) {
+            return cmd->add_flag(o.names, value, help);
+          } else {
+            return cmd->add_option(o.names, value, help);
+          }
+        },
+        o.member);
+    if (!o.choices.empty()) option->check(CLI::IsMember(o.choices));
+    if (o.check != nullptr) o.check(option);
+  }
 }
 
 bool ApplyConfigFile(CLI::App* cmd, const std::string& path, std::string* error) {
@@ -177,30 +398,12 @@ bool ApplyConfigFile(CLI::App* cmd, const std::string& path, std::string* error)
 }
 
 std::string EffectiveConfigToml(const RunConfig& c) {
-  std::ostringstream out;
-  out << "# fogpipe run: effective configuration (" << io::results::kFormat << ")\n"
-      << "drop-start-s = " << Number(c.drop_start_s) << "\n"
-      << "max-nan-gap = " << c.max_nan_gap << "\n"
-      << "max-ar-order = " << c.max_ar_order << "\n"
-      << "ar-order = " << c.ar_order << "\n"
-      << "ar-estimator = " << Quoted(c.ar_estimator) << "\n"
-      << "emd-sifts = " << c.emd_sifts << "\n"
-      << "emd-stop-rule = " << Quoted(c.emd_stop_rule) << "\n"
-      << "max-imfs = " << c.max_imfs << "\n"
-      << "band-limit-ratio = " << Number(c.band_limit_ratio) << "\n"
-      << "q = " << Number(c.q) << "\n"
-      << "r = " << Number(c.r) << "\n"
-      << "noise-rule = " << Quoted(c.noise_rule) << "\n"
-      << "q-scale = " << Number(c.q_scale) << "\n"
-      << "r-scale = " << Number(c.r_scale) << "\n"
-      << "smooth = " << (c.smooth ? "true" : "false") << "\n"
-      << "imf-storage = " << Quoted(c.imf_storage) << "\n"
-      << "store-filtered-imfs = " << (c.store_filtered_imfs ? "true" : "false") << "\n"
-      << "direct-ar-order = " << c.direct_ar_order << "\n"
-      << "taus = " << Quoted(c.taus) << "\n"
-      << "noise-id = " << Quoted(c.noise_id) << "\n"
-      << "model = " << Quoted(c.model) << "\n";
-  return out.str();
+  std::string out =
+      "# fogpipe run: effective configuration (" + std::string(io::results::kFormat) + ")\n";
+  for (const RunOption& option : RunOptions()) {
+    if (option.hashed) out += option.key + " = " + TomlValue(c, option.member) + "\n";
+  }
+  return out;
 }
 
 int ResolveThreads(int requested) {
@@ -221,20 +424,20 @@ bool ToCampaignOptions(const RunConfig& c, CampaignOptions* o, std::string* erro
   m.emd.max_sifts = std::max(m.emd.max_sifts, c.emd_sifts);
   m.emd.max_imfs = c.max_imfs;
   m.band_limit.cutoff_ratio = c.band_limit_ratio;
-  for (emd::StopRule rule : {emd::StopRule::kFixedSifts, emd::StopRule::kCauchy,
-                             emd::StopRule::kSNumber, emd::StopRule::kRilling}) {
-    if (c.emd_stop_rule == emd::ToString(rule)) m.emd.stop_rule = rule;
+  if (!FromName(c.emd_stop_rule, kStopRules, &m.emd.stop_rule)) {
+    *error = ChoiceError(Find("emd-stop-rule"), c.emd_stop_rule);
+    return false;
   }
   m.component.ar.max_order = std::max(c.max_ar_order, std::max(c.ar_order, c.direct_ar_order));
   m.component.ar.fixed_order = c.ar_order;
-  for (ar::Estimator e : {ar::Estimator::kBurg, ar::Estimator::kLeastSquaresQr,
-                          ar::Estimator::kYuleWalker, ar::Estimator::kMaximumLikelihood}) {
-    if (c.ar_estimator == ar::ToString(e)) m.component.ar.estimator = e;
+  if (!FromName(c.ar_estimator, kEstimators, &m.component.ar.estimator)) {
+    *error = ChoiceError(Find("ar-estimator"), c.ar_estimator);
+    return false;
   }
   m.component.kalman.q = c.q;
   m.component.kalman.r = c.r;
-  if (!method::ParseComponentNoiseRule(c.noise_rule, &m.component.noise_rule)) {
-    *error = "--noise-rule: expected share or innovation, got '" + c.noise_rule + "'";
+  if (!FromName(c.noise_rule, kNoiseRules, &m.component.noise_rule)) {
+    *error = ChoiceError(Find("noise-rule"), c.noise_rule);
     return false;
   }
   m.component.kalman.q_scale = c.q_scale;
@@ -242,16 +445,16 @@ bool ToCampaignOptions(const RunConfig& c, CampaignOptions* o, std::string* erro
   m.component.kalman.smooth = c.smooth;
   m.direct_ar_order = c.direct_ar_order;
   if (!allan::ParseTauGrid(c.taus, &m.allan.grid, error)) return false;
-  if (!allan::ParseNoiseIdRule(c.noise_id, &m.allan.noise_id)) {
-    *error = "--noise-id: expected calibrated or stable32, got '" + c.noise_id + "'";
+  if (!FromName(c.noise_id, kNoiseIdRules, &m.allan.noise_id)) {
+    *error = ChoiceError(Find("noise-id"), c.noise_id);
     return false;
   }
   // Stable32's bounds come from its noise types and the EDF as Greenhall & Riley printed it.
   m.allan.sampled_phase_edf = m.allan.noise_id != allan::NoiseIdRule::kStable32;
   if (!m.IsValid(error)) return false;
   if (!c.model.empty() && !ReadModelCompensation(c.model, o, error)) return false;
-  if (!io::ParseImfStorage(c.imf_storage, &o->results.imf_storage)) {
-    *error = "--imf-storage: expected float64, float32 or none";
+  if (!FromName(c.imf_storage, kImfStorages, &o->results.imf_storage)) {
+    *error = ChoiceError(Find("imf-storage"), c.imf_storage);
     return false;
   }
   o->results.store_filtered_imfs = c.store_filtered_imfs;

@@ -3,17 +3,20 @@
 #pragma once
 
 #include <string>
+#include <utility>
+#include <variant>
 #include <vector>
 
 #include "pipeline/graph/campaign.h"
 
 namespace CLI {
 class App;
-}
+class Option;
+}  // namespace CLI
 
 namespace fogpipe::graph {
 
-/// Everything `fogpipe run` accepts. Option names (and TOML keys) are the member names with '-'.
+/// Everything `fogpipe run` accepts, with its defaults; the options themselves are RunOptions().
 struct RunConfig {
   std::vector<std::string> inputs;
   std::string manifest;
@@ -55,8 +58,52 @@ struct RunConfig {
   std::string model;
 };
 
-/// Registers every option of `run` on `cmd`, bound to `config`.
-void AddRunOptions(CLI::App* cmd, RunConfig* config);
+/// One option of `fogpipe run`, declared once: the command line, the TOML config file, the hashed
+/// configuration text and RunConfig are all made from the table of these (RunOptions()).
+struct RunOption {
+  using Member = std::variant<std::vector<std::string> RunConfig::*, std::string RunConfig::*,
+                              int RunConfig::*, double RunConfig::*, bool RunConfig::*>;
+  /// CLI11's names: "--q", "-o,--output", or "inputs" (the positional argument).
+  std::string names;
+  /// The long name without dashes: the TOML key and the name in the hashed configuration.
+  std::string key;
+  /// Where the value goes; its default is RunConfig's. A bool member is a flag.
+  Member member;
+  std::string help;
+  /// The unit of a quantity, shown at the end of its --help line ("" for none).
+  std::string unit;
+  /// The accepted spellings of a choice (checked by CLI11); empty for any value.
+  std::vector<std::string> choices;
+  /// Any other check of the value (a range, an existing folder); null for none.
+  void (*check)(CLI::Option*);
+  /// The option can change a number in a results file: it enters the configuration hash
+  /// (EffectiveConfigToml), so a rerun with another value redoes the file.
+  bool hashed;
+  /// A valid value other than the default ("" for a flag: giving it changes the value), for the
+  /// test that every hashed option changes the hash.
+  std::string changed;
+
+  RunOption(std::string names_, std::string key_, Member member_, std::string help_,
+            std::string unit_ = "", std::vector<std::string> choices_ = {},
+            void (*check_)(CLI::Option*) = nullptr, bool hashed_ = false, std::string changed_ = "")
+      : names(std::move(names_)),
+        key(std::move(key_)),
+        member(member_),
+        help(std::move(help_)),
+        unit(std::move(unit_)),
+        choices(std::move(choices_)),
+        check(check_),
+        hashed(hashed_),
+        changed(std::move(changed_)) {}
+};
+
+/// Every option of `fogpipe run`, in --help order; the hashed ones in the order of
+/// EffectiveConfigToml.
+const std::vector<RunOption>& RunOptions();
+
+/// Registers the options of `run` on `cmd`, bound to `config`: every one, or those whose keys
+/// are listed (another command sharing them, such as sweep's --threads).
+void AddRunOptions(CLI::App* cmd, RunConfig* config, const std::vector<std::string>& keys = {});
 
 /// Applies a TOML file (keys = long option names, no sections) to the options of `cmd` that were
 /// not given on the command line. Returns false with *error for an unreadable file, an unknown key

@@ -1,16 +1,26 @@
 // Four doubles side by side in one vector value, for the kernels that run four independent
 // recursions or sums at once (GCC/Clang vector extension: one AVX2 register, two SSE registers
-// without AVX).
+// without AVX), and the one fused operation a kernel may ask for, MulAdd.
 //
-// Arithmetic on it is element-wise IEEE, so each element computes exactly what the same scalar
-// code computes, whatever the other elements hold. The side-by-side kernels' bit-identity with
-// their scalar twins rests on this, together with the contraction rules of kalman/mul_add.h.
+// Why a lane computes its scalar twin's bits (kernels.h): arithmetic on Lanes4 is element-wise
+// IEEE, so each element computes exactly what the same scalar expression computes, whatever the
+// other elements hold, provided both are the same expression rounded the same way. The build
+// never contracts a * b + c into a fused multiply-add on its own (-ffp-contract=off for every
+// target, fogpipe::build_settings in the top CMakeLists.txt): GCC's default contracts where its
+// optimizer sees fit, and that depends on how a loop was unrolled or vectorized, so two loops
+// computing the same expression could round differently (measured: the same expression fused in
+// one loop and not in another). A kernel that wants the fused operation (the latency of its
+// dependency chain) says so with MulAdd, in its scalar and lane variants alike.
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstring>
+#ifdef __FMA__
+#include <immintrin.h>
+#endif
 
-namespace fogpipe {
+namespace fogpipe::kernels {
 
 typedef double Lanes4 __attribute__((vector_size(4 * sizeof(double))));
 
@@ -56,4 +66,35 @@ inline std::array<Lanes4, 4> LoadColumns4(const double* const row[4], long long 
 #endif
 }
 
-}  // namespace fogpipe
+/// a * b + c with one rounding where the CPU has a fused multiply-add (FOGPIPE_NATIVE builds on
+/// such CPUs); without FMA the plain expression (std::fma would be a slow software routine).
+inline double MulAdd(double a, double b, double c) {
+#ifdef __FMA__
+  return std::fma(a, b, c);
+#else
+  return a * b + c;
+#endif
+}
+
+/// MulAdd of each element: one fused multiply-add per element where the scalar MulAdd fuses.
+inline Lanes4 MulAdd(Lanes4 a, Lanes4 b, Lanes4 c) {
+#ifdef __FMA__
+  return Lanes4(_mm256_fmadd_pd(__m256d(a), __m256d(b), __m256d(c)));
+#else
+  return a * b + c;
+#endif
+}
+
+/// v in every element (for T = double, v itself): the scalar operand of a kernel templated on T.
+template <typename T>
+T Splat(double v);
+template <>
+inline double Splat<double>(double v) {
+  return v;
+}
+template <>
+inline Lanes4 Splat<Lanes4>(double v) {
+  return Lanes4{v, v, v, v};
+}
+
+}  // namespace fogpipe::kernels
