@@ -27,6 +27,7 @@ struct SweepConfig {
   std::string rank_by = "rms_error";
   std::string kalman_start = "paper";
   int top = 5;
+  bool progress = false;
   /// `run`'s options that sweep shares (--threads), with run's defaults for the rest.
   graph::RunConfig run;
 };
@@ -54,6 +55,7 @@ int RunSweepCommand(CLI::App* cmd, const SweepConfig& config) {
   options.output_dir = config.output_dir;
   options.rank_by = config.rank_by;
   options.top = config.top;
+  options.progress = config.progress;
   method::SweepGrid& grid = options.sweep.grid;
   if (!method::ParseIntList(config.ar_order, &grid.ar_orders, &error) ||
       !method::ParseScaleList(config.q_scale, &grid.q_scales, &error) ||
@@ -101,6 +103,9 @@ void AddSweepCommand(CLI::App& app, int* exit_code) {
       ->check(CLI::IsMember({"paper", "steady"}));
   cmd->add_option("--top", c->top, "Ranked settings printed per axis")
       ->check(CLI::Range(0, 100000));
+  cmd->add_flag("--progress", c->progress,
+                "Progress lines on stderr also when it is not a terminal (on a terminal they are "
+                "always shown)");
   graph::AddRunOptions(cmd, &c->run, {"threads"});
   cmd->footer("Exit codes: 0 all swept, 1 some recording failed, 2 usage error.");
   cmd->callback([cmd, c, exit_code]() { *exit_code = RunSweepCommand(cmd, *c); });

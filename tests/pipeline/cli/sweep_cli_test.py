@@ -8,7 +8,8 @@
   every order included), the CSV has the same rows, the ranking is sorted by the RMS error, and
   scripts/plot_sweep.py draws the picture; an unknown config key is a usage error (exit 2);
 - progress: with stderr on a terminal, sweep's progress lines appear there (one per table and
-  stage, redrawn in place) and never on stdout; with stderr in a file there are none;
+  stage, redrawn in place) and never on stdout; with stderr in a file there are none unless
+  --progress asks for them;
 - plan + run + merge: a campaign merged twice (idempotent), one recording processed twice
   (--force) still gives one row, and a recording listed in the manifest but never run is
   "missing".
@@ -69,6 +70,12 @@ def check_progress(fogpipe, rec, out):
     assert "rank" in stdout, stdout
     logged = run(fogpipe, "sweep", rec, "-o", out, *grid)
     assert "stage" not in logged.stderr and "stage" not in logged.stdout, logged.stderr
+    asked = run(fogpipe, "sweep", rec, "-o", out, *grid, "--progress")
+    # In a log each step is printed, the stages' counts at most every 10 s (none in this short run).
+    for line in ["sweep " + rec + ": table 1/1", "writing "]:
+        assert line in asked.stderr, (line, asked.stderr)
+    assert "\r\x1b[K" not in asked.stderr, "a log's progress lines are not redrawn"
+    assert "stage" not in asked.stdout and "rank" in asked.stdout, asked.stdout
 
 
 def main():
