@@ -313,14 +313,14 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base, const std::vecto
   const double lambda = std::max(1.0, base.deterministic.long_run_variance_ratio);
   const double n_eff = n / lambda;
   const double j = static_cast<double>(std::max<size_t>(base.allan.tau_s.size(), 2));
-  const std::vector<std::string> failing = FailingViews(base.views);
+  const std::vector<ViewDomain> failing = FailingViews(base.views);
   for (size_t i = 0; i < tt.size() && i < trials.size(); ++i) {
     const Evaluation& tr = trials[i];
     const Term t = tt[i];
     if (!HasResult(tr.termination)) continue;
-    std::vector<std::string> fixes;
-    for (const std::string& v : failing)
-      if (ViewErrorOf(tr.views, v) <= 1.0) fixes.push_back(v);
+    std::vector<ViewDomain> fixes;
+    for (ViewDomain domain : failing)
+      if (ViewErrorOf(tr.views, domain) <= 1.0) fixes.push_back(domain);
     if (!(tr.views.error <= o.min_improvement * e0) && fixes.empty()) continue;
     if (t == Term::kTemperature && !(aux_t && std::abs(aux_t->z) > aux_crit)) continue;
     if (t == Term::kTemperatureRate && !(aux_t && std::abs(aux_t->z_derivative) > aux_crit))
@@ -395,10 +395,10 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base, const std::vecto
 }
 
 std::string FormatFailure(const Failure& f) {
-  if (f.domain == "aux") return "aux " + f.channel;
-  const char* unit = f.domain == "frequency" ? "Hz" : "s";
+  if (f.domain == ViewDomain::kAux) return std::string(ToString(f.domain)) + " " + f.channel;
+  const char* unit = f.domain == ViewDomain::kFrequency ? "Hz" : "s";
   char buf[160];
-  std::snprintf(buf, sizeof(buf), "%s %.4g-%.4g %s", f.domain.c_str(), f.from, f.to, unit);
+  std::snprintf(buf, sizeof(buf), "%s %.4g-%.4g %s", ToString(f.domain), f.from, f.to, unit);
   return buf;
 }
 
@@ -415,9 +415,9 @@ std::string FailureList(std::vector<Failure> failures, size_t limit = 4) {
   return out;
 }
 
-std::string Join(const std::vector<std::string>& v) {
+std::string Join(const std::vector<ViewDomain>& v) {
   std::string out;
-  for (const auto& x : v) out += (out.empty() ? "" : ", ") + x;
+  for (ViewDomain x : v) out += (out.empty() ? "" : ", ") + std::string(ToString(x));
   return out;
 }
 
@@ -427,7 +427,7 @@ Verdict MakeVerdict(const Evaluation& base, const std::vector<Term>& tt,
                     const std::vector<Evaluation>& trials, const std::vector<Suggestion>& sug) {
   Verdict v;
   if (!HasResult(base.termination) || base.views.consistent) return v;
-  std::vector<std::string> fixable;
+  std::vector<ViewDomain> fixable;
   for (const Suggestion& s : sug)
     if (!s.bic_rejects) fixable.insert(fixable.end(), s.fixes.begin(), s.fixes.end());
   for (const Failure& f : base.views.failures)

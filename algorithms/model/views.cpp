@@ -106,8 +106,8 @@ void ComputeAllanView(const AllanData& d, const StochasticModel& m, const ViewOp
   const std::vector<double> az = Abs(v->z);
   v->statistic = az.empty() ? 0.0 : *std::max_element(az.begin(), az.end());
   for (auto [a, b] : Runs(az, v->critical)) {
-    failures->push_back({"tau", d.tau_s[a] / std::sqrt(2.0), d.tau_s[b] * std::sqrt(2.0), "",
-                         std::pow(MaxAbs(az, a, b) / v->critical, 2)});
+    failures->push_back({ViewDomain::kTau, d.tau_s[a] / std::sqrt(2.0), d.tau_s[b] * std::sqrt(2.0),
+                         "", std::pow(MaxAbs(az, a, b) / v->critical, 2)});
   }
   const TargetedTest gm = ScanGaussMarkov(d, fs, record_s, m, o, 0.5 * alpha_view);
   if (!gm.evaluated) return;
@@ -117,7 +117,7 @@ void ComputeAllanView(const AllanData& d, const StochasticModel& m, const ViewOp
   v->gm_sigma_rad_s = gm.size;
   v->statistic = std::max(v->statistic, gm.z * v->critical / gm.critical);
   if (gm.z > gm.critical)
-    failures->push_back({"tau", gm.from, gm.to, "", std::pow(gm.z / gm.critical, 2)});
+    failures->push_back({ViewDomain::kTau, gm.from, gm.to, "", std::pow(gm.z / gm.critical, 2)});
 }
 
 void ComputeFrequencyView(const Eigen::VectorXd& r, double fs, const StochasticModel& m,
@@ -181,7 +181,7 @@ void ComputeFrequencyView(const Eigen::VectorXd& r, double fs, const StochasticM
     bands.push_back(run);
   }
   for (auto [a, b] : bands) {
-    Failure f{"frequency", freq[a] - df, freq[b] + df, "", 0.0};
+    Failure f{ViewDomain::kFrequency, freq[a] - df, freq[b] + df, "", 0.0};
     int peak = a;
     double excess = 0, positive = 0, moment = 0, ratio = 0;
     for (int i = a; i <= b; ++i) {
@@ -298,10 +298,10 @@ void ComputeTimeView(const Eigen::VectorXd& r, double fs, const Decimated& dec,
   }
   for (const auto& x : merged) {
     v->change_point_s.push_back(x.peak_s);
-    failures->push_back({"time", x.from, x.to, "", std::pow(x.peak_z / v->critical, 2)});
+    failures->push_back({ViewDomain::kTime, x.from, x.to, "", std::pow(x.peak_z / v->critical, 2)});
   }
   for (auto [a, b] : Runs(av, v->critical)) {
-    failures->push_back({"time", v->center_s[a] - 0.5 * v->window_s,
+    failures->push_back({ViewDomain::kTime, v->center_s[a] - 0.5 * v->window_s,
                          v->center_s[b] + 0.5 * v->window_s, "",
                          std::pow(MaxAbs(av, a, b) / v->critical, 2)});
   }
@@ -365,14 +365,35 @@ void ComputeAuxView(const Eigen::VectorXd& r, double fs, const Decimated& dec,
     v->statistic = std::max({v->statistic, std::abs(cv.z), std::abs(cv.z_derivative)});
     const double nan = std::nan("");
     if (std::abs(cv.z) > v->critical)
-      failures->push_back({"aux", nan, nan, cv.name, std::pow(cv.z / v->critical, 2)});
+      failures->push_back({ViewDomain::kAux, nan, nan, cv.name, std::pow(cv.z / v->critical, 2)});
     if (std::abs(cv.z_derivative) > v->critical)
-      failures->push_back(
-          {"aux", nan, nan, "d(" + cv.name + ")/dt", std::pow(cv.z_derivative / v->critical, 2)});
+      failures->push_back({ViewDomain::kAux, nan, nan, "d(" + cv.name + ")/dt",
+                           std::pow(cv.z_derivative / v->critical, 2)});
   }
 }
 
 }  // namespace
+
+const char* ToString(ViewDomain domain) {
+  switch (domain) {
+    case ViewDomain::kTau:
+      return "tau";
+    case ViewDomain::kFrequency:
+      return "frequency";
+    case ViewDomain::kTime:
+      return "time";
+    case ViewDomain::kAux:
+      return "aux";
+  }
+  return "tau";
+}
+
+std::optional<ViewDomain> ParseViewDomain(std::string_view text) {
+  for (ViewDomain domain :
+       {ViewDomain::kTau, ViewDomain::kFrequency, ViewDomain::kTime, ViewDomain::kAux})
+    if (text == ToString(domain)) return domain;
+  return std::nullopt;
+}
 
 bool ViewOptions::IsValid(std::string* error) const {
   auto fail = [&](const char* m) {
@@ -470,24 +491,24 @@ Views ComputeViews(const Eigen::VectorXd& r, double fs, const std::vector<Prepar
   ComputeTimeView(r, fs, dec, m, o, av, &v.time, &v.failures);
   if (has_aux) ComputeAuxView(r, fs, dec, aux, m, o, av, &v.aux, &v.failures);
   auto sq = [](double x) { return x * x; };
-  v.view_errors = {{"tau", sq(v.allan.statistic / v.allan.critical)},
-                   {"frequency", sq(v.frequency.statistic / v.frequency.critical)},
-                   {"time", sq(v.time.statistic / v.time.critical)}};
-  if (has_aux) v.view_errors.push_back({"aux", sq(v.aux.statistic / v.aux.critical)});
+  v.view_errors = {{ViewDomain::kTau, sq(v.allan.statistic / v.allan.critical)},
+                   {ViewDomain::kFrequency, sq(v.frequency.statistic / v.frequency.critical)},
+                   {ViewDomain::kTime, sq(v.time.statistic / v.time.critical)}};
+  if (has_aux) v.view_errors.push_back({ViewDomain::kAux, sq(v.aux.statistic / v.aux.critical)});
   v.error = 0;
   for (const ViewError& e : v.view_errors) v.error = std::max(v.error, e.error);
   v.consistent = v.error <= 1.0;
   return v;
 }
 
-double ViewErrorOf(const Views& v, const std::string& domain) {
+double ViewErrorOf(const Views& v, ViewDomain domain) {
   for (const ViewError& e : v.view_errors)
     if (e.domain == domain) return e.error;
   return 0.0;
 }
 
-std::vector<std::string> FailingViews(const Views& v) {
-  std::vector<std::string> out;
+std::vector<ViewDomain> FailingViews(const Views& v) {
+  std::vector<ViewDomain> out;
   for (const ViewError& e : v.view_errors)
     if (e.error > 1.0) out.push_back(e.domain);
   return out;
