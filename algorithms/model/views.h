@@ -230,7 +230,7 @@ std::vector<ViewDomain> FailingViews(const Views& views);
 Eigen::VectorXd BlockMeans(const Eigen::VectorXd& x, long block);
 
 /// Pearson r and Bretherton n_eff of two equally long series.
-void CorrelationWithEffectiveDof(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double* r,
-                                 double* n_eff);
+void CorrelationWithEffectiveDof(const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+                                 double* correlation, double* n_eff);
 
 }  // namespace fogpipe::model
