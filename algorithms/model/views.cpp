@@ -77,9 +77,15 @@ std::vector<double> Abs(const std::vector<double>& values) {
   return magnitudes;
 }
 
-void ComputeAllanView(const AllanData& allan, const StochasticModel& model,
-                      const ViewOptions& options, double fs, double record_s, double alpha_view,
-                      AllanView* view, std::vector<Failure>* failures) {
+// Each view is computed in two steps: the statistic step fills the view with its numbers (the
+// standardized statistics, their critical value and the view's statistic), the failure step judges
+// them against the critical value and reports the failures.
+
+// Statistic step of the Allan view; `gauss_markov` receives the bump test (its tau range is where
+// a failure of it shows).
+void AllanStatistics(const AllanData& allan, const StochasticModel& model,
+                     const ViewOptions& options, double fs, double record_s, double alpha_view,
+                     AllanView* view, TargetedTest* gauss_markov) {
   const double tolerance_squared = options.relative_floor * options.relative_floor;
   view->tau_s = allan.tau_s;
   view->avar_meas = allan.avar;
@@ -105,28 +111,42 @@ void ComputeAllanView(const AllanData& allan, const StochasticModel& model,
   view->critical = BonferroniCriticalZ(static_cast<int>(view->z.size()), 0.5 * alpha_view);
   const std::vector<double> abs_z = Abs(view->z);
   view->statistic = abs_z.empty() ? 0.0 : *std::max_element(abs_z.begin(), abs_z.end());
-  for (auto [first, last] : Runs(abs_z, view->critical)) {
-    failures->push_back({ViewDomain::kTau, allan.tau_s[first] / std::sqrt(2.0),
-                         allan.tau_s[last] * std::sqrt(2.0), "",
-                         std::pow(MaxAbs(abs_z, first, last) / view->critical, 2)});
-  }
-  const TargetedTest gauss_markov =
-      ScanGaussMarkov(allan, fs, record_s, model, options, 0.5 * alpha_view);
-  if (!gauss_markov.evaluated) return;
-  view->gm_z = gauss_markov.z;
-  view->gm_critical = gauss_markov.critical;
-  view->gm_correlation_time_s = gauss_markov.location;
-  view->gm_sigma_rad_s = gauss_markov.size;
+  *gauss_markov = ScanGaussMarkov(allan, fs, record_s, model, options, 0.5 * alpha_view);
+  if (!gauss_markov->evaluated) return;
+  view->gm_z = gauss_markov->z;
+  view->gm_critical = gauss_markov->critical;
+  view->gm_correlation_time_s = gauss_markov->location;
+  view->gm_sigma_rad_s = gauss_markov->size;
   view->statistic =
-      std::max(view->statistic, gauss_markov.z * view->critical / gauss_markov.critical);
-  if (gauss_markov.z > gauss_markov.critical)
+      std::max(view->statistic, gauss_markov->z * view->critical / gauss_markov->critical);
+}
+
+// Failure step of the Allan view: runs of taus beyond the critical value, and the bump.
+void AllanFailures(const AllanView& view, const TargetedTest& gauss_markov,
+                   std::vector<Failure>* failures) {
+  const std::vector<double> abs_z = Abs(view.z);
+  for (auto [first, last] : Runs(abs_z, view.critical)) {
+    failures->push_back({ViewDomain::kTau, view.tau_s[first] / std::sqrt(2.0),
+                         view.tau_s[last] * std::sqrt(2.0), "",
+                         std::pow(MaxAbs(abs_z, first, last) / view.critical, 2)});
+  }
+  if (gauss_markov.evaluated && gauss_markov.z > gauss_markov.critical)
     failures->push_back({ViewDomain::kTau, gauss_markov.from, gauss_markov.to, "",
                          std::pow(gauss_markov.z / gauss_markov.critical, 2)});
 }
 
-void ComputeFrequencyView(const Eigen::VectorXd& residual, double fs, const StochasticModel& model,
-                          const ViewOptions& options, double alpha_view, FrequencyView* view,
-                          std::vector<Failure>* failures) {
+// The tested bins' z (one-sided) and the Welch bin width: what the frequency view's failure step
+// judges.
+struct FrequencyBins {
+  std::vector<double> z;
+  double bin_width_hz = 0;
+};
+
+// Statistic step of the frequency view.
+FrequencyBins FrequencyStatistics(const Eigen::VectorXd& residual, double fs,
+                                  const StochasticModel& model, const ViewOptions& options,
+                                  double alpha_view, FrequencyView* view) {
+  FrequencyBins bins;
   // One Welch PSD (Welch 1967) is both displayed and tested: Hann segments of the largest fast
   // FFT size <= n / welch_segments, 50 % overlap. Under the model each bin is S(f) chi2(nu)/nu
   // with Welch's equivalent dof nu (Percival & Walden 1993, sec. 6.17), so the ratio psd / model
@@ -140,9 +160,9 @@ void ComputeFrequencyView(const Eigen::VectorXd& residual, double fs, const Stoc
   // (ratio 19.7 over 4.3e6 bins): 1.4x the power, 1.2x the amplitude.
   const long segment_length =
       FastFftSizeAtMost(std::max(1L, static_cast<long>(residual.size()) / options.welch_segments));
-  if (segment_length < 64) return;
+  if (segment_length < 64) return bins;
   const Spectrum welch = WelchPsd(residual, fs, static_cast<int>(segment_length));
-  if (welch.psd.size() < 3) return;
+  if (welch.psd.size() < 3) return bins;
   view->dof = welch.dof;
   const double record_s = residual.size() / fs;
   std::vector<double> ratios, model_psd;
@@ -155,7 +175,7 @@ void ComputeFrequencyView(const Eigen::VectorXd& residual, double fs, const Stoc
     model_psd.push_back(model_psd_k);
     ratios.push_back(model_psd_k > 0 ? welch.psd[k] / model_psd_k : 0.0);
   }
-  if (ratios.empty()) return;
+  if (ratios.empty()) return bins;
   std::vector<double> sorted_ratios = ratios;
   std::nth_element(sorted_ratios.begin(), sorted_ratios.begin() + sorted_ratios.size() / 2,
                    sorted_ratios.end());
@@ -165,14 +185,23 @@ void ComputeFrequencyView(const Eigen::VectorXd& residual, double fs, const Stoc
   if (!(view->scale > 0)) view->scale = 1.0;
   view->model_psd.resize(model_psd.size());
   for (size_t i = 0; i < model_psd.size(); ++i) view->model_psd[i] = view->scale * model_psd[i];
-  std::vector<double> z(ratios.size());
+  std::vector<double>& z = bins.z;
+  z.resize(ratios.size());
   for (size_t i = 0; i < ratios.size(); ++i)
     z[i] = WilsonHilfertyZ(ratios[i] / view->scale, welch.dof);
   // Bins are tested one-sided (a line raises its bin); adjacent Hann bins are correlated, which
   // makes Bonferroni over every tested bin conservative.
   view->critical = BonferroniCriticalZOneSided(static_cast<int>(z.size()), alpha_view);
   view->statistic = *std::max_element(z.begin(), z.end());
-  const double bin_width_hz = welch.frequency_hz[1];
+  bins.bin_width_hz = welch.frequency_hz[1];
+  return bins;
+}
+
+// Failure step of the frequency view: failing bands, and each band's line in the view.
+void FrequencyFailures(const FrequencyBins& bins, const ViewOptions& options, FrequencyView* view,
+                       std::vector<Failure>* failures) {
+  const std::vector<double>& z = bins.z;
+  const double bin_width_hz = bins.bin_width_hz;
   const std::vector<double>& freq = view->frequency_hz;
   // Runs of failing bins, merged into bands across gaps of at most max(band_gap_bins bins,
   // band_gap_fraction f) (ViewOptions has the reason): a vibration band or a line's leakage is one
@@ -215,9 +244,10 @@ void ComputeFrequencyView(const Eigen::VectorXd& residual, double fs, const Stoc
   }
 }
 
-void ComputeTimeView(const Eigen::VectorXd& residual, double fs, const Decimated& decimated,
-                     const StochasticModel& model, const ViewOptions& options, double alpha_view,
-                     TimeView* view, std::vector<Failure>* failures) {
+// Statistic step of the time view, with the targeted scans (not scored).
+void TimeStatistics(const Eigen::VectorXd& residual, double fs, const Decimated& decimated,
+                    const StochasticModel& model, const ViewOptions& options, double alpha_view,
+                    TimeView* view) {
   const long n = residual.size();
   const long window_length = std::max(16L, n / options.time_windows);
   view->window_s = window_length / fs;
@@ -289,6 +319,35 @@ void ComputeTimeView(const Eigen::VectorXd& residual, double fs, const Decimated
   const std::vector<double> abs_z_mean = Abs(view->z_mean), abs_z_variance = Abs(view->z_variance);
   for (double magnitude : abs_z_mean) view->statistic = std::max(view->statistic, magnitude);
   for (double magnitude : abs_z_variance) view->statistic = std::max(view->statistic, magnitude);
+  // The targeted GLS scans name the effect (they rank bias_step against warmup, compare.h); they
+  // are not scored: their null depends on the fitted low-frequency noise, which a 6 h record
+  // determines poorly (rate random walk is often fitted at 0), while the window tests above are
+  // self-normalised.
+  // On long records the scans run on block means (Decimated, below); the noise model is refitted
+  // on the block means themselves.
+  if (!options.targeted_scans) return;
+  const TargetedTest step = ScanBiasStep(decimated.x, decimated.sample_rate_hz, decimated.dft,
+                                         model, options, alpha_view, view->window_s);
+  if (step.evaluated) {
+    view->step_z = step.z;
+    view->step_critical = step.critical;
+    view->step_time_s = step.location;
+    view->step_size_rad_s = step.size;
+  }
+  const TargetedTest warmup =
+      ScanWarmup(decimated.x, decimated.sample_rate_hz, decimated.dft, model, options, alpha_view);
+  if (warmup.evaluated) {
+    view->warmup_z = warmup.z;
+    view->warmup_critical = warmup.critical;
+    view->warmup_time_constant_s = warmup.location;
+    view->warmup_amplitude_rad_s = warmup.size;
+  }
+}
+
+// Failure step of the time view: failing boundaries (merged into intervals, whose peaks are the
+// change points) and runs of failing window variances. `record_s` bounds the intervals.
+void TimeFailures(double record_s, TimeView* view, std::vector<Failure>* failures) {
+  const std::vector<double> abs_z_mean = Abs(view->z_mean), abs_z_variance = Abs(view->z_variance);
   // Failing boundaries -> intervals [b - l, b + l], merged across scales.
   struct Interval {
     double from, to, peak_z, peak_s;
@@ -297,7 +356,7 @@ void ComputeTimeView(const Eigen::VectorXd& residual, double fs, const Decimated
   for (size_t i = 0; i < abs_z_mean.size(); ++i) {
     if (abs_z_mean[i] <= view->critical) continue;
     intervals.push_back({std::max(0.0, view->boundary_s[i] - view->boundary_window_s[i]),
-                         std::min(n / fs, view->boundary_s[i] + view->boundary_window_s[i]),
+                         std::min(record_s, view->boundary_s[i] + view->boundary_window_s[i]),
                          abs_z_mean[i], view->boundary_s[i]});
   }
   std::sort(intervals.begin(), intervals.end(),
@@ -325,35 +384,12 @@ void ComputeTimeView(const Eigen::VectorXd& residual, double fs, const Decimated
                          view->center_s[last] + 0.5 * view->window_s, "",
                          std::pow(MaxAbs(abs_z_variance, first, last) / view->critical, 2)});
   }
-  // The targeted GLS scans name the effect (they rank bias_step against warmup, compare.h); they
-  // are not scored: their null depends on the fitted low-frequency noise, which a 6 h record
-  // determines poorly (rate random walk is often fitted at 0), while the window tests above are
-  // self-normalised.
-  // On long records the scans run on block means (Decimated, below); the noise model is refitted
-  // on the block means themselves.
-  if (!options.targeted_scans) return;
-  const TargetedTest step = ScanBiasStep(decimated.x, decimated.sample_rate_hz, decimated.dft,
-                                         model, options, alpha_view, view->window_s);
-  if (step.evaluated) {
-    view->step_z = step.z;
-    view->step_critical = step.critical;
-    view->step_time_s = step.location;
-    view->step_size_rad_s = step.size;
-  }
-  const TargetedTest warmup =
-      ScanWarmup(decimated.x, decimated.sample_rate_hz, decimated.dft, model, options, alpha_view);
-  if (warmup.evaluated) {
-    view->warmup_z = warmup.z;
-    view->warmup_critical = warmup.critical;
-    view->warmup_time_constant_s = warmup.location;
-    view->warmup_amplitude_rad_s = warmup.size;
-  }
 }
 
-void ComputeAuxView(const Eigen::VectorXd& residual, double fs, const Decimated& decimated,
-                    const std::vector<PreparedAux>& aux, const StochasticModel& model,
-                    const ViewOptions& options, double alpha_view, AuxView* view,
-                    std::vector<Failure>* failures) {
+// Statistic step of the aux view.
+void AuxStatistics(const Eigen::VectorXd& residual, double fs, const Decimated& decimated,
+                   const std::vector<PreparedAux>& aux, const StochasticModel& model,
+                   const ViewOptions& options, double alpha_view, AuxView* view) {
   const long block = std::max(1L, static_cast<long>(std::lround(options.aux_block_s * fs)));
   const Eigen::VectorXd residual_lowpass = BlockMeans(residual, block);
   if (residual_lowpass.size() < 8) return;
@@ -389,16 +425,21 @@ void ComputeAuxView(const Eigen::VectorXd& residual, double fs, const Decimated&
   }
   view->critical = BonferroniCriticalZ(
       2 * static_cast<int>(std::max<size_t>(view->channels.size(), 1)), alpha_view);
-  for (const auto& channel_view : view->channels) {
+  for (const auto& channel_view : view->channels)
     view->statistic =
         std::max({view->statistic, std::abs(channel_view.z), std::abs(channel_view.z_derivative)});
+}
+
+// Failure step of the aux view: each channel and derivative beyond the critical value.
+void AuxFailures(const AuxView& view, std::vector<Failure>* failures) {
+  for (const auto& channel_view : view.channels) {
     const double nan = std::nan("");
-    if (std::abs(channel_view.z) > view->critical)
+    if (std::abs(channel_view.z) > view.critical)
       failures->push_back({ViewDomain::kAux, nan, nan, channel_view.name,
-                           std::pow(channel_view.z / view->critical, 2)});
-    if (std::abs(channel_view.z_derivative) > view->critical)
+                           std::pow(channel_view.z / view.critical, 2)});
+    if (std::abs(channel_view.z_derivative) > view.critical)
       failures->push_back({ViewDomain::kAux, nan, nan, "d(" + channel_view.name + ")/dt",
-                           std::pow(channel_view.z_derivative / view->critical, 2)});
+                           std::pow(channel_view.z_derivative / view.critical, 2)});
   }
 }
 
@@ -521,14 +562,19 @@ Views ComputeViews(const Eigen::VectorXd& residual, double fs, const std::vector
   const int num_views = has_aux ? 4 : 3;
   const double alpha_view = options.alpha / num_views;
   const Decimated decimated = Decimate(residual, fs);
-  ComputeAllanView(allan, model, options, fs, residual.size() / fs, alpha_view, &views.allan,
-                   &views.failures);
-  ComputeFrequencyView(residual, fs, model, options, alpha_view, &views.frequency, &views.failures);
-  ComputeTimeView(residual, fs, decimated, model, options, alpha_view, &views.time,
-                  &views.failures);
-  if (has_aux)
-    ComputeAuxView(residual, fs, decimated, aux, model, options, alpha_view, &views.aux,
-                   &views.failures);
+  const double record_s = residual.size() / fs;
+  TargetedTest gauss_markov;
+  AllanStatistics(allan, model, options, fs, record_s, alpha_view, &views.allan, &gauss_markov);
+  AllanFailures(views.allan, gauss_markov, &views.failures);
+  const FrequencyBins bins =
+      FrequencyStatistics(residual, fs, model, options, alpha_view, &views.frequency);
+  FrequencyFailures(bins, options, &views.frequency, &views.failures);
+  TimeStatistics(residual, fs, decimated, model, options, alpha_view, &views.time);
+  TimeFailures(record_s, &views.time, &views.failures);
+  if (has_aux) {
+    AuxStatistics(residual, fs, decimated, aux, model, options, alpha_view, &views.aux);
+    AuxFailures(views.aux, &views.failures);
+  }
   auto sq = [](double x) { return x * x; };
   views.view_errors = {
       {ViewDomain::kTau, sq(views.allan.statistic / views.allan.critical)},
