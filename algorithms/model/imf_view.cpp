@@ -170,6 +170,32 @@ double ParameterLogVariance(const StochasticModel& model, double period_s) {
   return variance;
 }
 
+// One test of the IMF view: its p-value and the IMF it is about.
+struct ImfTest {
+  double p;
+  int imf;
+};
+
+// The IMF view's failure step: Holm's (1979) step-down over all its tests at level `alpha`, the
+// per-test level and critical values it implies, and the IMFs it flags.
+void FlagImfs(const std::vector<ImfTest>& tests, double alpha, int num_imfs, ImfView* view) {
+  const int num_tests = static_cast<int>(tests.size());
+  std::vector<double> sorted_p;
+  for (const ImfTest& test : tests) sorted_p.push_back(test.p);
+  std::sort(sorted_p.begin(), sorted_p.end());
+  int rejected = 0;
+  while (rejected < num_tests && sorted_p[rejected] <= alpha / (num_tests - rejected)) ++rejected;
+  view->test_level = alpha / std::max(1, num_tests - std::max(rejected, 1) + 1);
+  view->critical = NormalToStudent(UpperTailZ(view->test_level), view->reference_dof);
+  view->aux_critical = UpperTailZ(0.5 * view->test_level);
+  view->flagged.assign(num_imfs, 0);
+  for (const ImfTest& test : tests)
+    if (test.p <= view->test_level) view->flagged[test.imf] = 1;
+  for (int flag : view->flagged) view->summary.num_flagged += flag;
+  view->summary.message = std::to_string(view->summary.num_flagged) + " of " +
+                          std::to_string(view->summary.num_scored) + " scored IMFs carry misfit";
+}
+
 }  // namespace
 
 bool ImfViewOptions::IsValid(std::string* error) const {
@@ -281,11 +307,7 @@ ImfView ComputeImfView(const Eigen::VectorXd& residual, double fs,
 
   // Energy tests: t_k = ln(energy_k / E_k) / sd_k, sd_k^2 = lambda (2 / nu_k)(1 + 1 / R) + c^2 +
   // the parameters' share; Student t with the pooled dof (the variance is estimated), one-sided.
-  struct Test {
-    double p;  // p-value
-    int imf;
-  };
-  std::vector<Test> tests;
+  std::vector<ImfTest> tests;
   for (int k = 0; k < num_imfs; ++k) {
     const double expected = view.expected_energy[k];
     const double log_sd =
@@ -375,23 +397,8 @@ ImfView ComputeImfView(const Eigen::VectorXd& residual, double fs,
   // One family per record: every energy and aux test of every scored IMF, Holm's (1979) step-down
   // at `alpha` (family-wise: a correct model flags no IMF with probability >= 1 - alpha). Holm
   // rejects the r smallest p-values, p_(i) <= alpha / (m - i + 1) for i <= r; equivalently every
-  // test with p <= alpha / (m - max(r, 1) + 1), the level the critical values below are quoted at.
-  const int num_tests = static_cast<int>(tests.size());
-  std::vector<double> sorted_p;
-  for (const Test& test : tests) sorted_p.push_back(test.p);
-  std::sort(sorted_p.begin(), sorted_p.end());
-  int rejected = 0;
-  while (rejected < num_tests && sorted_p[rejected] <= options.alpha / (num_tests - rejected))
-    ++rejected;
-  view.test_level = options.alpha / std::max(1, num_tests - std::max(rejected, 1) + 1);
-  view.critical = NormalToStudent(UpperTailZ(view.test_level), view.reference_dof);
-  view.aux_critical = UpperTailZ(0.5 * view.test_level);
-  view.flagged.assign(num_imfs, 0);
-  for (const Test& test : tests)
-    if (test.p <= view.test_level) view.flagged[test.imf] = 1;
-  for (int flag : view.flagged) view.summary.num_flagged += flag;
-  view.summary.message = std::to_string(view.summary.num_flagged) + " of " +
-                         std::to_string(view.summary.num_scored) + " scored IMFs carry misfit";
+  // test with p <= alpha / (m - max(r, 1) + 1), the level FlagImfs quotes the critical values at.
+  FlagImfs(tests, options.alpha, num_imfs, &view);
   return view;
 }
 
