@@ -15,16 +15,16 @@ std::vector<Term> DefaultTerms() {
 }
 
 bool ParseTermList(const std::string& text, std::vector<Term>* terms, std::string* error) {
-  std::stringstream ss(text);
+  std::stringstream stream(text);
   std::string item;
-  while (std::getline(ss, item, ',')) {
+  while (std::getline(stream, item, ',')) {
     if (item.empty() || item == "bias") continue;  // bias is always in the model
-    auto t = ParseTerm(item);
-    if (!t) {
+    auto term = ParseTerm(item);
+    if (!term) {
       if (error) *error = "unknown term '" + item + "'";
       return false;
     }
-    terms->push_back(*t);
+    terms->push_back(*term);
   }
   return true;
 }

@@ -120,15 +120,15 @@ struct Suggestion {
   std::vector<Parameter> parameters;
   std::string evidence;
   std::vector<ViewError> view_errors_after;  ///< the trial's per-view errors
-  std::vector<std::string> fixes;  ///< views that fail in the base model and pass in the trial
-  bool bic_rejects = false;        ///< delta_bic > 0: never ranked first
+  std::vector<ViewDomain> fixes;  ///< views that fail in the base model and pass in the trial
+  bool bic_rejects = false;       ///< delta_bic > 0: never ranked first
 };
 
 /// What compare concludes (see the header comment).
 struct Verdict {
   std::string status = "consistent";        ///< "consistent" | "inconsistent" | "unexplained"
   std::optional<Term> suggestion;           ///< "inconsistent": the term to add
-  std::vector<std::string> fixes;           ///< the views the suggestion makes pass
+  std::vector<ViewDomain> fixes;            ///< the views the suggestion makes pass
   bool consistent_with_suggestion = false;  ///< the suggestion's trial passes every view
   /// "inconsistent": the failures left with the suggestion in the model (empty when it makes the
   /// model consistent); "unexplained": the base model's failures.

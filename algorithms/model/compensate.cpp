@@ -2,27 +2,29 @@
 
 namespace fogpipe::model {
 
-Compensation Compensate(const Eigen::VectorXd& rate, double fs, const Eigen::VectorXd* temp,
+Compensation Compensate(const Eigen::VectorXd& rate, double fs, const Eigen::VectorXd* temperature,
                         const DeterministicModel& model, const CompensateOptions& options) {
-  Compensation out;
+  Compensation compensation;
   if (!(fs > 0)) {
-    out.summary.termination = Termination::kInvalidOptions;
-    out.summary.message = "sample_rate_hz must be > 0";
-    return out;
+    compensation.summary.termination = Termination::kInvalidOptions;
+    compensation.summary.message = "sample_rate_hz must be > 0";
+    return compensation;
   }
-  for (const auto& c : model.components) {
-    if (NeedsTemperature(c.term) && (temp == nullptr || temp->size() != rate.size())) {
-      out.summary.termination = Termination::kInsufficientData;
-      out.summary.message = std::string("the model's '") + ToString(c.term) +
-                            "' term needs an aux temperature channel of the rate's length";
-      return out;
+  for (const auto& component : model.components) {
+    if (NeedsTemperature(component.term) &&
+        (temperature == nullptr || temperature->size() != rate.size())) {
+      compensation.summary.termination = Termination::kInsufficientData;
+      compensation.summary.message = std::string("the model's '") + ToString(component.term) +
+                                     "' term needs an aux temperature channel of the rate's length";
+      return compensation;
     }
   }
-  out.rate_rad_s =
-      rate - EvaluateDeterministic(model, rate.size(), fs, temp, options.subtract_bias);
-  out.summary.num_effects = static_cast<int>(model.components.size());
-  out.summary.message = "subtracted " + std::to_string(out.summary.num_effects) + " effect(s)";
-  return out;
+  compensation.rate_rad_s =
+      rate - EvaluateDeterministic(model, rate.size(), fs, temperature, options.subtract_bias);
+  compensation.summary.num_effects = static_cast<int>(model.components.size());
+  compensation.summary.message =
+      "subtracted " + std::to_string(compensation.summary.num_effects) + " effect(s)";
+  return compensation;
 }
 
 }  // namespace fogpipe::model

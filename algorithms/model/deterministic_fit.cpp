@@ -26,7 +26,7 @@ struct Context {
 };
 
 // Columns of one component at its current nonlinear parameter.
-Eigen::MatrixXd Columns(const Context& ctx, Term term, double p) {
+Eigen::MatrixXd Columns(const Context& ctx, Term term, double nonlinear) {
   const long n = ctx.n;
   switch (term) {
     case Term::kTemperature:
@@ -36,55 +36,56 @@ Eigen::MatrixXd Columns(const Context& ctx, Term term, double p) {
     case Term::kSinusoid: {
       // Rotation recurrence, re-anchored on exact values every kAnchor samples (rounding error
       // stays ~kAnchor * eps), ~10x faster than cos/sin per sample.
-      Eigen::MatrixXd c(n, 2);
-      const double w = 2 * units::kPi * p;
-      const std::complex<double> rot = std::polar(1.0, w / ctx.fs);
+      Eigen::MatrixXd columns(n, 2);
+      const double angular_frequency = 2 * units::kPi * nonlinear;
+      const std::complex<double> rot = std::polar(1.0, angular_frequency / ctx.fs);
       std::complex<double> z;
       for (long i = 0; i < n; ++i) {
-        z = (i % kAnchor == 0) ? std::polar(1.0, w * ctx.t[i]) : z * rot;
-        c(i, 0) = z.real();
-        c(i, 1) = z.imag();
+        z = (i % kAnchor == 0) ? std::polar(1.0, angular_frequency * ctx.t[i]) : z * rot;
+        columns(i, 0) = z.real();
+        columns(i, 1) = z.imag();
       }
-      return c;
+      return columns;
     }
     case Term::kBiasStep: {
-      Eigen::MatrixXd c(n, 1);
-      for (long i = 0; i < n; ++i) c(i, 0) = ctx.t[i] >= p ? 1.0 : 0.0;
-      return c;
+      Eigen::MatrixXd columns(n, 1);
+      for (long i = 0; i < n; ++i) columns(i, 0) = ctx.t[i] >= nonlinear ? 1.0 : 0.0;
+      return columns;
     }
     case Term::kWarmup: {
-      Eigen::MatrixXd c(n, 1);
-      const double decay = std::exp(-1.0 / (ctx.fs * p));
-      double v = 1.0;
+      Eigen::MatrixXd columns(n, 1);
+      const double decay = std::exp(-1.0 / (ctx.fs * nonlinear));
+      double decay_value = 1.0;
       for (long i = 0; i < n; ++i) {
-        v = (i % kAnchor == 0) ? std::exp(-ctx.t[i] / p) : v * decay;
-        c(i, 0) = v;
+        decay_value = (i % kAnchor == 0) ? std::exp(-ctx.t[i] / nonlinear) : decay_value * decay;
+        columns(i, 0) = decay_value;
       }
-      return c;
+      return columns;
     }
     default:
       return Eigen::MatrixXd(n, 0);
   }
 }
 
-bool HasNonlinear(Term t) {
-  return t == Term::kSinusoid || t == Term::kBiasStep || t == Term::kWarmup;
+bool HasNonlinear(Term term) {
+  return term == Term::kSinusoid || term == Term::kBiasStep || term == Term::kWarmup;
 }
 
 // Solves the normal equations with Jacobi scaling (columns of very different magnitude: degC,
 // degC/s, 1) so that LDLT sees a condition number of the correlation matrix, not of the units.
-Eigen::VectorXd SolveScaled(const Eigen::MatrixXd& a, const Eigen::VectorXd& b) {
-  Eigen::VectorXd d = a.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
-  Eigen::MatrixXd as = d.asDiagonal() * a * d.asDiagonal();
-  Eigen::VectorXd x = as.ldlt().solve(d.asDiagonal() * b);
-  return d.asDiagonal() * x;
+Eigen::VectorXd SolveScaled(const Eigen::MatrixXd& matrix, const Eigen::VectorXd& rhs) {
+  Eigen::VectorXd scale = matrix.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+  Eigen::MatrixXd scaled = scale.asDiagonal() * matrix * scale.asDiagonal();
+  Eigen::VectorXd solution = scaled.ldlt().solve(scale.asDiagonal() * rhs);
+  return scale.asDiagonal() * solution;
 }
 
-Eigen::MatrixXd InverseScaled(const Eigen::MatrixXd& a) {
-  Eigen::VectorXd d = a.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
-  Eigen::MatrixXd as = d.asDiagonal() * a * d.asDiagonal();
-  Eigen::MatrixXd inv = as.ldlt().solve(Eigen::MatrixXd::Identity(a.rows(), a.cols()));
-  return d.asDiagonal() * inv * d.asDiagonal();
+Eigen::MatrixXd InverseScaled(const Eigen::MatrixXd& matrix) {
+  Eigen::VectorXd scale = matrix.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+  Eigen::MatrixXd scaled = scale.asDiagonal() * matrix * scale.asDiagonal();
+  Eigen::MatrixXd scaled_inverse =
+      scaled.ldlt().solve(Eigen::MatrixXd::Identity(matrix.rows(), matrix.cols()));
+  return scale.asDiagonal() * scaled_inverse * scale.asDiagonal();
 }
 
 // Residual sum of squares of y on [fixed | extra], with the Gram of `fixed` precomputed
@@ -99,17 +100,18 @@ class Profiler {
         yy_(y.squaredNorm()) {}
 
   double Rss(const Eigen::MatrixXd& extra) const {
-    const long p = fixed_.cols(), q = extra.cols();
-    Eigen::MatrixXd a(p + q, p + q);
-    Eigen::VectorXd b(p + q);
-    a.topLeftCorner(p, p) = gram_;
-    a.topRightCorner(p, q) = fixed_.transpose() * extra;
-    a.bottomLeftCorner(q, p) = a.topRightCorner(p, q).transpose();
-    a.bottomRightCorner(q, q) = extra.transpose() * extra;
-    b.head(p) = xty_;
-    b.tail(q) = extra.transpose() * y_;
-    const Eigen::VectorXd beta = SolveScaled(a, b);
-    return yy_ - b.dot(beta);
+    const long num_fixed = fixed_.cols(), num_extra = extra.cols();
+    Eigen::MatrixXd normal_matrix(num_fixed + num_extra, num_fixed + num_extra);
+    Eigen::VectorXd normal_rhs(num_fixed + num_extra);
+    normal_matrix.topLeftCorner(num_fixed, num_fixed) = gram_;
+    normal_matrix.topRightCorner(num_fixed, num_extra) = fixed_.transpose() * extra;
+    normal_matrix.bottomLeftCorner(num_extra, num_fixed) =
+        normal_matrix.topRightCorner(num_fixed, num_extra).transpose();
+    normal_matrix.bottomRightCorner(num_extra, num_extra) = extra.transpose() * extra;
+    normal_rhs.head(num_fixed) = xty_;
+    normal_rhs.tail(num_extra) = extra.transpose() * y_;
+    const Eigen::VectorXd beta = SolveScaled(normal_matrix, normal_rhs);
+    return yy_ - normal_rhs.dot(beta);
   }
 
   Eigen::VectorXd FixedResidual() const { return y_ - fixed_ * SolveScaled(gram_, xty_); }
@@ -145,110 +147,120 @@ double GoldenMinimize(F f, double lo, double hi, int iterations) {
   return f1 < f2 ? x1 : x2;
 }
 
-Eigen::MatrixXd Design(const Context& ctx, const std::vector<DeterministicComponent>& comps,
+Eigen::MatrixXd Design(const Context& ctx, const std::vector<DeterministicComponent>& components,
                        int skip) {
   long cols = 1;
   std::vector<Eigen::MatrixXd> parts;
-  for (int i = 0; i < static_cast<int>(comps.size()); ++i) {
+  for (int i = 0; i < static_cast<int>(components.size()); ++i) {
     if (i == skip) continue;
-    parts.push_back(Columns(ctx, comps[i].term, comps[i].nonlinear));
+    parts.push_back(Columns(ctx, components[i].term, components[i].nonlinear));
     cols += parts.back().cols();
   }
-  Eigen::MatrixXd x(ctx.n, cols);
-  x.col(0).setOnes();
-  long c = 1;
-  for (const auto& p : parts) {
-    x.middleCols(c, p.cols()) = p;
-    c += p.cols();
+  Eigen::MatrixXd design(ctx.n, cols);
+  design.col(0).setOnes();
+  long column = 1;
+  for (const auto& part : parts) {
+    design.middleCols(column, part.cols()) = part;
+    column += part.cols();
   }
-  return x;
+  return design;
 }
 
-double SearchWarmup(const Context& ctx, const Profiler& prof, const DeterministicOptions& o) {
-  const double record = ctx.n / ctx.fs;
-  const double lo = std::log(std::max(o.min_warmup_tau_s, 3.0 / ctx.fs));
-  const double hi = std::log(record / 3.0);
+double SearchWarmup(const Context& ctx, const Profiler& profiler,
+                    const DeterministicOptions& options) {
+  const double record_s = ctx.n / ctx.fs;
+  const double lo = std::log(std::max(options.min_warmup_tau_s, 3.0 / ctx.fs));
+  const double hi = std::log(record_s / 3.0);
   const int grid = 24;
-  int best = 0;
+  int best_index = 0;
   double best_rss = std::numeric_limits<double>::infinity();
   for (int i = 0; i < grid; ++i) {
     const double tau = std::exp(lo + (hi - lo) * i / (grid - 1));
-    const double rss = prof.Rss(Columns(ctx, Term::kWarmup, tau));
+    const double rss = profiler.Rss(Columns(ctx, Term::kWarmup, tau));
     if (rss < best_rss) {
       best_rss = rss;
-      best = i;
+      best_index = i;
     }
   }
   const double step = (hi - lo) / (grid - 1);
-  const double a = lo + step * std::max(best - 1, 0), b = lo + step * std::min(best + 1, grid - 1);
+  const double bracket_low = lo + step * std::max(best_index - 1, 0),
+               bracket_high = lo + step * std::min(best_index + 1, grid - 1);
   return std::exp(GoldenMinimize(
-      [&](double lt) { return prof.Rss(Columns(ctx, Term::kWarmup, std::exp(lt))); }, a, b, 20));
+      [&](double log_tau) { return profiler.Rss(Columns(ctx, Term::kWarmup, std::exp(log_tau))); },
+      bracket_low, bracket_high, 20));
 }
 
-double SearchStep(const Context& ctx, const Profiler& prof, const DeterministicOptions& o) {
-  const Eigen::VectorXd r = prof.FixedResidual();
+double SearchStep(const Context& ctx, const Profiler& profiler,
+                  const DeterministicOptions& options) {
+  const Eigen::VectorXd residual = profiler.FixedResidual();
   const long n = ctx.n;
-  const long k0 = std::max(1L, static_cast<long>(o.step_margin_fraction * n));
-  const long k1 = std::min(n - 1, n - k0);
-  double s = 0, best = -1;
-  long best_k = n / 2;
-  for (long k = 1; k < k1; ++k) {
-    s += r[k - 1];  // sum of r[0..k-1]; a step at sample k splits [0,k) and [k,n)
-    if (k < k0) continue;
-    const double stat = s * s / (static_cast<double>(k) * (n - k));
-    if (stat > best) {
-      best = stat;
-      best_k = k;
+  const long first_index = std::max(1L, static_cast<long>(options.step_margin_fraction * n));
+  const long end_index = std::min(n - 1, n - first_index);
+  double cumulative_sum = 0, best_stat = -1;
+  long best_index = n / 2;
+  for (long k = 1; k < end_index; ++k) {
+    // Sum of residual[0..k-1]; a step at sample k splits [0,k) and [k,n).
+    cumulative_sum += residual[k - 1];
+    if (k < first_index) continue;
+    const double stat = cumulative_sum * cumulative_sum / (static_cast<double>(k) * (n - k));
+    if (stat > best_stat) {
+      best_stat = stat;
+      best_index = k;
     }
   }
-  return best_k / ctx.fs;
+  return best_index / ctx.fs;
 }
 
-double SearchSinusoid(const Context& ctx, const Profiler& prof, const DeterministicOptions& o,
-                      const std::vector<double>& taken_hz) {
-  const Eigen::VectorXd r = prof.FixedResidual();
-  const Spectrum s = Periodogram(r, ctx.fs, 2);
-  const std::vector<double> bg = BandMedianBackground(s, 1.25, 33);
-  const double record = ctx.n / ctx.fs;
-  const double fmin = o.min_sinusoid_cycles / record;
-  int best = -1;
+double SearchSinusoid(const Context& ctx, const Profiler& profiler,
+                      const DeterministicOptions& options, const std::vector<double>& taken_hz) {
+  const Eigen::VectorXd residual = profiler.FixedResidual();
+  const Spectrum spectrum = Periodogram(residual, ctx.fs, 2);
+  const std::vector<double> background = BandMedianBackground(spectrum, 1.25, 33);
+  const double record_s = ctx.n / ctx.fs;
+  const double min_frequency_hz = options.min_sinusoid_cycles / record_s;
+  int best_bin = -1;
   double best_ratio = -1;
-  for (size_t k = 1; k + 1 < s.psd.size(); ++k) {
-    const double f = s.frequency_hz[k];
-    if (f < fmin) continue;
+  for (size_t k = 1; k + 1 < spectrum.psd.size(); ++k) {
+    const double frequency_hz = spectrum.frequency_hz[k];
+    if (frequency_hz < min_frequency_hz) continue;
     bool near = false;
-    for (double ft : taken_hz) near = near || std::abs(f - ft) < 2.0 / record;
-    if (near || bg[k] <= 0) continue;
-    const double ratio = s.psd[k] / bg[k];
+    for (double taken : taken_hz) near = near || std::abs(frequency_hz - taken) < 2.0 / record_s;
+    if (near || background[k] <= 0) continue;
+    const double ratio = spectrum.psd[k] / background[k];
     if (ratio > best_ratio) {
       best_ratio = ratio;
-      best = static_cast<int>(k);
+      best_bin = static_cast<int>(k);
     }
   }
-  if (best < 0) return fmin;
-  const double df = s.frequency_hz[1];
-  const double f0 = s.frequency_hz[best];
-  return GoldenMinimize([&](double f) { return prof.Rss(Columns(ctx, Term::kSinusoid, f)); },
-                        std::max(f0 - 1.5 * df, 0.5 * fmin), f0 + 1.5 * df, 22);
+  if (best_bin < 0) return min_frequency_hz;
+  const double bin_width_hz = spectrum.frequency_hz[1];
+  const double peak_hz = spectrum.frequency_hz[best_bin];
+  return GoldenMinimize(
+      [&](double frequency_hz) {
+        return profiler.Rss(Columns(ctx, Term::kSinusoid, frequency_hz));
+      },
+      std::max(peak_hz - 1.5 * bin_width_hz, 0.5 * min_frequency_hz), peak_hz + 1.5 * bin_width_hz,
+      22);
 }
 
-double RefineSinusoid(const Context& ctx, const Profiler& prof, double f0) {
-  const double df = 0.5 * ctx.fs / ctx.n;
-  return GoldenMinimize([&](double f) { return prof.Rss(Columns(ctx, Term::kSinusoid, f)); },
-                        f0 - df, f0 + df, 14);
+double RefineSinusoid(const Context& ctx, const Profiler& profiler, double frequency_hz) {
+  const double half_bin_hz = 0.5 * ctx.fs / ctx.n;
+  return GoldenMinimize(
+      [&](double trial_hz) { return profiler.Rss(Columns(ctx, Term::kSinusoid, trial_hz)); },
+      frequency_hz - half_bin_hz, frequency_hz + half_bin_hz, 14);
 }
 
-double SearchNonlinear(const Context& ctx, const Profiler& prof, const DeterministicOptions& o,
-                       const DeterministicComponent& c, bool refine,
-                       const std::vector<double>& taken_hz) {
-  switch (c.term) {
+double SearchNonlinear(const Context& ctx, const Profiler& profiler,
+                       const DeterministicOptions& options, const DeterministicComponent& component,
+                       bool refine, const std::vector<double>& taken_hz) {
+  switch (component.term) {
     case Term::kWarmup:
-      return SearchWarmup(ctx, prof, o);  // cheap: always the full search
+      return SearchWarmup(ctx, profiler, options);  // cheap: always the full search
     case Term::kBiasStep:
-      return SearchStep(ctx, prof, o);
+      return SearchStep(ctx, profiler, options);
     case Term::kSinusoid:
-      return refine ? RefineSinusoid(ctx, prof, c.nonlinear)
-                    : SearchSinusoid(ctx, prof, o, taken_hz);
+      return refine ? RefineSinusoid(ctx, profiler, component.nonlinear)
+                    : SearchSinusoid(ctx, profiler, options, taken_hz);
     default:
       return 0.0;
   }
@@ -256,8 +268,8 @@ double SearchNonlinear(const Context& ctx, const Profiler& prof, const Determini
 
 // Order of initialisation: the largest, slowest effects first, so that later searches see a
 // residual already cleared of them.
-int InitOrder(Term t) {
-  switch (t) {
+int InitOrder(Term term) {
+  switch (term) {
     case Term::kTemperature:
       return 0;
     case Term::kTemperatureRate:
@@ -274,8 +286,8 @@ int InitOrder(Term t) {
 }  // namespace
 
 bool DeterministicOptions::IsValid(std::string* error) const {
-  auto fail = [&](const char* m) {
-    if (error) *error = m;
+  auto fail = [&](const char* message) {
+    if (error) *error = message;
     return false;
   };
   if (!(temperature_smoothing_s >= 0)) return fail("temperature_smoothing_s must be >= 0");
@@ -294,7 +306,7 @@ Eigen::VectorXd SmoothedDerivative(const Eigen::VectorXd& temp, double fs, doubl
   // error. Prefix sums of k, k^2, x, k x make it O(n).
   const long n = temp.size();
   if (n < 2) return Eigen::VectorXd::Zero(n);
-  const long h = std::max(1L, static_cast<long>(std::lround(0.5 * smoothing_s * fs)));
+  const long half_width = std::max(1L, static_cast<long>(std::lround(0.5 * smoothing_s * fs)));
   Eigen::VectorXd sk(n + 1), skk(n + 1), sx(n + 1), skx(n + 1);
   sk[0] = skk[0] = sx[0] = skx[0] = 0;
   for (long i = 0; i < n; ++i) {
@@ -304,33 +316,35 @@ Eigen::VectorXd SmoothedDerivative(const Eigen::VectorXd& temp, double fs, doubl
     sx[i + 1] = sx[i] + temp[i];
     skx[i + 1] = skx[i] + k * temp[i];
   }
-  Eigen::VectorXd d(n);
+  Eigen::VectorXd derivative(n);
   for (long i = 0; i < n; ++i) {
-    const long lo = std::max(0L, i - h), hi = std::min(n - 1, i + h);
-    const double m = static_cast<double>(hi - lo + 1);
+    const long lo = std::max(0L, i - half_width), hi = std::min(n - 1, i + half_width);
+    const double count = static_cast<double>(hi - lo + 1);
     // Centre k on i for conditioning: sums of (k - i) and (k - i)^2.
     const double ci = static_cast<double>(i);
     const double s1 = sk[hi + 1] - sk[lo], s2 = skk[hi + 1] - skk[lo];
     const double sxv = sx[hi + 1] - sx[lo], skxv = skx[hi + 1] - skx[lo];
-    const double u = s1 - m * ci, uu = s2 - 2 * ci * s1 + m * ci * ci, ux = skxv - ci * sxv;
-    const double den = uu - u * u / m;
-    d[i] = den > 0 ? (ux - u * sxv / m) / den * fs : 0.0;
+    const double u = s1 - count * ci, uu = s2 - 2 * ci * s1 + count * ci * ci, ux = skxv - ci * sxv;
+    const double denominator = uu - u * u / count;
+    derivative[i] = denominator > 0 ? (ux - u * sxv / count) / denominator * fs : 0.0;
   }
-  return d;
+  return derivative;
 }
 
-DeterministicFit FitDeterministic(const Eigen::VectorXd& y, double fs, const Eigen::VectorXd* temp,
-                                  const std::vector<Term>& terms, const DeterministicOptions& o) {
+DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
+                                  const Eigen::VectorXd* temperature,
+                                  const std::vector<Term>& terms,
+                                  const DeterministicOptions& options) {
   DeterministicFit fit;
-  fit.summary.num_samples = y.size();
+  fit.summary.num_samples = rate.size();
   std::string err;
-  if (!o.IsValid(&err) || !(fs > 0)) {
+  if (!options.IsValid(&err) || !(fs > 0)) {
     fit.summary.termination = Termination::kInvalidOptions;
     fit.summary.message = fs > 0 ? err : "sample_rate_hz must be > 0";
     return fit;
   }
   Context ctx;
-  ctx.n = y.size();
+  ctx.n = rate.size();
   ctx.fs = fs;
   if (ctx.n < 64) {
     fit.summary.termination = Termination::kInsufficientData;
@@ -338,55 +352,56 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& y, double fs, const Eig
     return fit;
   }
   ctx.t = Eigen::VectorXd::LinSpaced(ctx.n, 0.0, (ctx.n - 1) / fs);
-  fit.model.temperature_smoothing_s = o.temperature_smoothing_s;
+  fit.model.temperature_smoothing_s = options.temperature_smoothing_s;
 
-  std::vector<DeterministicComponent> comps;
-  for (Term t : terms) {
-    if (!IsFittedOnRate(t)) continue;
-    if (NeedsTemperature(t) && (temp == nullptr || temp->size() != ctx.n)) {
+  std::vector<DeterministicComponent> components;
+  for (Term term : terms) {
+    if (!IsFittedOnRate(term)) continue;
+    if (NeedsTemperature(term) && (temperature == nullptr || temperature->size() != ctx.n)) {
       fit.summary.termination = Termination::kInsufficientData;
-      fit.summary.message = std::string("term '") + ToString(t) +
+      fit.summary.message = std::string("term '") + ToString(term) +
                             "' needs an aux temperature channel of the rate's length";
       return fit;
     }
-    DeterministicComponent c;
-    c.term = t;
-    comps.push_back(c);
+    DeterministicComponent component;
+    component.term = term;
+    components.push_back(component);
   }
-  std::stable_sort(comps.begin(), comps.end(), [](const auto& a, const auto& b) {
-    return InitOrder(a.term) < InitOrder(b.term);
+  std::stable_sort(components.begin(), components.end(), [](const auto& lhs, const auto& rhs) {
+    return InitOrder(lhs.term) < InitOrder(rhs.term);
   });
-  if (temp != nullptr && temp->size() == ctx.n) {
-    fit.model.temperature_ref_degc = temp->mean();
-    ctx.temperature_centered = temp->array() - fit.model.temperature_ref_degc;
-    ctx.temperature_rate = SmoothedDerivative(*temp, fs, o.temperature_smoothing_s);
+  if (temperature != nullptr && temperature->size() == ctx.n) {
+    fit.model.temperature_ref_degc = temperature->mean();
+    ctx.temperature_centered = temperature->array() - fit.model.temperature_ref_degc;
+    ctx.temperature_rate = SmoothedDerivative(*temperature, fs, options.temperature_smoothing_s);
   }
 
   // Initialise the nonlinear parameters one at a time, then coordinate descent.
-  const int m = static_cast<int>(comps.size());
-  for (int pass = 0; pass <= o.refinement_passes; ++pass) {
-    for (int i = 0; i < m; ++i) {
-      if (!HasNonlinear(comps[i].term)) continue;
+  const int num_components = static_cast<int>(components.size());
+  for (int pass = 0; pass <= options.refinement_passes; ++pass) {
+    for (int i = 0; i < num_components; ++i) {
+      if (!HasNonlinear(components[i].term)) continue;
       // During initialisation only the components already placed enter the fixed design.
       std::vector<DeterministicComponent> placed;
       std::vector<double> taken_hz;
-      for (int j = 0; j < m; ++j) {
+      for (int j = 0; j < num_components; ++j) {
         if (j == i) continue;
-        if (pass == 0 && j > i && HasNonlinear(comps[j].term)) continue;
-        placed.push_back(comps[j]);
-        if (comps[j].term == Term::kSinusoid) taken_hz.push_back(comps[j].nonlinear);
+        if (pass == 0 && j > i && HasNonlinear(components[j].term)) continue;
+        placed.push_back(components[j]);
+        if (components[j].term == Term::kSinusoid) taken_hz.push_back(components[j].nonlinear);
       }
       const Eigen::MatrixXd fixed = Design(ctx, placed, -1);
-      const Profiler prof(fixed, y);
-      comps[i].nonlinear = SearchNonlinear(ctx, prof, o, comps[i], pass > 0, taken_hz);
+      const Profiler profiler(fixed, rate);
+      components[i].nonlinear =
+          SearchNonlinear(ctx, profiler, options, components[i], pass > 0, taken_hz);
     }
   }
 
   // Final joint linear solve.
-  const Eigen::MatrixXd x = Design(ctx, comps, -1);
-  const Eigen::MatrixXd gram = x.transpose() * x;
-  const Eigen::VectorXd beta = SolveScaled(gram, x.transpose() * y);
-  fit.residual = y - x * beta;
+  const Eigen::MatrixXd design = Design(ctx, components, -1);
+  const Eigen::MatrixXd gram = design.transpose() * design;
+  const Eigen::VectorXd beta = SolveScaled(gram, design.transpose() * rate);
+  fit.residual = rate - design * beta;
   fit.rss = fit.residual.squaredNorm();
   if (!std::isfinite(fit.rss)) {
     fit.summary.termination = Termination::kNumericalFailure;
@@ -395,90 +410,102 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& y, double fs, const Eig
   }
 
   // Linearised design for the standard errors: amplitudes plus d(model)/d(nonlinear parameter).
-  std::vector<Eigen::VectorXd> jac;
+  std::vector<Eigen::VectorXd> jacobian_columns;
   {
-    long c = 1;
-    for (auto& comp : comps) {
-      const long q = comp.term == Term::kSinusoid ? 2 : 1;
-      if (comp.term == Term::kSinusoid) {
-        const double w = 2 * units::kPi * comp.nonlinear;
-        const double a = beta[c], b = beta[c + 1];
-        Eigen::VectorXd j(ctx.n);
+    long column = 1;
+    for (auto& component : components) {
+      const long width = component.term == Term::kSinusoid ? 2 : 1;
+      if (component.term == Term::kSinusoid) {
+        const double angular_frequency = 2 * units::kPi * component.nonlinear;
+        const double cos_coefficient = beta[column], sin_coefficient = beta[column + 1];
+        Eigen::VectorXd jacobian(ctx.n);
         for (long i = 0; i < ctx.n; ++i)
-          j[i] = 2 * units::kPi * ctx.t[i] *
-                 (-a * std::sin(w * ctx.t[i]) + b * std::cos(w * ctx.t[i]));
-        jac.push_back(j);
-      } else if (comp.term == Term::kWarmup) {
-        const double amp = beta[c], tau = comp.nonlinear;
-        jac.push_back((amp / (tau * tau)) * ctx.t.array() * (-ctx.t.array() / tau).exp());
+          jacobian[i] = 2 * units::kPi * ctx.t[i] *
+                        (-cos_coefficient * std::sin(angular_frequency * ctx.t[i]) +
+                         sin_coefficient * std::cos(angular_frequency * ctx.t[i]));
+        jacobian_columns.push_back(jacobian);
+      } else if (component.term == Term::kWarmup) {
+        const double amplitude = beta[column], tau = component.nonlinear;
+        jacobian_columns.push_back((amplitude / (tau * tau)) * ctx.t.array() *
+                                   (-ctx.t.array() / tau).exp());
       }
-      c += q;
+      column += width;
     }
   }
-  const long p = x.cols(), pj = static_cast<long>(jac.size());
-  Eigen::MatrixXd xa(ctx.n, p + pj);
-  xa.leftCols(p) = x;
-  for (long j = 0; j < pj; ++j) xa.col(p + j) = jac[j];
-  const Eigen::MatrixXd ginv = InverseScaled(xa.transpose() * xa);
-  const double sigma2 = fit.rss / std::max(1.0, static_cast<double>(ctx.n - p - pj));
-  Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(p + pj, p + pj);
+  const long num_linear = design.cols(), num_jacobian = static_cast<long>(jacobian_columns.size());
+  Eigen::MatrixXd augmented(ctx.n, num_linear + num_jacobian);
+  augmented.leftCols(num_linear) = design;
+  for (long j = 0; j < num_jacobian; ++j) augmented.col(num_linear + j) = jacobian_columns[j];
+  const Eigen::MatrixXd bread = InverseScaled(augmented.transpose() * augmented);
+  const double sigma2 =
+      fit.rss / std::max(1.0, static_cast<double>(ctx.n - num_linear - num_jacobian));
+  Eigen::MatrixXd meat =
+      Eigen::MatrixXd::Zero(num_linear + num_jacobian, num_linear + num_jacobian);
   const long block = ctx.n / kSandwichBlocks;
   Eigen::VectorXd block_means(kSandwichBlocks);
-  for (int b = 0; b < kSandwichBlocks; ++b) {
-    const long s0 = b * block, len = (b == kSandwichBlocks - 1) ? ctx.n - s0 : block;
-    const Eigen::VectorXd sb = xa.middleRows(s0, len).transpose() * fit.residual.segment(s0, len);
-    meat += sb * sb.transpose();
-    block_means[b] = fit.residual.segment(s0, len).mean();
+  for (int block_index = 0; block_index < kSandwichBlocks; ++block_index) {
+    const long block_start = block_index * block,
+               block_length = (block_index == kSandwichBlocks - 1) ? ctx.n - block_start : block;
+    const Eigen::VectorXd block_score =
+        augmented.middleRows(block_start, block_length).transpose() *
+        fit.residual.segment(block_start, block_length);
+    meat += block_score * block_score.transpose();
+    block_means[block_index] = fit.residual.segment(block_start, block_length).mean();
   }
-  const Eigen::MatrixXd cov_hac = ginv * meat * ginv;
-  Eigen::VectorXd se(p + pj);
-  for (long j = 0; j < p + pj; ++j) se[j] = std::sqrt(std::max(cov_hac(j, j), sigma2 * ginv(j, j)));
-  const double bm_var =
+  const Eigen::MatrixXd cov_hac = bread * meat * bread;
+  Eigen::VectorXd se(num_linear + num_jacobian);
+  for (long j = 0; j < num_linear + num_jacobian; ++j)
+    se[j] = std::sqrt(std::max(cov_hac(j, j), sigma2 * bread(j, j)));
+  const double block_mean_variance =
       (block_means.array() - block_means.mean()).square().sum() / (kSandwichBlocks - 1);
-  fit.long_run_variance_ratio = std::max(1.0, block * bm_var / std::max(sigma2, 1e-300));
+  fit.long_run_variance_ratio =
+      std::max(1.0, block * block_mean_variance / std::max(sigma2, 1e-300));
 
   fit.model.bias_rad_s = beta[0];
   fit.model.bias_se_rad_s = se[0];
-  long c = 1, cj = p;
-  for (auto& comp : comps) {
-    const long q = comp.term == Term::kSinusoid ? 2 : 1;
-    comp.coefficients.assign(beta.data() + c, beta.data() + c + q);
-    comp.coefficients_se.assign(se.data() + c, se.data() + c + q);
-    if (comp.term == Term::kSinusoid || comp.term == Term::kWarmup) {
-      comp.nonlinear_se = se[cj++];
-    } else if (comp.term == Term::kBiasStep) {
-      const double d = beta[c];
-      comp.nonlinear_se = fit.long_run_variance_ratio * sigma2 / std::max(d * d, 1e-300) / fs;
+  long column = 1, jacobian_column = num_linear;
+  for (auto& component : components) {
+    const long width = component.term == Term::kSinusoid ? 2 : 1;
+    component.coefficients.assign(beta.data() + column, beta.data() + column + width);
+    component.coefficients_se.assign(se.data() + column, se.data() + column + width);
+    if (component.term == Term::kSinusoid || component.term == Term::kWarmup) {
+      component.nonlinear_se = se[jacobian_column++];
+    } else if (component.term == Term::kBiasStep) {
+      const double step_size = beta[column];
+      component.nonlinear_se =
+          fit.long_run_variance_ratio * sigma2 / std::max(step_size * step_size, 1e-300) / fs;
     }
-    c += q;
+    column += width;
   }
-  fit.model.components = comps;
-  fit.summary.num_parameters =
-      static_cast<int>(p + pj + std::count_if(comps.begin(), comps.end(), [](const auto& k) {
-                         return k.term == Term::kBiasStep;
-                       }));
-  fit.summary.message = "fitted " + std::to_string(comps.size()) + " deterministic component(s)";
+  fit.model.components = components;
+  fit.summary.num_parameters = static_cast<int>(
+      num_linear + num_jacobian +
+      std::count_if(components.begin(), components.end(),
+                    [](const auto& component) { return component.term == Term::kBiasStep; }));
+  fit.summary.message =
+      "fitted " + std::to_string(components.size()) + " deterministic component(s)";
   return fit;
 }
 
 Eigen::VectorXd EvaluateDeterministic(const DeterministicModel& model, long n, double fs,
-                                      const Eigen::VectorXd* temp, bool include_bias) {
+                                      const Eigen::VectorXd* temperature, bool include_bias) {
   Context ctx;
   ctx.n = n;
   ctx.fs = fs;
   ctx.t = Eigen::VectorXd::LinSpaced(n, 0.0, (n - 1) / fs);
-  if (temp != nullptr && temp->size() == n) {
-    ctx.temperature_centered = temp->array() - model.temperature_ref_degc;
-    ctx.temperature_rate = SmoothedDerivative(*temp, fs, model.temperature_smoothing_s);
+  if (temperature != nullptr && temperature->size() == n) {
+    ctx.temperature_centered = temperature->array() - model.temperature_ref_degc;
+    ctx.temperature_rate = SmoothedDerivative(*temperature, fs, model.temperature_smoothing_s);
   }
-  Eigen::VectorXd out = Eigen::VectorXd::Constant(n, include_bias ? model.bias_rad_s : 0.0);
-  for (const auto& c : model.components) {
-    if (NeedsTemperature(c.term) && ctx.temperature_centered.size() != n) continue;
-    const Eigen::MatrixXd cols = Columns(ctx, c.term, c.nonlinear);
-    for (long j = 0; j < cols.cols() && j < static_cast<long>(c.coefficients.size()); ++j)
-      out += c.coefficients[j] * cols.col(j);
+  Eigen::VectorXd rate = Eigen::VectorXd::Constant(n, include_bias ? model.bias_rad_s : 0.0);
+  for (const auto& component : model.components) {
+    if (NeedsTemperature(component.term) && ctx.temperature_centered.size() != n) continue;
+    const Eigen::MatrixXd columns = Columns(ctx, component.term, component.nonlinear);
+    for (long j = 0; j < columns.cols() && j < static_cast<long>(component.coefficients.size());
+         ++j)
+      rate += component.coefficients[j] * columns.col(j);
   }
-  return out;
+  return rate;
 }
 
 }  // namespace fogpipe::model

@@ -21,14 +21,14 @@ double Pearson(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 
 // Fractional-octave moving average of a one-sided spectrum: bin j is replaced by the mean over the
 // bins in [f_j 2^(-w/2), f_j 2^(w/2)] (at least bin j itself). Prefix sums: O(bins).
-std::vector<double> OctaveSmooth(const std::vector<double>& p, double octaves) {
-  std::vector<double> c(p.size() + 1, 0.0), out(p.size(), 0.0);
-  for (size_t j = 0; j < p.size(); ++j) c[j + 1] = c[j] + p[j];
+std::vector<double> OctaveSmooth(const std::vector<double>& psd, double octaves) {
+  std::vector<double> prefix_sums(psd.size() + 1, 0.0), out(psd.size(), 0.0);
+  for (size_t j = 0; j < psd.size(); ++j) prefix_sums[j + 1] = prefix_sums[j] + psd[j];
   const double half = std::pow(2.0, 0.5 * octaves);
-  for (size_t j = 1; j < p.size(); ++j) {
+  for (size_t j = 1; j < psd.size(); ++j) {
     const size_t lo = std::max<size_t>(1, static_cast<size_t>(std::floor(j / half)));
-    const size_t hi = std::min(p.size() - 1, static_cast<size_t>(std::ceil(j * half)));
-    out[j] = (c[hi + 1] - c[lo]) / static_cast<double>(hi + 1 - lo);
+    const size_t hi = std::min(psd.size() - 1, static_cast<size_t>(std::ceil(j * half)));
+    out[j] = (prefix_sums[hi + 1] - prefix_sums[lo]) / static_cast<double>(hi + 1 - lo);
   }
   return out;
 }
@@ -49,69 +49,73 @@ struct Reference {
   std::string error;
 };
 
-simulation::GyroErrorModel NoiseOf(const StochasticModel& m) {
-  simulation::GyroErrorModel e;
-  if (m.Has(Term::kWhite)) e.n_rad_sqrt_s = m.n_rad_sqrt_s;
-  if (m.Has(Term::kQuantization)) e.q_rad = m.q_rad;
-  if (m.Has(Term::kBiasInstability)) e.b_rad_s = m.b_rad_s;
-  if (m.Has(Term::kRateRandomWalk)) e.k_rad_s_sqrt_s = m.k_rad_s_sqrt_s;
-  if (m.Has(Term::kRateRamp)) e.r_rad_s2 = m.r_rad_s2;
-  if (m.Has(Term::kGaussMarkov) && m.gm_sigma_rad_s > 0 && m.gm_correlation_time_s > 0)
-    e.gauss_markov.push_back({m.gm_sigma_rad_s, m.gm_correlation_time_s});
-  return e;
+simulation::GyroErrorModel NoiseOf(const StochasticModel& model) {
+  simulation::GyroErrorModel errors;
+  if (model.Has(Term::kWhite)) errors.n_rad_sqrt_s = model.n_rad_sqrt_s;
+  if (model.Has(Term::kQuantization)) errors.q_rad = model.q_rad;
+  if (model.Has(Term::kBiasInstability)) errors.b_rad_s = model.b_rad_s;
+  if (model.Has(Term::kRateRandomWalk)) errors.k_rad_s_sqrt_s = model.k_rad_s_sqrt_s;
+  if (model.Has(Term::kRateRamp)) errors.r_rad_s2 = model.r_rad_s2;
+  if (model.Has(Term::kGaussMarkov) && model.gm_sigma_rad_s > 0 && model.gm_correlation_time_s > 0)
+    errors.gauss_markov.push_back({model.gm_sigma_rad_s, model.gm_correlation_time_s});
+  return errors;
 }
 
-Reference ModelReference(long n, double fs, const StochasticModel& model, const ImfViewOptions& o) {
+Reference ModelReference(long n, double fs, const StochasticModel& model,
+                         const ImfViewOptions& options) {
   Reference ref;
-  std::vector<double> p1, p2;
+  std::vector<double> psd_sum, psd_square_sum;
   std::vector<std::vector<double>> logs;  // [imf][realization]
-  double df = 0;
-  for (int r = 0; r < o.reference_realizations; ++r) {
-    simulation::GyroSimulatorOptions so;
-    so.sample_rate_hz = fs;
-    so.duration_s = n / fs;
-    so.seed = simulation::DeriveSeed(o.reference_seed, r);
-    so.errors = NoiseOf(model);
-    const simulation::SimulatedRecording sim = simulation::SimulateGyro(so);
-    if (!HasResult(sim.summary.termination)) {
-      ref.error = sim.summary.message;
+  double bin_width_hz = 0;
+  for (int realization = 0; realization < options.reference_realizations; ++realization) {
+    simulation::GyroSimulatorOptions simulator_options;
+    simulator_options.sample_rate_hz = fs;
+    simulator_options.duration_s = n / fs;
+    simulator_options.seed = simulation::DeriveSeed(options.reference_seed, realization);
+    simulator_options.errors = NoiseOf(model);
+    const simulation::SimulatedRecording simulated = simulation::SimulateGyro(simulator_options);
+    if (!HasResult(simulated.summary.termination)) {
+      ref.error = simulated.summary.message;
       return ref;
     }
-    Eigen::VectorXd x = sim.rate_rad_s.head(std::min<long>(n, sim.rate_rad_s.size()));
-    x.array() -= x.mean();
-    const emd::EmdResult d = emd::Decompose(x, o.emd);
-    for (size_t k = 0; k < d.imfs.size(); ++k) {
+    Eigen::VectorXd rate =
+        simulated.rate_rad_s.head(std::min<long>(n, simulated.rate_rad_s.size()));
+    rate.array() -= rate.mean();
+    const emd::EmdResult decomposition = emd::Decompose(rate, options.emd);
+    for (size_t k = 0; k < decomposition.imfs.size(); ++k) {
       if (logs.size() <= k) {
         logs.emplace_back();
-        p1.push_back(0.0);
-        p2.push_back(0.0);
+        psd_sum.push_back(0.0);
+        psd_square_sum.push_back(0.0);
         ref.psd.emplace_back();
       }
-      logs[k].push_back(std::log(std::max(d.imf_info[k].energy, 1e-300)));
-      const Spectrum s = Periodogram(d.imfs[k], fs, 1);
-      df = s.frequency_hz.size() > 1 ? s.frequency_hz[1] : 0.0;
-      const std::vector<double> sm = OctaveSmooth(s.psd, o.smoothing_octaves);
-      if (ref.psd[k].empty()) ref.psd[k].assign(sm.size(), 0.0);
-      for (size_t j = 1; j < sm.size(); ++j) {
-        p1[k] += sm[j];
-        p2[k] += sm[j] * sm[j];
-        ref.psd[k][j] += sm[j];
+      logs[k].push_back(std::log(std::max(decomposition.imf_info[k].energy, 1e-300)));
+      const Spectrum spectrum = Periodogram(decomposition.imfs[k], fs, 1);
+      bin_width_hz = spectrum.frequency_hz.size() > 1 ? spectrum.frequency_hz[1] : 0.0;
+      const std::vector<double> smoothed = OctaveSmooth(spectrum.psd, options.smoothing_octaves);
+      if (ref.psd[k].empty()) ref.psd[k].assign(smoothed.size(), 0.0);
+      for (size_t j = 1; j < smoothed.size(); ++j) {
+        psd_sum[k] += smoothed[j];
+        psd_square_sum[k] += smoothed[j] * smoothed[j];
+        ref.psd[k][j] += smoothed[j];
       }
     }
   }
   // An IMF index that only some realizations reached is averaged over those that did.
   for (size_t k = 0; k < logs.size(); ++k) {
-    const int c = static_cast<int>(logs[k].size());
-    double mean = 0, ss = 0;
-    for (double l : logs[k]) mean += l / c;
-    for (double l : logs[k]) ss += (l - mean) * (l - mean);
+    const int num_reached = static_cast<int>(logs[k].size());
+    double mean = 0, sum_squares = 0;
+    for (double log_energy : logs[k]) mean += log_energy / num_reached;
+    for (double log_energy : logs[k]) sum_squares += (log_energy - mean) * (log_energy - mean);
     ref.energy.push_back(std::exp(mean));
-    ref.log_var.push_back(c > 1 ? ss / (c - 1) : 0.0);
-    ref.count.push_back(c);
-    for (double& p : ref.psd[k]) p /= c;
+    ref.log_var.push_back(num_reached > 1 ? sum_squares / (num_reached - 1) : 0.0);
+    ref.count.push_back(num_reached);
+    for (double& density : ref.psd[k]) density /= num_reached;
     // On bins of width df: nu = 2 n (sum P df)^2 / (fs sum P^2 df) for one realization; p1, p2
     // add up c realizations, hence the division by c.
-    ref.edf.push_back(p2[k] > 0 ? 2.0 * n * df * p1[k] * p1[k] / (fs * p2[k] * c) : 0.0);
+    ref.edf.push_back(psd_square_sum[k] > 0 ? 2.0 * n * bin_width_hz * psd_sum[k] * psd_sum[k] /
+                                                  (fs * psd_square_sum[k] * num_reached)
+                                            : 0.0);
   }
   return ref;
 }
@@ -124,19 +128,20 @@ Reference ModelReference(long n, double fs, const StochasticModel& model, const 
 // nu = (sum A_i)^2 / sum (A_i^2 / nu_i) with A_i each term's Allan variance.
 double AllanBandEdf(const StochasticModel& model, double period_s, double fs, long n) {
   const double tau = 0.5 * period_s;
-  const long long m = std::max(1LL, std::llround(tau * fs));
+  const long long averaging_factor = std::max(1LL, std::llround(tau * fs));
   double sum = 0, weighted = 0;
-  for (Term t : model.terms) {
+  for (Term term : model.terms) {
     int alpha = 0;  // white FM
-    if (t == Term::kQuantization) alpha = 2;
-    if (t == Term::kBiasInstability) alpha = -1;
-    if (t == Term::kRateRandomWalk || t == Term::kRateRamp) alpha = -2;  // ramp: steepest allowed
-    if (t == Term::kGaussMarkov && tau < model.gm_correlation_time_s) alpha = -2;
-    const double a = TermAllanVariance(model, t, m / fs);
-    const double nu = allan::GreenhallEdf(alpha, 2, m, n + 1, true, true);
-    if (!(a > 0) || !(nu > 0)) continue;
-    sum += a;
-    weighted += a * a / nu;
+    if (term == Term::kQuantization) alpha = 2;
+    if (term == Term::kBiasInstability) alpha = -1;
+    if (term == Term::kRateRandomWalk || term == Term::kRateRamp)
+      alpha = -2;  // ramp: steepest allowed
+    if (term == Term::kGaussMarkov && tau < model.gm_correlation_time_s) alpha = -2;
+    const double term_avar = TermAllanVariance(model, term, averaging_factor / fs);
+    const double nu = allan::GreenhallEdf(alpha, 2, averaging_factor, n + 1, true, true);
+    if (!(term_avar > 0) || !(nu > 0)) continue;
+    sum += term_avar;
+    weighted += term_avar * term_avar / nu;
   }
   return weighted > 0 ? sum * sum / weighted : std::numeric_limits<double>::quiet_NaN();
 }
@@ -149,26 +154,53 @@ double ParameterLogVariance(const StochasticModel& model, double period_s) {
   const double tau = 0.5 * period_s;
   const double total = ModelAllanVariance(model, tau);
   if (!(total > 0)) return 0.0;
-  double v = 0;
-  for (Term t : model.terms) {
-    StochasticModel up = model;
-    if (t == Term::kWhite) up.n_rad_sqrt_s += model.n_se;
-    if (t == Term::kQuantization) up.q_rad += model.q_se;
-    if (t == Term::kBiasInstability) up.b_rad_s += model.b_se;
-    if (t == Term::kRateRandomWalk) up.k_rad_s_sqrt_s += model.k_se;
-    if (t == Term::kRateRamp) up.r_rad_s2 += model.r_se;
-    if (t == Term::kGaussMarkov) up.gm_sigma_rad_s += model.gm_sigma_se;
-    const double d = (TermAllanVariance(up, t, tau) - TermAllanVariance(model, t, tau)) / total;
-    v += d * d;
+  double variance = 0;
+  for (Term term : model.terms) {
+    StochasticModel raised = model;
+    if (term == Term::kWhite) raised.n_rad_sqrt_s += model.n_se;
+    if (term == Term::kQuantization) raised.q_rad += model.q_se;
+    if (term == Term::kBiasInstability) raised.b_rad_s += model.b_se;
+    if (term == Term::kRateRandomWalk) raised.k_rad_s_sqrt_s += model.k_se;
+    if (term == Term::kRateRamp) raised.r_rad_s2 += model.r_se;
+    if (term == Term::kGaussMarkov) raised.gm_sigma_rad_s += model.gm_sigma_se;
+    const double relative_change =
+        (TermAllanVariance(raised, term, tau) - TermAllanVariance(model, term, tau)) / total;
+    variance += relative_change * relative_change;
   }
-  return v;
+  return variance;
+}
+
+// One test of the IMF view: its p-value and the IMF it is about.
+struct ImfTest {
+  double p;
+  int imf;
+};
+
+// The IMF view's failure step: Holm's (1979) step-down over all its tests at level `alpha`, the
+// per-test level and critical values it implies, and the IMFs it flags.
+void FlagImfs(const std::vector<ImfTest>& tests, double alpha, int num_imfs, ImfView* view) {
+  const int num_tests = static_cast<int>(tests.size());
+  std::vector<double> sorted_p;
+  for (const ImfTest& test : tests) sorted_p.push_back(test.p);
+  std::sort(sorted_p.begin(), sorted_p.end());
+  int rejected = 0;
+  while (rejected < num_tests && sorted_p[rejected] <= alpha / (num_tests - rejected)) ++rejected;
+  view->test_level = alpha / std::max(1, num_tests - std::max(rejected, 1) + 1);
+  view->critical = NormalToStudent(UpperTailZ(view->test_level), view->reference_dof);
+  view->aux_critical = UpperTailZ(0.5 * view->test_level);
+  view->flagged.assign(num_imfs, 0);
+  for (const ImfTest& test : tests)
+    if (test.p <= view->test_level) view->flagged[test.imf] = 1;
+  for (int flag : view->flagged) view->summary.num_flagged += flag;
+  view->summary.message = std::to_string(view->summary.num_flagged) + " of " +
+                          std::to_string(view->summary.num_scored) + " scored IMFs carry misfit";
 }
 
 }  // namespace
 
 bool ImfViewOptions::IsValid(std::string* error) const {
-  auto fail = [&](const char* m) {
-    if (error) *error = m;
+  auto fail = [&](const char* message) {
+    if (error) *error = message;
     return false;
   };
   if (max_samples < 64) return fail("imf.max_samples must be >= 64");
@@ -186,69 +218,73 @@ bool ImfViewOptions::IsValid(std::string* error) const {
 
 ImfView ComputeImfView(const Eigen::VectorXd& residual, double fs,
                        const std::vector<PreparedAux>& aux, const StochasticModel& model,
-                       const ImfViewOptions& o) {
-  ImfView v;
+                       const ImfViewOptions& options) {
+  ImfView view;
   std::string err;
-  if (!o.IsValid(&err) || !(fs > 0)) {
-    v.summary.termination = Termination::kInvalidOptions;
-    v.summary.message = fs > 0 ? err : "sample_rate_hz must be > 0";
-    return v;
+  if (!options.IsValid(&err) || !(fs > 0)) {
+    view.summary.termination = Termination::kInvalidOptions;
+    view.summary.message = fs > 0 ? err : "sample_rate_hz must be > 0";
+    return view;
   }
   const long n = residual.size();
-  v.decimation = std::max(1L, (n + o.max_samples - 1) / o.max_samples);
-  const long m = v.decimation;
-  const double fsd = fs / m;
-  v.sample_rate_hz = fsd;
-  Eigen::VectorXd x = BlockMeans(residual, m);
-  const long nd = x.size();
-  if (nd < 64) {
-    v.summary.termination = Termination::kInsufficientData;
-    v.summary.message = "residual too short for the IMF view";
-    return v;
+  view.decimation = std::max(1L, (n + options.max_samples - 1) / options.max_samples);
+  const long decimation = view.decimation;
+  const double decimated_rate_hz = fs / decimation;
+  view.sample_rate_hz = decimated_rate_hz;
+  Eigen::VectorXd decimated = BlockMeans(residual, decimation);
+  const long num_decimated = decimated.size();
+  if (num_decimated < 64) {
+    view.summary.termination = Termination::kInsufficientData;
+    view.summary.message = "residual too short for the IMF view";
+    return view;
   }
-  x.array() -= x.mean();
-  const emd::EmdResult d = emd::Decompose(x, o.emd);
-  if (!HasResult(d.summary.termination) || d.imfs.empty()) {
-    v.summary.termination = d.imfs.empty() ? Termination::kInsufficientData : d.summary.termination;
-    v.summary.message = "EMD of the residual: " + d.summary.message;
-    return v;
+  decimated.array() -= decimated.mean();
+  const emd::EmdResult decomposition = emd::Decompose(decimated, options.emd);
+  if (!HasResult(decomposition.summary.termination) || decomposition.imfs.empty()) {
+    view.summary.termination = decomposition.imfs.empty() ? Termination::kInsufficientData
+                                                          : decomposition.summary.termination;
+    view.summary.message = "EMD of the residual: " + decomposition.summary.message;
+    return view;
   }
   // The EMD of the fitted noise, measured (for white noise: the dyadic law of Wu & Huang 2004).
-  const Reference ref = ModelReference(nd, fsd, model, o);
+  const Reference ref = ModelReference(num_decimated, decimated_rate_hz, model, options);
   if (!ref.error.empty() || ref.energy.empty()) {
-    v.summary.termination = Termination::kInsufficientData;
-    v.summary.message = "no reference decomposition of the fitted noise: " + ref.error;
-    return v;
+    view.summary.termination = Termination::kInsufficientData;
+    view.summary.message = "no reference decomposition of the fitted noise: " + ref.error;
+    return view;
   }
-  const double record_s = nd / fsd;
+  const double record_s = num_decimated / decimated_rate_hz;
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const int k_count = static_cast<int>(d.imfs.size());
-  std::vector<double> param_var(k_count, nan);
-  for (int k = 0; k < k_count; ++k) {
-    const emd::ImfInfo& info = d.imf_info[k];
-    const double period_s = info.mean_period_samples / fsd;
-    v.mean_period_s.push_back(period_s);
-    v.energy.push_back(info.energy);
+  const int num_imfs = static_cast<int>(decomposition.imfs.size());
+  std::vector<double> parameter_log_variance(num_imfs, nan);
+  for (int k = 0; k < num_imfs; ++k) {
+    const emd::ImfInfo& info = decomposition.imf_info[k];
+    const double period_s = info.mean_period_samples / decimated_rate_hz;
+    view.mean_period_s.push_back(period_s);
+    view.energy.push_back(info.energy);
     const bool in_ref = k < static_cast<int>(ref.energy.size()) && ref.energy[k] > 0;
     const double expected = in_ref ? ref.energy[k] : nan;
     // The smaller of the band-pass EDF of the reference IMF and the Allan band EDF (above).
-    const double nu = in_ref ? std::fmin(ref.edf[k], AllanBandEdf(model, period_s, fsd, nd)) : nan;
-    v.expected_energy.push_back(expected);
-    v.ratio.push_back(in_ref ? info.energy / expected : nan);
-    v.edf.push_back(nu);
+    const double nu =
+        in_ref
+            ? std::fmin(ref.edf[k], AllanBandEdf(model, period_s, decimated_rate_hz, num_decimated))
+            : nan;
+    view.expected_energy.push_back(expected);
+    view.ratio.push_back(in_ref ? info.energy / expected : nan);
+    view.edf.push_back(nu);
     const bool scored =
-        expected > 0 && nu > 0 && info.energy > 0 && record_s >= o.min_cycles * period_s;
-    v.scored.push_back(scored ? 1 : 0);
-    param_var[k] = ParameterLogVariance(model, period_s);
-    ar::ArOptions ao;
-    ao.max_order = o.max_ar_order;
-    const ar::ArFit fit = ar::FitAr(d.imfs[k], ao);
+        expected > 0 && nu > 0 && info.energy > 0 && record_s >= options.min_cycles * period_s;
+    view.scored.push_back(scored ? 1 : 0);
+    parameter_log_variance[k] = ParameterLogVariance(model, period_s);
+    ar::ArOptions ar_options;
+    ar_options.max_order = options.max_ar_order;
+    const ar::ArFit fit = ar::FitAr(decomposition.imfs[k], ar_options);
     const bool ok = HasResult(fit.summary.termination);
-    v.ar_order.push_back(ok ? fit.model.order : 0);
-    v.ar_fit_percent.push_back(ok ? fit.diagnostics.fit_one_step_percent : nan);
+    view.ar_order.push_back(ok ? fit.model.order : 0);
+    view.ar_fit_percent.push_back(ok ? fit.diagnostics.fit_one_step_percent : nan);
   }
-  v.summary.num_imfs = k_count;
-  for (int s : v.scored) v.summary.num_scored += s;
+  view.summary.num_imfs = num_imfs;
+  for (int scored_flag : view.scored) view.summary.num_scored += scored_flag;
 
   // Calibration of the EDF by the reference realizations: ln energy of one realization has
   // variance lambda * 2 / nu_k. Each scored IMF that every realization reached gives an estimate
@@ -257,34 +293,32 @@ ImfView ComputeImfView(const Eigen::VectorXd& residual, double fs,
   // lambda captures what the EDF does not: EMD's mode mixing moves energy between neighbouring
   // IMFs, so an IMF's energy scatters more than that of a fixed band-pass filter (measured on
   // effect-free navigation-grade recordings: lambda ~ 1.2-2 on every IMF).
-  const int reps = o.reference_realizations;
+  const int num_realizations = options.reference_realizations;
   double lambda_sum = 0;
   int pooled = 0;
-  for (int k = 0; k < k_count; ++k) {
-    if (!v.scored[k] || ref.count[k] != reps || reps < 2) continue;
-    lambda_sum += ref.log_var[k] * v.edf[k] / 2.0;
+  for (int k = 0; k < num_imfs; ++k) {
+    if (!view.scored[k] || ref.count[k] != num_realizations || num_realizations < 2) continue;
+    lambda_sum += ref.log_var[k] * view.edf[k] / 2.0;
     ++pooled;
   }
-  v.log_variance_ratio = pooled > 0 ? lambda_sum / pooled : 1.0;
-  v.reference_dof = pooled > 0 ? pooled * (reps - 1.0) : std::numeric_limits<double>::infinity();
+  view.log_variance_ratio = pooled > 0 ? lambda_sum / pooled : 1.0;
+  view.reference_dof =
+      pooled > 0 ? pooled * (num_realizations - 1.0) : std::numeric_limits<double>::infinity();
 
   // Energy tests: t_k = ln(energy_k / E_k) / sd_k, sd_k^2 = lambda (2 / nu_k)(1 + 1 / R) + c^2 +
   // the parameters' share; Student t with the pooled dof (the variance is estimated), one-sided.
-  struct Test {
-    double p;  // p-value
-    int imf;
-  };
-  std::vector<Test> tests;
-  for (int k = 0; k < k_count; ++k) {
-    const double expected = v.expected_energy[k];
+  std::vector<ImfTest> tests;
+  for (int k = 0; k < num_imfs; ++k) {
+    const double expected = view.expected_energy[k];
     const double log_sd =
-        expected > 0 && v.edf[k] > 0
-            ? std::sqrt(v.log_variance_ratio * 2.0 / v.edf[k] * (1.0 + 1.0 / ref.count[k]) +
-                        o.relative_floor * o.relative_floor + param_var[k])
+        expected > 0 && view.edf[k] > 0
+            ? std::sqrt(view.log_variance_ratio * 2.0 / view.edf[k] * (1.0 + 1.0 / ref.count[k]) +
+                        options.relative_floor * options.relative_floor + parameter_log_variance[k])
             : nan;
-    v.log_sd.push_back(log_sd);
-    v.z.push_back(v.scored[k] ? std::log(v.energy[k] / expected) / log_sd : nan);
-    if (v.scored[k]) tests.push_back({UpperTailP(StudentToNormal(v.z[k], v.reference_dof)), k});
+    view.log_sd.push_back(log_sd);
+    view.z.push_back(view.scored[k] ? std::log(view.energy[k] / expected) / log_sd : nan);
+    if (view.scored[k])
+      tests.push_back({UpperTailP(StudentToNormal(view.z[k], view.reference_dof)), k});
   }
 
   // Aux: Pearson r of each IMF x with each channel y (block-averaged like the residual) and with
@@ -320,61 +354,52 @@ ImfView ComputeImfView(const Eigen::VectorXd& residual, double fs,
       spy += py[j];
       sxy += sx[j] * py[j];
     }
-    return sxy > 0 ? std::min(2.0 * ssx * spy / sxy, static_cast<double>(nd)) : nan;
+    return sxy > 0 ? std::min(2.0 * ssx * spy / sxy, static_cast<double>(num_decimated)) : nan;
   };
-  for (const PreparedAux& pa : aux) {
-    const Eigen::VectorXd c = BlockMeans(pa.channel->values, m).head(nd);
-    const Eigen::VectorXd dc = BlockMeans(pa.derivative, m).head(nd);
-    const std::vector<double> pc = Periodogram(c, fsd, 1).psd, pdc = Periodogram(dc, fsd, 1).psd;
-    std::vector<double> r, rd, z, zd, ne, ned;
-    for (int k = 0; k < k_count; ++k) {
-      r.push_back(Pearson(d.imfs[k], c));
-      rd.push_back(Pearson(d.imfs[k], dc));
-      const bool in_ref = v.scored[k] && k < static_cast<int>(ref.psd.size());
+  for (const PreparedAux& prepared : aux) {
+    const Eigen::VectorXd channel_blocks =
+        BlockMeans(prepared.channel->values, decimation).head(num_decimated);
+    const Eigen::VectorXd derivative_blocks =
+        BlockMeans(prepared.derivative, decimation).head(num_decimated);
+    const std::vector<double> channel_psd = Periodogram(channel_blocks, decimated_rate_hz, 1).psd,
+                              derivative_psd =
+                                  Periodogram(derivative_blocks, decimated_rate_hz, 1).psd;
+    std::vector<double> correlation, correlation_derivative, z_channel, z_derivative, n_eff_channel,
+        n_eff_derivative;
+    for (int k = 0; k < num_imfs; ++k) {
+      correlation.push_back(Pearson(decomposition.imfs[k], channel_blocks));
+      correlation_derivative.push_back(Pearson(decomposition.imfs[k], derivative_blocks));
+      const bool in_ref = view.scored[k] && k < static_cast<int>(ref.psd.size());
       // One test per (IMF, series) that shares spectrum with the IMF.
-      auto add = [&](double rr, const std::vector<double>& py, std::vector<double>* zs,
-                     std::vector<double>* ns) {
-        double n_eff = nan, zz = nan;
-        if (in_ref && shared_fraction(ref.psd[k], py) >= o.min_shared_fraction) {
+      auto add = [&](double correlation_value, const std::vector<double>& py,
+                     std::vector<double>* z_out, std::vector<double>* n_eff_out) {
+        double n_eff = nan, z_value = nan;
+        if (in_ref && shared_fraction(ref.psd[k], py) >= options.min_shared_fraction) {
           n_eff = effective_n(ref.psd[k], py);
-          zz = rr * std::sqrt(n_eff);
-          if (std::isfinite(zz)) tests.push_back({2.0 * UpperTailP(std::abs(zz)), k});
+          z_value = correlation_value * std::sqrt(n_eff);
+          if (std::isfinite(z_value)) tests.push_back({2.0 * UpperTailP(std::abs(z_value)), k});
         }
-        zs->push_back(zz);
-        ns->push_back(n_eff);
+        z_out->push_back(z_value);
+        n_eff_out->push_back(n_eff);
       };
-      add(r.back(), pc, &z, &ne);
-      add(rd.back(), pdc, &zd, &ned);
+      add(correlation.back(), channel_psd, &z_channel, &n_eff_channel);
+      add(correlation_derivative.back(), derivative_psd, &z_derivative, &n_eff_derivative);
     }
-    v.aux_names.push_back(pa.channel->name);
-    v.aux_r.push_back(r);
-    v.aux_r_derivative.push_back(rd);
-    v.aux_z.push_back(z);
-    v.aux_z_derivative.push_back(zd);
-    v.aux_n_eff.push_back(ne);
-    v.aux_n_eff_derivative.push_back(ned);
+    view.aux_names.push_back(prepared.channel->name);
+    view.aux_r.push_back(correlation);
+    view.aux_r_derivative.push_back(correlation_derivative);
+    view.aux_z.push_back(z_channel);
+    view.aux_z_derivative.push_back(z_derivative);
+    view.aux_n_eff.push_back(n_eff_channel);
+    view.aux_n_eff_derivative.push_back(n_eff_derivative);
   }
 
   // One family per record: every energy and aux test of every scored IMF, Holm's (1979) step-down
   // at `alpha` (family-wise: a correct model flags no IMF with probability >= 1 - alpha). Holm
   // rejects the r smallest p-values, p_(i) <= alpha / (m - i + 1) for i <= r; equivalently every
-  // test with p <= alpha / (m - max(r, 1) + 1), the level the critical values below are quoted at.
-  const int m_tests = static_cast<int>(tests.size());
-  std::vector<double> sorted_p;
-  for (const Test& t : tests) sorted_p.push_back(t.p);
-  std::sort(sorted_p.begin(), sorted_p.end());
-  int rejected = 0;
-  while (rejected < m_tests && sorted_p[rejected] <= o.alpha / (m_tests - rejected)) ++rejected;
-  v.test_level = o.alpha / std::max(1, m_tests - std::max(rejected, 1) + 1);
-  v.critical = NormalToStudent(UpperTailZ(v.test_level), v.reference_dof);
-  v.aux_critical = UpperTailZ(0.5 * v.test_level);
-  v.flagged.assign(k_count, 0);
-  for (const Test& t : tests)
-    if (t.p <= v.test_level) v.flagged[t.imf] = 1;
-  for (int f : v.flagged) v.summary.num_flagged += f;
-  v.summary.message = std::to_string(v.summary.num_flagged) + " of " +
-                      std::to_string(v.summary.num_scored) + " scored IMFs carry misfit";
-  return v;
+  // test with p <= alpha / (m - max(r, 1) + 1), the level FlagImfs quotes the critical values at.
+  FlagImfs(tests, options.alpha, num_imfs, &view);
+  return view;
 }
 
 }  // namespace fogpipe::model

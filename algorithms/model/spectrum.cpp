@@ -18,9 +18,9 @@ long NextFastSize(long n) {
   while (best < n) best <<= 1;
   for (long p5 = 1; p5 < 2 * n; p5 *= 5)
     for (long p35 = p5; p35 < 2 * n; p35 *= 3) {
-      long m = p35;
-      while (m < n) m <<= 1;
-      best = std::min(best, m);
+      long candidate = p35;
+      while (candidate < n) candidate <<= 1;
+      best = std::min(best, candidate);
     }
   return best;
 }
@@ -31,17 +31,17 @@ long FastFftSizeAtMost(long n) {
   long best = 1;
   for (long p5 = 1; p5 <= n; p5 *= 5)
     for (long p35 = p5; p35 <= n; p35 *= 3) {
-      long m = p35;
-      while (2 * m <= n) m <<= 1;
-      best = std::max(best, m);
+      long candidate = p35;
+      while (2 * candidate <= n) candidate <<= 1;
+      best = std::max(best, candidate);
     }
   return best;
 }
 
 bool IsFastFftSize(long n) {
   if (n < 1) return false;
-  for (long p : {2L, 3L, 5L})
-    while (n % p == 0) n /= p;
+  for (long factor : {2L, 3L, 5L})
+    while (n % factor == 0) n /= factor;
   return n == 1;
 }
 
@@ -60,20 +60,22 @@ std::vector<std::complex<double>> RealDftHalf(const std::vector<double>& x) {
   // Bluestein: j k = (j^2 + k^2 - (k - j)^2) / 2, so X_k = w_k^* sum_j (x_j w_j^*) w_{k-j} with the
   // chirp w_m = exp(i pi m^2 / n): a convolution, done by FFTs of a fast size m >= 2 n - 1. The
   // chirp's phase uses m^2 mod 2n in exact integer arithmetic (no loss for large m).
-  const long m = NextFastSize(2 * n - 1);
-  std::vector<std::complex<double>> chirp(n), a(m, 0.0), b(m, 0.0), fa, fb, conv;
+  const long padded_length = NextFastSize(2 * n - 1);
+  std::vector<std::complex<double>> chirp(n), chirped(padded_length, 0.0),
+      chirp_kernel(padded_length, 0.0), chirped_dft, kernel_dft, conv;
   for (long j = 0; j < n; ++j) {
-    const long long q = (static_cast<long long>(j) * j) % (2LL * n);
-    chirp[j] = std::polar(1.0, units::kPi * static_cast<double>(q) / static_cast<double>(n));
-    a[j] = x[j] * std::conj(chirp[j]);
-    b[j] = chirp[j];
-    if (j > 0) b[m - j] = chirp[j];
+    const long long phase_index = (static_cast<long long>(j) * j) % (2LL * n);
+    chirp[j] =
+        std::polar(1.0, units::kPi * static_cast<double>(phase_index) / static_cast<double>(n));
+    chirped[j] = x[j] * std::conj(chirp[j]);
+    chirp_kernel[j] = chirp[j];
+    if (j > 0) chirp_kernel[padded_length - j] = chirp[j];
   }
   Eigen::FFT<double> fft;
-  fft.fwd(fa, a);
-  fft.fwd(fb, b);
-  for (long k = 0; k < m; ++k) fa[k] *= fb[k];
-  fft.inv(conv, fa);  // Eigen's inverse is scaled by 1 / m
+  fft.fwd(chirped_dft, chirped);
+  fft.fwd(kernel_dft, chirp_kernel);
+  for (long k = 0; k < padded_length; ++k) chirped_dft[k] *= kernel_dft[k];
+  fft.inv(conv, chirped_dft);  // Eigen's inverse is scaled by 1 / padded_length
   out.resize(n / 2 + 1);
   for (long k = 0; k <= n / 2; ++k) out[k] = std::conj(chirp[k]) * conv[k];
   return out;
@@ -111,17 +113,17 @@ double NormalQuantile(double p) {
   if (p > 0.5) return -NormalQuantile(1 - p);
   const double z = AcklamNormalQuantile(p);
   constexpr double kSqrt2Pi = 2.506628274631000502415765284811;
-  const double e = 0.5 * std::erfc(-z / std::sqrt(2.0)) - p;
-  const double u = e * kSqrt2Pi * std::exp(0.5 * z * z);
-  return z - u / (1 + 0.5 * z * u);
+  const double cdf_error = 0.5 * std::erfc(-z / std::sqrt(2.0)) - p;
+  const double correction = cdf_error * kSqrt2Pi * std::exp(0.5 * z * z);
+  return z - correction / (1 + 0.5 * z * correction);
 }
 
 }  // namespace
 
 Spectrum Periodogram(const Eigen::VectorXd& x, double fs, int pad_factor) {
-  Spectrum s;
+  Spectrum spectrum;
   const long n = x.size();
-  if (n < 2) return s;
+  if (n < 2) return spectrum;
   const long nfft = NextFastSize(std::max<long>(n, static_cast<long>(pad_factor) * n));
   std::vector<double> in(nfft, 0.0);
   const double mean = x.mean();
@@ -131,62 +133,62 @@ Spectrum Periodogram(const Eigen::VectorXd& x, double fs, int pad_factor) {
   std::vector<std::complex<double>> out;
   fft.fwd(out, in);
   const int half = nfft / 2;
-  s.frequency_hz.resize(half + 1);
-  s.psd.resize(half + 1);
+  spectrum.frequency_hz.resize(half + 1);
+  spectrum.psd.resize(half + 1);
   const double scale = 2.0 / (fs * static_cast<double>(n));  // one-sided, rectangular window
   for (int k = 0; k <= half; ++k) {
-    s.frequency_hz[k] = fs * k / nfft;
-    s.psd[k] = std::norm(out[k]) * scale * ((k == 0 || k == half) ? 0.5 : 1.0);
+    spectrum.frequency_hz[k] = fs * k / nfft;
+    spectrum.psd[k] = std::norm(out[k]) * scale * ((k == 0 || k == half) ? 0.5 : 1.0);
   }
-  s.dof = 2.0;
-  s.segment_length = static_cast<int>(n);
-  return s;
+  spectrum.dof = 2.0;
+  spectrum.segment_length = static_cast<int>(n);
+  return spectrum;
 }
 
-Spectrum WelchPsd(const Eigen::VectorXd& x, double fs, int seg) {
-  Spectrum s;
+Spectrum WelchPsd(const Eigen::VectorXd& x, double fs, int segment_length) {
+  Spectrum spectrum;
   const long n = x.size();
-  seg = static_cast<int>(std::min<long>(seg, n));
-  if (seg < 8) return s;
-  const int step = seg / 2;
-  const long count = (n - seg) / step + 1;
-  std::vector<double> w(seg);
-  double w2 = 0;
-  for (int i = 0; i < seg; ++i) {
-    w[i] = 0.5 - 0.5 * std::cos(2 * units::kPi * i / seg);  // periodic Hann
-    w2 += w[i] * w[i];
+  segment_length = static_cast<int>(std::min<long>(segment_length, n));
+  if (segment_length < 8) return spectrum;
+  const int step = segment_length / 2;
+  const long num_segments = (n - segment_length) / step + 1;
+  std::vector<double> window(segment_length);
+  double window_energy = 0;
+  for (int i = 0; i < segment_length; ++i) {
+    window[i] = 0.5 - 0.5 * std::cos(2 * units::kPi * i / segment_length);  // periodic Hann
+    window_energy += window[i] * window[i];
   }
-  const int half = seg / 2;
-  s.frequency_hz.resize(half + 1);
-  s.psd.assign(half + 1, 0.0);
-  for (int k = 0; k <= half; ++k) s.frequency_hz[k] = fs * k / seg;
+  const int half = segment_length / 2;
+  spectrum.frequency_hz.resize(half + 1);
+  spectrum.psd.assign(half + 1, 0.0);
+  for (int k = 0; k <= half; ++k) spectrum.frequency_hz[k] = fs * k / segment_length;
   Eigen::FFT<double> fft;
   fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);  // real input: bins 0 .. nfft/2 only
-  std::vector<double> in(seg);
+  std::vector<double> in(segment_length);
   std::vector<std::complex<double>> out;
-  for (long c = 0; c < count; ++c) {
-    const long start = c * step;
-    const double mean = x.segment(start, seg).mean();
-    for (int i = 0; i < seg; ++i) in[i] = (x[start + i] - mean) * w[i];
+  for (long segment_index = 0; segment_index < num_segments; ++segment_index) {
+    const long start = segment_index * step;
+    const double mean = x.segment(start, segment_length).mean();
+    for (int i = 0; i < segment_length; ++i) in[i] = (x[start + i] - mean) * window[i];
     fft.fwd(out, in);
-    for (int k = 0; k <= half; ++k) s.psd[k] += std::norm(out[k]);
+    for (int k = 0; k <= half; ++k) spectrum.psd[k] += std::norm(out[k]);
   }
-  const double scale = 2.0 / (fs * w2 * static_cast<double>(count));
-  for (int k = 0; k <= half; ++k) s.psd[k] *= scale * ((k == 0 || k == half) ? 0.5 : 1.0);
-  const double kk = static_cast<double>(count);
-  s.dof = count == 1 ? 2.0 : 36.0 * kk * kk / (19.0 * kk - 1.0);
-  s.segment_length = seg;
-  return s;
+  const double scale = 2.0 / (fs * window_energy * static_cast<double>(num_segments));
+  for (int k = 0; k <= half; ++k) spectrum.psd[k] *= scale * ((k == 0 || k == half) ? 0.5 : 1.0);
+  const double segments = static_cast<double>(num_segments);
+  spectrum.dof = num_segments == 1 ? 2.0 : 36.0 * segments * segments / (19.0 * segments - 1.0);
+  spectrum.segment_length = segment_length;
+  return spectrum;
 }
 
 double ChiSquareMedianOverNu(double nu) {
-  const double a = 2.0 / (9.0 * nu);
-  return std::pow(1.0 - a, 3.0);
+  const double variance = 2.0 / (9.0 * nu);
+  return std::pow(1.0 - variance, 3.0);
 }
 
 double WilsonHilfertyZ(double ratio, double nu) {
-  const double a = 2.0 / (9.0 * nu);
-  return (std::cbrt(std::max(ratio, 0.0)) - (1.0 - a)) / std::sqrt(a);
+  const double variance = 2.0 / (9.0 * nu);
+  return (std::cbrt(std::max(ratio, 0.0)) - (1.0 - variance)) / std::sqrt(variance);
 }
 
 double UpperTailZ(double p) {
@@ -204,8 +206,8 @@ double StudentToNormal(double t, double nu) {
 
 double NormalToStudent(double z, double nu) {
   if (!std::isfinite(nu)) return z;
-  const double a = z * (8.0 * nu + 3.0) / (8.0 * nu + 1.0);
-  return (z < 0 ? -1.0 : 1.0) * std::sqrt(nu * std::expm1(a * a / nu));
+  const double corrected = z * (8.0 * nu + 3.0) / (8.0 * nu + 1.0);
+  return (z < 0 ? -1.0 : 1.0) * std::sqrt(nu * std::expm1(corrected * corrected / nu));
 }
 
 double BonferroniCriticalZ(int count, double alpha) {
@@ -216,39 +218,40 @@ double BonferroniCriticalZOneSided(int count, double alpha) {
   return NormalQuantile(1.0 - alpha / std::max(count, 1));
 }
 
-std::vector<double> BandMedianBackground(const Spectrum& s, double ratio, int min_bins) {
-  const int m = static_cast<int>(s.psd.size());
-  std::vector<double> bg(m, 0.0);
-  const double med = ChiSquareMedianOverNu(s.dof);
+std::vector<double> BandMedianBackground(const Spectrum& spectrum, double ratio, int min_bins) {
+  const int num_bins = static_cast<int>(spectrum.psd.size());
+  std::vector<double> background(num_bins, 0.0);
+  const double chi_square_median = ChiSquareMedianOverNu(spectrum.dof);
   // The band [j / ratio, j * ratio] is capped at kMaxHalf bins either side (a median of ~2000
   // Exp(1) values is already within ~3 % of the truth), and its median is recomputed only when j
   // has moved by 1/8 of the band: O(m log m) overall on long spectra.
   constexpr int kMaxHalf = 1024;
-  std::vector<double> buf;
-  int last_j = -1, last_width = 1;
+  std::vector<double> window_values;
+  int last_bin = -1, last_width = 1;
   double last = 0;
-  for (int j = 1; j < m; ++j) {
-    if (last_j >= 0 && (j - last_j) * 8 < last_width) {
-      bg[j] = last;
+  for (int bin = 1; bin < num_bins; ++bin) {
+    if (last_bin >= 0 && (bin - last_bin) * 8 < last_width) {
+      background[bin] = last;
       continue;
     }
-    int lo = static_cast<int>(std::floor(j / ratio));
-    int hi = static_cast<int>(std::ceil(j * ratio));
+    int lo = static_cast<int>(std::floor(bin / ratio));
+    int hi = static_cast<int>(std::ceil(bin * ratio));
     if (hi - lo + 1 < min_bins) {
-      lo = j - min_bins / 2;
-      hi = j + min_bins / 2;
+      lo = bin - min_bins / 2;
+      hi = bin + min_bins / 2;
     }
-    lo = std::max({lo, 1, j - kMaxHalf});
-    hi = std::min({hi, m - 1, j + kMaxHalf});
-    buf.assign(s.psd.begin() + lo, s.psd.begin() + hi + 1);
-    std::nth_element(buf.begin(), buf.begin() + buf.size() / 2, buf.end());
-    last = buf[buf.size() / 2] / med;
-    last_j = j;
+    lo = std::max({lo, 1, bin - kMaxHalf});
+    hi = std::min({hi, num_bins - 1, bin + kMaxHalf});
+    window_values.assign(spectrum.psd.begin() + lo, spectrum.psd.begin() + hi + 1);
+    std::nth_element(window_values.begin(), window_values.begin() + window_values.size() / 2,
+                     window_values.end());
+    last = window_values[window_values.size() / 2] / chi_square_median;
+    last_bin = bin;
     last_width = hi - lo + 1;
-    bg[j] = last;
+    background[bin] = last;
   }
-  if (m > 1) bg[0] = bg[1];
-  return bg;
+  if (num_bins > 1) background[0] = background[1];
+  return background;
 }
 
 }  // namespace fogpipe::model

@@ -44,7 +44,7 @@ Spectrum WelchPsd(const Eigen::VectorXd& x, double sample_rate_hz, int segment_l
 /// A smooth background for line detection: for each bin, the median of the psd over a band of
 /// bins [j / ratio, j * ratio] widened to at least min_bins, divided by the median of chi2(dof)/dof
 /// so that it estimates the mean. Robust to the lines themselves (a line is a few bins).
-std::vector<double> BandMedianBackground(const Spectrum& s, double ratio, int min_bins);
+std::vector<double> BandMedianBackground(const Spectrum& spectrum, double ratio, int min_bins);
 
 /// Median of chi2(nu)/nu (Wilson-Hilferty approximation; exact enough for nu >= 2).
 double ChiSquareMedianOverNu(double nu);

@@ -12,13 +12,13 @@
 namespace fogpipe::model {
 namespace {
 
-bool IsStochastic(Term t) {
-  return t == Term::kWhite || t == Term::kQuantization || t == Term::kBiasInstability ||
-         t == Term::kRateRandomWalk || t == Term::kRateRamp || t == Term::kGaussMarkov;
+bool IsStochastic(Term term) {
+  return term == Term::kWhite || term == Term::kQuantization || term == Term::kBiasInstability ||
+         term == Term::kRateRandomWalk || term == Term::kRateRamp || term == Term::kGaussMarkov;
 }
 
-allan::Term AllanTerm(Term t) {
-  switch (t) {
+allan::Term AllanTerm(Term term) {
+  switch (term) {
     case Term::kQuantization:
       return allan::Term::kQuantization;
     case Term::kWhite:
@@ -35,37 +35,41 @@ allan::Term AllanTerm(Term t) {
 }
 
 struct NnlsResult {
-  Eigen::VectorXd c;
+  Eigen::VectorXd coefficients;
   Eigen::VectorXd se;
   double cost = std::numeric_limits<double>::infinity();
 };
 
 // min ||W^1/2 (A c - b)||^2, c >= 0 (Lawson-Hanson, fogpipe::allan), columns scaled to unit norm.
 // Standard errors from the weighted normal matrix on the free terms.
-NnlsResult Nnls(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, const Eigen::VectorXd& w) {
-  const long p = a.cols();
-  NnlsResult out;
-  const Eigen::VectorXd sw = w.cwiseSqrt();
-  const Eigen::MatrixXd aw = sw.asDiagonal() * a;
-  const Eigen::VectorXd bw = sw.asDiagonal() * b;
-  const Eigen::VectorXd d = aw.colwise().norm().cwiseMax(1e-300).cwiseInverse().transpose();
-  const Eigen::MatrixXd as = aw * d.asDiagonal();
-  const allan::NnlsResult r = allan::SolveNnls(as, bw);
-  out.c = d.asDiagonal() * r.x;
-  out.se = Eigen::VectorXd::Zero(p);
-  out.cost = (aw * out.c - bw).squaredNorm();
+NnlsResult Nnls(const Eigen::MatrixXd& design, const Eigen::VectorXd& target,
+                const Eigen::VectorXd& weights) {
+  const long num_columns = design.cols();
+  NnlsResult result;
+  const Eigen::VectorXd sqrt_weights = weights.cwiseSqrt();
+  const Eigen::MatrixXd weighted_design = sqrt_weights.asDiagonal() * design;
+  const Eigen::VectorXd weighted_target = sqrt_weights.asDiagonal() * target;
+  const Eigen::VectorXd column_scale =
+      weighted_design.colwise().norm().cwiseMax(1e-300).cwiseInverse().transpose();
+  const Eigen::MatrixXd scaled_design = weighted_design * column_scale.asDiagonal();
+  const allan::NnlsResult solution = allan::SolveNnls(scaled_design, weighted_target);
+  result.coefficients = column_scale.asDiagonal() * solution.x;
+  result.se = Eigen::VectorXd::Zero(num_columns);
+  result.cost = (weighted_design * result.coefficients - weighted_target).squaredNorm();
   std::vector<long> free;
-  for (long j = 0; j < p; ++j)
-    if (r.x[j] > 0) free.push_back(j);
+  for (long j = 0; j < num_columns; ++j)
+    if (solution.x[j] > 0) free.push_back(j);
   if (!free.empty()) {
-    Eigen::MatrixXd af(as.rows(), free.size());
-    for (size_t j = 0; j < free.size(); ++j) af.col(j) = as.col(free[j]);
-    const Eigen::MatrixXd cov =
-        (af.transpose() * af).ldlt().solve(Eigen::MatrixXd::Identity(free.size(), free.size()));
+    Eigen::MatrixXd free_design(scaled_design.rows(), free.size());
+    for (size_t j = 0; j < free.size(); ++j) free_design.col(j) = scaled_design.col(free[j]);
+    const Eigen::MatrixXd covariance =
+        (free_design.transpose() * free_design)
+            .ldlt()
+            .solve(Eigen::MatrixXd::Identity(free.size(), free.size()));
     for (size_t j = 0; j < free.size(); ++j)
-      out.se[free[j]] = d[free[j]] * std::sqrt(std::max(cov(j, j), 0.0));
+      result.se[free[j]] = column_scale[free[j]] * std::sqrt(std::max(covariance(j, j), 0.0));
   }
-  return out;
+  return result;
 }
 
 struct Fitted {
@@ -73,89 +77,97 @@ struct Fitted {
   double tc = 0;
 };
 
-Fitted FitAt(const std::vector<double>& tau, const Eigen::VectorXd& s2, const Eigen::VectorXd& edf,
-             const std::vector<Term>& terms, double tc, double floor2) {
-  const int rows = static_cast<int>(tau.size()), p = static_cast<int>(terms.size());
-  Eigen::MatrixXd a(rows, p);
+Fitted FitAt(const std::vector<double>& tau, const Eigen::VectorXd& avar,
+             const Eigen::VectorXd& edf, const std::vector<Term>& terms, double correlation_time_s,
+             double floor_squared) {
+  const int rows = static_cast<int>(tau.size()), num_terms = static_cast<int>(terms.size());
+  Eigen::MatrixXd design(rows, num_terms);
   for (int i = 0; i < rows; ++i)
-    for (int j = 0; j < p; ++j) a(i, j) = UnitAllanLaw(terms[j], tau[i], tc);
+    for (int j = 0; j < num_terms; ++j)
+      design(i, j) = UnitAllanLaw(terms[j], tau[i], correlation_time_s);
   // Relative variance of s2: 2 / edf + floor^2. Weights start from the data, then the model.
-  Eigen::VectorXd model = s2;
-  Fitted f;
-  f.tc = tc;
-  for (int it = 0; it < 3; ++it) {
-    Eigen::VectorXd w(rows);
+  Eigen::VectorXd model_avar = avar;
+  Fitted fitted;
+  fitted.tc = correlation_time_s;
+  for (int iteration = 0; iteration < 3; ++iteration) {
+    Eigen::VectorXd weights(rows);
     for (int i = 0; i < rows; ++i) {
-      const double m = std::max(model[i], 1e-6 * s2[i]);
-      w[i] = 1.0 / ((2.0 / edf[i] + floor2) * m * m);
+      const double model_value = std::max(model_avar[i], 1e-6 * avar[i]);
+      weights[i] = 1.0 / ((2.0 / edf[i] + floor_squared) * model_value * model_value);
     }
-    f.nnls = Nnls(a, s2, w);
-    model = a * f.nnls.c;
+    fitted.nnls = Nnls(design, avar, weights);
+    model_avar = design * fitted.nnls.coefficients;
   }
-  return f;
+  return fitted;
 }
 
 }  // namespace
 
 // The model is sum c_i g_i with c_i = P_i^2 (P = Q, N, B, K, R, sigma).
-double UnitAllanLaw(Term t, double tau, double tc) {
-  allan::TermParams p;
-  p.amplitude = 1.0;
-  p.correlation_time_s = tc;
-  return allan::TermAllanVariance(AllanTerm(t), p, tau);
+double UnitAllanLaw(Term term, double tau, double tc) {
+  allan::TermParams params;
+  params.amplitude = 1.0;
+  params.correlation_time_s = tc;
+  return allan::TermAllanVariance(AllanTerm(term), params, tau);
 }
 
-bool StochasticModel::Has(Term t) const {
-  return std::find(terms.begin(), terms.end(), t) != terms.end();
+bool StochasticModel::Has(Term term) const {
+  return std::find(terms.begin(), terms.end(), term) != terms.end();
 }
 
-double TermAllanVariance(const StochasticModel& m, Term term, double tau) {
-  if (!m.Has(term)) return 0.0;
+double TermAllanVariance(const StochasticModel& model, Term term, double tau) {
+  if (!model.Has(term)) return 0.0;
   switch (term) {
     case Term::kQuantization:
-      return m.q_rad * m.q_rad * UnitAllanLaw(term, tau, 0);
+      return model.q_rad * model.q_rad * UnitAllanLaw(term, tau, 0);
     case Term::kWhite:
-      return m.n_rad_sqrt_s * m.n_rad_sqrt_s * UnitAllanLaw(term, tau, 0);
+      return model.n_rad_sqrt_s * model.n_rad_sqrt_s * UnitAllanLaw(term, tau, 0);
     case Term::kBiasInstability:
-      return m.b_rad_s * m.b_rad_s * UnitAllanLaw(term, tau, 0);
+      return model.b_rad_s * model.b_rad_s * UnitAllanLaw(term, tau, 0);
     case Term::kRateRandomWalk:
-      return m.k_rad_s_sqrt_s * m.k_rad_s_sqrt_s * UnitAllanLaw(term, tau, 0);
+      return model.k_rad_s_sqrt_s * model.k_rad_s_sqrt_s * UnitAllanLaw(term, tau, 0);
     case Term::kRateRamp:
-      return m.r_rad_s2 * m.r_rad_s2 * UnitAllanLaw(term, tau, 0);
+      return model.r_rad_s2 * model.r_rad_s2 * UnitAllanLaw(term, tau, 0);
     case Term::kGaussMarkov:
-      return m.gm_correlation_time_s > 0 ? m.gm_sigma_rad_s * m.gm_sigma_rad_s *
-                                               UnitAllanLaw(term, tau, m.gm_correlation_time_s)
-                                         : 0.0;
+      return model.gm_correlation_time_s > 0
+                 ? model.gm_sigma_rad_s * model.gm_sigma_rad_s *
+                       UnitAllanLaw(term, tau, model.gm_correlation_time_s)
+                 : 0.0;
     default:
       return 0.0;
   }
 }
 
-double ModelAllanVariance(const StochasticModel& m, double tau) {
-  double s = 0;
-  for (Term t : m.terms) s += TermAllanVariance(m, t, tau);
-  return s;
+double ModelAllanVariance(const StochasticModel& model, double tau) {
+  double sum = 0;
+  for (Term term : model.terms) sum += TermAllanVariance(model, term, tau);
+  return sum;
 }
 
-double ModelOneSidedPsd(const StochasticModel& m, double f, double fs) {
+double ModelOneSidedPsd(const StochasticModel& model, double frequency_hz, double fs) {
   // Two-sided laws of IEEE Std 952-1997 Annex C, doubled.
-  const double w = 2 * units::kPi * f;
-  double s = 0;
-  if (m.Has(Term::kWhite)) s += m.n_rad_sqrt_s * m.n_rad_sqrt_s;
-  if (m.Has(Term::kQuantization)) {
-    const double sn = std::sin(units::kPi * f / fs);
-    s += 4.0 * m.q_rad * m.q_rad * fs * sn * sn;
+  const double angular_frequency = 2 * units::kPi * frequency_hz;
+  double psd = 0;
+  if (model.Has(Term::kWhite)) psd += model.n_rad_sqrt_s * model.n_rad_sqrt_s;
+  if (model.Has(Term::kQuantization)) {
+    const double sine = std::sin(units::kPi * frequency_hz / fs);
+    psd += 4.0 * model.q_rad * model.q_rad * fs * sine * sine;
   }
-  if (f > 0) {
-    if (m.Has(Term::kBiasInstability)) s += m.b_rad_s * m.b_rad_s / (2 * units::kPi * f);
-    if (m.Has(Term::kRateRandomWalk)) s += m.k_rad_s_sqrt_s * m.k_rad_s_sqrt_s / (w * w);
-    if (m.Has(Term::kRateRamp)) s += m.r_rad_s2 * m.r_rad_s2 / (w * w * w);
+  if (frequency_hz > 0) {
+    if (model.Has(Term::kBiasInstability))
+      psd += model.b_rad_s * model.b_rad_s / (2 * units::kPi * frequency_hz);
+    if (model.Has(Term::kRateRandomWalk))
+      psd += model.k_rad_s_sqrt_s * model.k_rad_s_sqrt_s / (angular_frequency * angular_frequency);
+    if (model.Has(Term::kRateRamp))
+      psd += model.r_rad_s2 * model.r_rad_s2 /
+             (angular_frequency * angular_frequency * angular_frequency);
   }
-  if (m.Has(Term::kGaussMarkov) && m.gm_correlation_time_s > 0) {
-    const double tc = m.gm_correlation_time_s;
-    s += 2.0 * m.gm_sigma_rad_s * m.gm_sigma_rad_s * tc / (1.0 + w * w * tc * tc);
+  if (model.Has(Term::kGaussMarkov) && model.gm_correlation_time_s > 0) {
+    const double correlation_time_s = model.gm_correlation_time_s;
+    psd += 2.0 * model.gm_sigma_rad_s * model.gm_sigma_rad_s * correlation_time_s /
+           (1.0 + angular_frequency * angular_frequency * correlation_time_s * correlation_time_s);
   }
-  return 2.0 * s;
+  return 2.0 * psd;
 }
 
 bool StochasticFitOptions::IsValid(std::string* error) const {
@@ -172,109 +184,124 @@ bool StochasticFitOptions::IsValid(std::string* error) const {
 
 StochasticFit FitStochastic(const std::vector<double>& tau, const std::vector<double>& avar,
                             const std::vector<double>& edf_in, double fs, double record_s,
-                            const std::vector<Term>& all_terms, const StochasticFitOptions& o) {
-  StochasticFit out;
+                            const std::vector<Term>& all_terms,
+                            const StochasticFitOptions& options) {
+  StochasticFit result;
   std::string err;
-  if (!o.IsValid(&err)) {
-    out.summary.termination = Termination::kInvalidOptions;
-    out.summary.message = err;
-    return out;
+  if (!options.IsValid(&err)) {
+    result.summary.termination = Termination::kInvalidOptions;
+    result.summary.message = err;
+    return result;
   }
   std::vector<Term> terms;
-  for (Term t : all_terms)
-    if (IsStochastic(t) && std::find(terms.begin(), terms.end(), t) == terms.end())
-      terms.push_back(t);
-  out.model.terms = terms;
-  std::vector<double> tv;
-  std::vector<double> sv, ev;
+  for (Term term : all_terms)
+    if (IsStochastic(term) && std::find(terms.begin(), terms.end(), term) == terms.end())
+      terms.push_back(term);
+  result.model.terms = terms;
+  std::vector<double> fit_tau;
+  std::vector<double> fit_avar, fit_edf;
   for (size_t i = 0; i < tau.size(); ++i) {
     if (!(avar[i] > 0) || !std::isfinite(avar[i])) continue;
-    tv.push_back(tau[i]);
-    sv.push_back(avar[i]);
-    ev.push_back(std::isfinite(edf_in[i]) && edf_in[i] > 0 ? edf_in[i] : 1.0);
+    fit_tau.push_back(tau[i]);
+    fit_avar.push_back(avar[i]);
+    fit_edf.push_back(std::isfinite(edf_in[i]) && edf_in[i] > 0 ? edf_in[i] : 1.0);
   }
-  if (terms.empty() || tv.size() < 2) {
-    out.summary.termination =
+  if (terms.empty() || fit_tau.size() < 2) {
+    result.summary.termination =
         terms.empty() ? Termination::kSuccess : Termination::kInsufficientData;
-    out.summary.message = terms.empty() ? "no stochastic term" : "fewer than 2 Allan points";
-    return out;
+    result.summary.message = terms.empty() ? "no stochastic term" : "fewer than 2 Allan points";
+    return result;
   }
-  const Eigen::VectorXd s2 = Eigen::Map<Eigen::VectorXd>(sv.data(), sv.size());
-  const Eigen::VectorXd edf = Eigen::Map<Eigen::VectorXd>(ev.data(), ev.size());
-  const double floor2 = o.relative_floor * o.relative_floor;
-  const bool gm = std::find(terms.begin(), terms.end(), Term::kGaussMarkov) != terms.end();
+  const Eigen::VectorXd avar_points = Eigen::Map<Eigen::VectorXd>(fit_avar.data(), fit_avar.size());
+  const Eigen::VectorXd edf = Eigen::Map<Eigen::VectorXd>(fit_edf.data(), fit_edf.size());
+  const double floor_squared = options.relative_floor * options.relative_floor;
+  const bool has_gauss_markov =
+      std::find(terms.begin(), terms.end(), Term::kGaussMarkov) != terms.end();
   Fitted best;
-  if (!gm) {
-    best = FitAt(tv, s2, edf, terms, 0.0, floor2);
+  if (!has_gauss_markov) {
+    best = FitAt(fit_tau, avar_points, edf, terms, 0.0, floor_squared);
   } else {
-    const double lo = std::log(o.min_tc_factor / fs), hi = std::log(record_s / o.max_tc_divisor);
+    const double log_tc_low = std::log(options.min_tc_factor / fs),
+                 log_tc_high = std::log(record_s / options.max_tc_divisor);
     const int grid = 30;
     best.nnls.cost = std::numeric_limits<double>::infinity();
-    int bi = 0;
+    int best_index = 0;
     for (int i = 0; i < grid; ++i) {
-      Fitted f = FitAt(tv, s2, edf, terms, std::exp(lo + (hi - lo) * i / (grid - 1)), floor2);
-      if (f.nnls.cost < best.nnls.cost) {
-        best = f;
-        bi = i;
+      Fitted fitted =
+          FitAt(fit_tau, avar_points, edf, terms,
+                std::exp(log_tc_low + (log_tc_high - log_tc_low) * i / (grid - 1)), floor_squared);
+      if (fitted.nnls.cost < best.nnls.cost) {
+        best = fitted;
+        best_index = i;
       }
     }
-    const double step = (hi - lo) / (grid - 1);
-    double a = lo + step * std::max(bi - 1, 0), b = lo + step * std::min(bi + 1, grid - 1);
-    const double g = 0.6180339887498949;
-    for (int it = 0; it < 30; ++it) {
-      const double x1 = b - g * (b - a), x2 = a + g * (b - a);
-      const Fitted f1 = FitAt(tv, s2, edf, terms, std::exp(x1), floor2);
-      const Fitted f2 = FitAt(tv, s2, edf, terms, std::exp(x2), floor2);
-      if (f1.nnls.cost < f2.nnls.cost) {
-        b = x2;
-        if (f1.nnls.cost < best.nnls.cost) best = f1;
+    const double step = (log_tc_high - log_tc_low) / (grid - 1);
+    double bracket_low = log_tc_low + step * std::max(best_index - 1, 0),
+           bracket_high = log_tc_low + step * std::min(best_index + 1, grid - 1);
+    const double golden = 0.6180339887498949;
+    for (int iteration = 0; iteration < 30; ++iteration) {
+      const double inner_low = bracket_high - golden * (bracket_high - bracket_low),
+                   inner_high = bracket_low + golden * (bracket_high - bracket_low);
+      const Fitted fit_low =
+          FitAt(fit_tau, avar_points, edf, terms, std::exp(inner_low), floor_squared);
+      const Fitted fit_high =
+          FitAt(fit_tau, avar_points, edf, terms, std::exp(inner_high), floor_squared);
+      if (fit_low.nnls.cost < fit_high.nnls.cost) {
+        bracket_high = inner_high;
+        if (fit_low.nnls.cost < best.nnls.cost) best = fit_low;
       } else {
-        a = x1;
-        if (f2.nnls.cost < best.nnls.cost) best = f2;
+        bracket_low = inner_low;
+        if (fit_high.nnls.cost < best.nnls.cost) best = fit_high;
       }
     }
     // Standard error of Tc from the curvature of the cost in log(Tc): a weighted LS cost is a
     // chi-square, so var(log Tc) ~ 2 / cost''.
-    const double h = 0.05, l0 = std::log(best.tc);
-    const double cm = FitAt(tv, s2, edf, terms, std::exp(l0 - h), floor2).nnls.cost;
-    const double cp = FitAt(tv, s2, edf, terms, std::exp(l0 + h), floor2).nnls.cost;
-    const double curv = (cp - 2 * best.nnls.cost + cm) / (h * h);
-    out.model.gm_correlation_time_s = best.tc;
-    out.model.gm_correlation_time_se = curv > 0 ? best.tc * std::sqrt(2.0 / curv) : best.tc;
+    const double log_step = 0.05, log_tc = std::log(best.tc);
+    const double cost_minus =
+        FitAt(fit_tau, avar_points, edf, terms, std::exp(log_tc - log_step), floor_squared)
+            .nnls.cost;
+    const double cost_plus =
+        FitAt(fit_tau, avar_points, edf, terms, std::exp(log_tc + log_step), floor_squared)
+            .nnls.cost;
+    const double curvature = (cost_plus - 2 * best.nnls.cost + cost_minus) / (log_step * log_step);
+    result.model.gm_correlation_time_s = best.tc;
+    result.model.gm_correlation_time_se =
+        curvature > 0 ? best.tc * std::sqrt(2.0 / curvature) : best.tc;
   }
-  auto root = [](double c, double se, double* p, double* pse) {
-    *p = std::sqrt(std::max(c, 0.0));
-    *pse = *p > 0 ? se / (2.0 * *p) : std::sqrt(std::max(se, 0.0));
+  auto root = [](double coefficient, double se, double* value, double* value_se) {
+    *value = std::sqrt(std::max(coefficient, 0.0));
+    *value_se = *value > 0 ? se / (2.0 * *value) : std::sqrt(std::max(se, 0.0));
   };
   for (size_t j = 0; j < terms.size(); ++j) {
-    const double c = best.nnls.c[j], se = best.nnls.se[j];
+    const double coefficient = best.nnls.coefficients[j], se = best.nnls.se[j];
     switch (terms[j]) {
       case Term::kQuantization:
-        root(c, se, &out.model.q_rad, &out.model.q_se);
+        root(coefficient, se, &result.model.q_rad, &result.model.q_se);
         break;
       case Term::kWhite:
-        root(c, se, &out.model.n_rad_sqrt_s, &out.model.n_se);
+        root(coefficient, se, &result.model.n_rad_sqrt_s, &result.model.n_se);
         break;
       case Term::kBiasInstability:
-        root(c, se, &out.model.b_rad_s, &out.model.b_se);
+        root(coefficient, se, &result.model.b_rad_s, &result.model.b_se);
         break;
       case Term::kRateRandomWalk:
-        root(c, se, &out.model.k_rad_s_sqrt_s, &out.model.k_se);
+        root(coefficient, se, &result.model.k_rad_s_sqrt_s, &result.model.k_se);
         break;
       case Term::kRateRamp:
-        root(c, se, &out.model.r_rad_s2, &out.model.r_se);
+        root(coefficient, se, &result.model.r_rad_s2, &result.model.r_se);
         break;
       case Term::kGaussMarkov:
-        root(c, se, &out.model.gm_sigma_rad_s, &out.model.gm_sigma_se);
+        root(coefficient, se, &result.model.gm_sigma_rad_s, &result.model.gm_sigma_se);
         break;
       default:
         break;
     }
   }
-  out.summary.num_parameters = static_cast<int>(terms.size()) + (gm ? 1 : 0);
-  out.summary.weighted_rss = best.nnls.cost;
-  out.summary.message = "weighted NNLS on " + std::to_string(tv.size()) + " Allan variances";
-  return out;
+  result.summary.num_parameters = static_cast<int>(terms.size()) + (has_gauss_markov ? 1 : 0);
+  result.summary.weighted_rss = best.nnls.cost;
+  result.summary.message =
+      "weighted NNLS on " + std::to_string(fit_tau.size()) + " Allan variances";
+  return result;
 }
 
 }  // namespace fogpipe::model

@@ -42,12 +42,12 @@ struct StochasticModel {
 /// correlation time (ignored by the other terms).
 double UnitAllanLaw(Term term, double tau_s, double tc_s);
 /// Allan variance of one term at tau (rad/s)^2 (Term::kSinusoid not included: fitted on rate).
-double TermAllanVariance(const StochasticModel& m, Term term, double tau_s);
+double TermAllanVariance(const StochasticModel& model, Term term, double tau_s);
 /// Sum over the model's terms.
-double ModelAllanVariance(const StochasticModel& m, double tau_s);
+double ModelAllanVariance(const StochasticModel& model, double tau_s);
 /// One-sided PSD of the model's rate at frequency f, (rad/s)^2/Hz, for data sampled at fs
 /// (quantization uses its exact discrete-time law 8 Q^2 fs sin^2(pi f / fs)).
-double ModelOneSidedPsd(const StochasticModel& m, double frequency_hz, double sample_rate_hz);
+double ModelOneSidedPsd(const StochasticModel& model, double frequency_hz, double sample_rate_hz);
 
 struct StochasticFitOptions {
   /// Relative model-shape tolerance added to the sampling variance of sigma^2 (see views.h).

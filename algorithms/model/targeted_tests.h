@@ -58,10 +58,10 @@ std::vector<std::complex<double>> MeanRemovedDft(const Eigen::VectorXd& x);
 std::vector<double> WhittleWeights(const StochasticModel& model, long n, double sample_rate_hz);
 
 /// GLS t-statistic (Whittle score) of "x += c * regressor" given the DFTs of the series and the
-/// regressor (bins 1 .. w.size() - 1 are used).
+/// regressor (bins 1 .. weights.size() - 1 are used).
 double WhittleScoreZ(const std::vector<std::complex<double>>& series_dft,
                      const std::vector<std::complex<double>>& regressor_dft,
-                     const std::vector<double>& w);
+                     const std::vector<double>& weights);
 
 /// Critical value c of the two-sided supremum of a standardised Brownian bridge over
 /// [margin, 1 - margin] at level alpha (James, James & Siegmund 1987 approximation).

@@ -14,10 +14,10 @@ namespace fogpipe::model {
 namespace {
 
 Eigen::VectorXd PrefixSum(const Eigen::VectorXd& x) {
-  Eigen::VectorXd c(x.size() + 1);
-  c[0] = 0;
-  for (long i = 0; i < x.size(); ++i) c[i + 1] = c[i] + x[i];
-  return c;
+  Eigen::VectorXd sums(x.size() + 1);
+  sums[0] = 0;
+  for (long i = 0; i < x.size(); ++i) sums[i + 1] = sums[i] + x[i];
+  return sums;
 }
 
 // Runs of consecutive indices with value > limit: [first, last] pairs.
@@ -53,76 +53,100 @@ struct Decimated {
   std::vector<std::complex<double>> dft;  // MeanRemovedDft(x)
 };
 
-Decimated Decimate(const Eigen::VectorXd& r, double fs) {
-  Decimated d;
-  d.block = ScanBlock(r.size());
-  d.sample_rate_hz = fs / static_cast<double>(d.block);
-  d.x = d.block > 1 ? BlockMeans(r, d.block) : r;
-  d.dft = MeanRemovedDft(d.x);
-  return d;
+Decimated Decimate(const Eigen::VectorXd& residual, double fs) {
+  Decimated decimated;
+  decimated.block = ScanBlock(residual.size());
+  decimated.sample_rate_hz = fs / static_cast<double>(decimated.block);
+  decimated.x = decimated.block > 1 ? BlockMeans(residual, decimated.block) : residual;
+  decimated.dft = MeanRemovedDft(decimated.x);
+  return decimated;
 }
 
 // Boundaries whose leave-window-out reference has fewer degrees of freedom are not tested.
 constexpr double kMinDof = 8.0;
 
-double MaxAbs(const std::vector<double>& v, int a, int b) {
-  double m = 0;
-  for (int i = a; i <= b; ++i) m = std::max(m, std::abs(v[i]));
-  return m;
+double MaxAbs(const std::vector<double>& values, int first, int last) {
+  double largest = 0;
+  for (int i = first; i <= last; ++i) largest = std::max(largest, std::abs(values[i]));
+  return largest;
 }
 
-std::vector<double> Abs(const std::vector<double>& v) {
-  std::vector<double> a(v.size());
-  for (size_t i = 0; i < v.size(); ++i) a[i] = std::abs(v[i]);
-  return a;
+std::vector<double> Abs(const std::vector<double>& values) {
+  std::vector<double> magnitudes(values.size());
+  for (size_t i = 0; i < values.size(); ++i) magnitudes[i] = std::abs(values[i]);
+  return magnitudes;
 }
 
-void ComputeAllanView(const AllanData& d, const StochasticModel& m, const ViewOptions& o, double fs,
-                      double record_s, double alpha_view, AllanView* v,
-                      std::vector<Failure>* failures) {
-  const double c2 = o.relative_floor * o.relative_floor;
-  v->tau_s = d.tau_s;
-  v->avar_meas = d.avar;
-  v->edf = d.edf;
-  v->alpha = d.alpha;
-  v->alpha_method = d.alpha_method;
-  v->ci_low = d.ci_low;
-  v->ci_high = d.ci_high;
-  for (Term t : m.terms) {
-    v->term_names.push_back(ToString(t));
+// Each view is computed in two steps: the statistic step fills the view with its numbers (the
+// standardized statistics, their critical value and the view's statistic), the failure step judges
+// them against the critical value and reports the failures.
+
+// Statistic step of the Allan view; `gauss_markov` receives the bump test (its tau range is where
+// a failure of it shows).
+void AllanStatistics(const AllanData& allan, const StochasticModel& model,
+                     const ViewOptions& options, double fs, double record_s, double alpha_view,
+                     AllanView* view, TargetedTest* gauss_markov) {
+  const double tolerance_squared = options.relative_floor * options.relative_floor;
+  view->tau_s = allan.tau_s;
+  view->avar_meas = allan.avar;
+  view->edf = allan.edf;
+  view->alpha = allan.alpha;
+  view->alpha_method = allan.alpha_method;
+  view->ci_low = allan.ci_low;
+  view->ci_high = allan.ci_high;
+  for (Term term : model.terms) {
+    view->term_names.push_back(ToString(term));
     std::vector<double> curve;
-    for (double tau : d.tau_s) curve.push_back(TermAllanVariance(m, t, tau));
-    v->term_avar.push_back(curve);
+    for (double tau : allan.tau_s) curve.push_back(TermAllanVariance(model, term, tau));
+    view->term_avar.push_back(curve);
   }
-  for (size_t j = 0; j < d.tau_s.size(); ++j) {
-    const double model = ModelAllanVariance(m, d.tau_s[j]);
-    v->avar_model.push_back(model);
-    const double edf = std::isfinite(d.edf[j]) && d.edf[j] > 0 ? d.edf[j] : 1.0;
-    const double nu = 2.0 / (2.0 / edf + c2);
-    v->z.push_back(model > 0 ? WilsonHilfertyZ(d.avar[j] / model, nu) : 0.0);
+  for (size_t k = 0; k < allan.tau_s.size(); ++k) {
+    const double model_avar = ModelAllanVariance(model, allan.tau_s[k]);
+    view->avar_model.push_back(model_avar);
+    const double edf = std::isfinite(allan.edf[k]) && allan.edf[k] > 0 ? allan.edf[k] : 1.0;
+    const double nu = 2.0 / (2.0 / edf + tolerance_squared);
+    view->z.push_back(model_avar > 0 ? WilsonHilfertyZ(allan.avar[k] / model_avar, nu) : 0.0);
   }
   // alpha_view is split between the per-tau tests and the Gauss-Markov bump test.
-  v->critical = BonferroniCriticalZ(static_cast<int>(v->z.size()), 0.5 * alpha_view);
-  const std::vector<double> az = Abs(v->z);
-  v->statistic = az.empty() ? 0.0 : *std::max_element(az.begin(), az.end());
-  for (auto [a, b] : Runs(az, v->critical)) {
-    failures->push_back({"tau", d.tau_s[a] / std::sqrt(2.0), d.tau_s[b] * std::sqrt(2.0), "",
-                         std::pow(MaxAbs(az, a, b) / v->critical, 2)});
-  }
-  const TargetedTest gm = ScanGaussMarkov(d, fs, record_s, m, o, 0.5 * alpha_view);
-  if (!gm.evaluated) return;
-  v->gm_z = gm.z;
-  v->gm_critical = gm.critical;
-  v->gm_correlation_time_s = gm.location;
-  v->gm_sigma_rad_s = gm.size;
-  v->statistic = std::max(v->statistic, gm.z * v->critical / gm.critical);
-  if (gm.z > gm.critical)
-    failures->push_back({"tau", gm.from, gm.to, "", std::pow(gm.z / gm.critical, 2)});
+  view->critical = BonferroniCriticalZ(static_cast<int>(view->z.size()), 0.5 * alpha_view);
+  const std::vector<double> abs_z = Abs(view->z);
+  view->statistic = abs_z.empty() ? 0.0 : *std::max_element(abs_z.begin(), abs_z.end());
+  *gauss_markov = ScanGaussMarkov(allan, fs, record_s, model, options, 0.5 * alpha_view);
+  if (!gauss_markov->evaluated) return;
+  view->gm_z = gauss_markov->z;
+  view->gm_critical = gauss_markov->critical;
+  view->gm_correlation_time_s = gauss_markov->location;
+  view->gm_sigma_rad_s = gauss_markov->size;
+  view->statistic =
+      std::max(view->statistic, gauss_markov->z * view->critical / gauss_markov->critical);
 }
 
-void ComputeFrequencyView(const Eigen::VectorXd& r, double fs, const StochasticModel& m,
-                          const ViewOptions& o, double alpha_view, FrequencyView* v,
-                          std::vector<Failure>* failures) {
+// Failure step of the Allan view: runs of taus beyond the critical value, and the bump.
+void AllanFailures(const AllanView& view, const TargetedTest& gauss_markov,
+                   std::vector<Failure>* failures) {
+  const std::vector<double> abs_z = Abs(view.z);
+  for (auto [first, last] : Runs(abs_z, view.critical)) {
+    failures->push_back({ViewDomain::kTau, view.tau_s[first] / std::sqrt(2.0),
+                         view.tau_s[last] * std::sqrt(2.0), "",
+                         std::pow(MaxAbs(abs_z, first, last) / view.critical, 2)});
+  }
+  if (gauss_markov.evaluated && gauss_markov.z > gauss_markov.critical)
+    failures->push_back({ViewDomain::kTau, gauss_markov.from, gauss_markov.to, "",
+                         std::pow(gauss_markov.z / gauss_markov.critical, 2)});
+}
+
+// The tested bins' z (one-sided) and the Welch bin width: what the frequency view's failure step
+// judges.
+struct FrequencyBins {
+  std::vector<double> z;
+  double bin_width_hz = 0;
+};
+
+// Statistic step of the frequency view.
+FrequencyBins FrequencyStatistics(const Eigen::VectorXd& residual, double fs,
+                                  const StochasticModel& model, const ViewOptions& options,
+                                  double alpha_view, FrequencyView* view) {
+  FrequencyBins bins;
   // One Welch PSD (Welch 1967) is both displayed and tested: Hann segments of the largest fast
   // FFT size <= n / welch_segments, 50 % overlap. Under the model each bin is S(f) chi2(nu)/nu
   // with Welch's equivalent dof nu (Percival & Walden 1993, sec. 6.17), so the ratio psd / model
@@ -134,102 +158,120 @@ void ComputeFrequencyView(const Eigen::VectorXd& r, double fs, const StochasticM
   // (K = 15, nu = 28.5) on 24 h at 100 Hz the bin is flagged at ratio 3.2 (z_c = 5.47 over 5.4e5
   // bins), i.e. W^2 = 106 sigma^2 / n, against 75 sigma^2 / n for the 2x padded periodogram
   // (ratio 19.7 over 4.3e6 bins): 1.4x the power, 1.2x the amplitude.
-  const long seg = FastFftSizeAtMost(std::max(1L, static_cast<long>(r.size()) / o.welch_segments));
-  if (seg < 64) return;
-  const Spectrum w = WelchPsd(r, fs, static_cast<int>(seg));
-  if (w.psd.size() < 3) return;
-  v->dof = w.dof;
-  const double record = r.size() / fs;
-  std::vector<double> ratio, model_psd;
-  for (int k = std::max(1, o.psd_skip_bins); k + 1 < static_cast<int>(w.psd.size()); ++k) {
-    if (w.frequency_hz[k] * record < o.min_line_cycles) continue;
-    const double mp = ModelOneSidedPsd(m, w.frequency_hz[k], fs);
-    v->frequency_hz.push_back(w.frequency_hz[k]);
-    v->psd.push_back(w.psd[k]);
-    model_psd.push_back(mp);
-    ratio.push_back(mp > 0 ? w.psd[k] / mp : 0.0);
+  const long segment_length =
+      FastFftSizeAtMost(std::max(1L, static_cast<long>(residual.size()) / options.welch_segments));
+  if (segment_length < 64) return bins;
+  const Spectrum welch = WelchPsd(residual, fs, static_cast<int>(segment_length));
+  if (welch.psd.size() < 3) return bins;
+  view->dof = welch.dof;
+  const double record_s = residual.size() / fs;
+  std::vector<double> ratios, model_psd;
+  for (int k = std::max(1, options.psd_skip_bins); k + 1 < static_cast<int>(welch.psd.size());
+       ++k) {
+    if (welch.frequency_hz[k] * record_s < options.min_line_cycles) continue;
+    const double model_psd_k = ModelOneSidedPsd(model, welch.frequency_hz[k], fs);
+    view->frequency_hz.push_back(welch.frequency_hz[k]);
+    view->psd.push_back(welch.psd[k]);
+    model_psd.push_back(model_psd_k);
+    ratios.push_back(model_psd_k > 0 ? welch.psd[k] / model_psd_k : 0.0);
   }
-  if (ratio.empty()) return;
-  std::vector<double> sorted = ratio;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  if (ratios.empty()) return bins;
+  std::vector<double> sorted_ratios = ratios;
+  std::nth_element(sorted_ratios.begin(), sorted_ratios.begin() + sorted_ratios.size() / 2,
+                   sorted_ratios.end());
   // Only the shape of the model PSD is tested here (its level is the Allan view's business):
   // scale it so that the median ratio is the median of chi2(nu)/nu.
-  v->scale = sorted[sorted.size() / 2] / ChiSquareMedianOverNu(w.dof);
-  if (!(v->scale > 0)) v->scale = 1.0;
-  v->model_psd.resize(model_psd.size());
-  for (size_t i = 0; i < model_psd.size(); ++i) v->model_psd[i] = v->scale * model_psd[i];
-  std::vector<double> z(ratio.size());
-  for (size_t i = 0; i < ratio.size(); ++i) z[i] = WilsonHilfertyZ(ratio[i] / v->scale, w.dof);
+  view->scale = sorted_ratios[sorted_ratios.size() / 2] / ChiSquareMedianOverNu(welch.dof);
+  if (!(view->scale > 0)) view->scale = 1.0;
+  view->model_psd.resize(model_psd.size());
+  for (size_t i = 0; i < model_psd.size(); ++i) view->model_psd[i] = view->scale * model_psd[i];
+  std::vector<double>& z = bins.z;
+  z.resize(ratios.size());
+  for (size_t i = 0; i < ratios.size(); ++i)
+    z[i] = WilsonHilfertyZ(ratios[i] / view->scale, welch.dof);
   // Bins are tested one-sided (a line raises its bin); adjacent Hann bins are correlated, which
   // makes Bonferroni over every tested bin conservative.
-  v->critical = BonferroniCriticalZOneSided(static_cast<int>(z.size()), alpha_view);
-  v->statistic = *std::max_element(z.begin(), z.end());
-  const double df = w.frequency_hz[1];
-  const std::vector<double>& freq = v->frequency_hz;
+  view->critical = BonferroniCriticalZOneSided(static_cast<int>(z.size()), alpha_view);
+  view->statistic = *std::max_element(z.begin(), z.end());
+  bins.bin_width_hz = welch.frequency_hz[1];
+  return bins;
+}
+
+// Failure step of the frequency view: failing bands, and each band's line in the view.
+void FrequencyFailures(const FrequencyBins& bins, const ViewOptions& options, FrequencyView* view,
+                       std::vector<Failure>* failures) {
+  const std::vector<double>& z = bins.z;
+  const double bin_width_hz = bins.bin_width_hz;
+  const std::vector<double>& freq = view->frequency_hz;
   // Runs of failing bins, merged into bands across gaps of at most max(band_gap_bins bins,
   // band_gap_fraction f) (ViewOptions has the reason): a vibration band or a line's leakage is one
   // failure, not one per bin.
   std::vector<std::pair<int, int>> bands;
-  for (auto run : Runs(z, v->critical)) {
+  for (auto run : Runs(z, view->critical)) {
     if (!bands.empty()) {
       const double gap = freq[run.first] - freq[bands.back().second];
-      if (gap <= std::max(o.band_gap_bins * df, o.band_gap_fraction * freq[run.first])) {
+      if (gap <= std::max(options.band_gap_bins * bin_width_hz,
+                          options.band_gap_fraction * freq[run.first])) {
         bands.back().second = run.second;
         continue;
       }
     }
     bands.push_back(run);
   }
-  for (auto [a, b] : bands) {
-    Failure f{"frequency", freq[a] - df, freq[b] + df, "", 0.0};
-    int peak = a;
-    double excess = 0, positive = 0, moment = 0, ratio = 0;
-    for (int i = a; i <= b; ++i) {
+  for (auto [first, last] : bands) {
+    Failure failure{ViewDomain::kFrequency, freq[first] - bin_width_hz, freq[last] + bin_width_hz,
+                    "", 0.0};
+    int peak = first;
+    double excess = 0, positive = 0, moment = 0, peak_ratio = 0;
+    for (int i = first; i <= last; ++i) {
       if (z[i] > z[peak]) peak = i;
-      if (z[i] > v->critical) ++f.failing_bins;
-      const double e = v->psd[i] - v->model_psd[i];
-      excess += e * df;
-      positive += std::max(e, 0.0);
-      moment += std::max(e, 0.0) * freq[i];
-      ratio = std::max(ratio, v->model_psd[i] > 0 ? v->psd[i] / v->model_psd[i] : 0.0);
+      if (z[i] > view->critical) ++failure.failing_bins;
+      const double excess_density = view->psd[i] - view->model_psd[i];
+      excess += excess_density * bin_width_hz;
+      positive += std::max(excess_density, 0.0);
+      moment += std::max(excess_density, 0.0) * freq[i];
+      peak_ratio =
+          std::max(peak_ratio, view->model_psd[i] > 0 ? view->psd[i] / view->model_psd[i] : 0.0);
     }
-    f.severity = std::pow(z[peak] / v->critical, 2);
-    f.center_hz = positive > 0 ? moment / positive : freq[peak];
-    f.peak_hz = freq[peak];
-    f.peak_ratio = ratio;
-    f.excess_power = excess;
-    v->line_frequency_hz.push_back(freq[peak]);
-    v->line_z.push_back(z[peak]);
-    failures->push_back(f);
+    failure.severity = std::pow(z[peak] / view->critical, 2);
+    failure.center_hz = positive > 0 ? moment / positive : freq[peak];
+    failure.peak_hz = freq[peak];
+    failure.peak_ratio = peak_ratio;
+    failure.excess_power = excess;
+    view->line_frequency_hz.push_back(freq[peak]);
+    view->line_z.push_back(z[peak]);
+    failures->push_back(failure);
   }
 }
 
-void ComputeTimeView(const Eigen::VectorXd& r, double fs, const Decimated& dec,
-                     const StochasticModel& m, const ViewOptions& o, double alpha_view, TimeView* v,
-                     std::vector<Failure>* failures) {
-  const long n = r.size();
-  const long len = std::max(16L, n / o.time_windows);
-  v->window_s = len / fs;
-  const Eigen::VectorXd c = PrefixSum(r);
+// Statistic step of the time view, with the targeted scans (not scored).
+void TimeStatistics(const Eigen::VectorXd& residual, double fs, const Decimated& decimated,
+                    const StochasticModel& model, const ViewOptions& options, double alpha_view,
+                    TimeView* view) {
+  const long n = residual.size();
+  const long window_length = std::max(16L, n / options.time_windows);
+  view->window_s = window_length / fs;
+  const Eigen::VectorXd prefix_sums = PrefixSum(residual);
   // Windowed mean and variance (finest scale).
-  const long nw = n / len;
-  std::vector<double> var;
-  for (long w = 0; w < nw; ++w) {
-    const auto seg = r.segment(w * len, len);
-    const double mean = seg.mean();
-    v->center_s.push_back((w * len + 0.5 * len) / fs);
-    v->mean.push_back(mean);
-    var.push_back((seg.array() - mean).square().sum() / (len - 1));
+  const long num_windows = n / window_length;
+  std::vector<double> variances;
+  for (long window = 0; window < num_windows; ++window) {
+    const auto segment = residual.segment(window * window_length, window_length);
+    const double window_mean = segment.mean();
+    view->center_s.push_back((window * window_length + 0.5 * window_length) / fs);
+    view->mean.push_back(window_mean);
+    variances.push_back((segment.array() - window_mean).square().sum() / (window_length - 1));
   }
-  v->variance = var;
+  view->variance = variances;
   double pooled = 0;
-  for (double x : var) pooled += x;
-  pooled /= std::max<size_t>(var.size(), 1);
-  for (double x : var) v->z_variance.push_back(WilsonHilfertyZ(x / pooled, len - 1.0));
-  // Mean changes at octave scales len, 2 len, 4 len, 8 len: a step is best seen by windows about
-  // as long as the noise allows (white noise favours long windows, rate random walk short ones).
-  // Reference: the mean square of the same differences elsewhere in the record (boundaries at
-  // least 2 l away, whose windows do not overlap this one), not the fitted model: a step or a
+  for (double variance : variances) pooled += variance;
+  pooled /= std::max<size_t>(variances.size(), 1);
+  for (double variance : variances)
+    view->z_variance.push_back(WilsonHilfertyZ(variance / pooled, window_length - 1.0));
+  // Mean changes at octave scales l = 1, 2, 4, 8 window lengths: a step is best seen by windows
+  // about as long as the noise allows (white noise favours long windows, rate random walk short
+  // ones). Reference: the mean square of the same differences elsewhere in the record (boundaries
+  // at least 2 l away, whose windows do not overlap this one), not the fitted model: a step or a
   // warm-up inflates the fitted rate_random_walk / rate_ramp (K^2 = D^2 / T for a step), which
   // would cap z at sqrt(3 T / (2 l)) whatever the step size; a single event cannot inflate the
   // leave-window-out reference. Any noise with stationary increments (white, flicker, random
@@ -241,142 +283,192 @@ void ComputeTimeView(const Eigen::VectorXd& r, double fs, const Decimated& dec,
   // z = t c / t_c(nu), so that z / c = t / t_c: the error still grows with the energy of the
   // jump. Boundaries with nu < kMinDof are not tested.
   std::vector<double> t_mean, nu_mean;
-  for (long l = len; l <= 8 * len && 2 * l <= n; l *= 2) {
-    const long stride = std::max(1L, l / 2);
-    std::vector<double> d, at;
-    for (long b = l; b + l <= n; b += stride) {
-      d.push_back((c[b + l] - c[b]) / l - (c[b] - c[b - l]) / l);
-      at.push_back(static_cast<double>(b));
+  for (long scale = window_length; scale <= 8 * window_length && 2 * scale <= n; scale *= 2) {
+    const long stride = std::max(1L, scale / 2);
+    std::vector<double> differences, boundary_samples;
+    for (long boundary = scale; boundary + scale <= n; boundary += stride) {
+      differences.push_back((prefix_sums[boundary + scale] - prefix_sums[boundary]) / scale -
+                            (prefix_sums[boundary] - prefix_sums[boundary - scale]) / scale);
+      boundary_samples.push_back(static_cast<double>(boundary));
     }
-    const long m = static_cast<long>(d.size());
-    std::vector<double> sq(m + 1, 0.0);  // prefix sums of d^2
-    for (long i = 0; i < m; ++i) sq[i + 1] = sq[i] + d[i] * d[i];
-    const long near = (2 * l + stride - 1) / stride - 1;  // |j - i| <= near: windows overlap
-    for (long i = 0; i < m; ++i) {
-      const long lo = std::max(0L, i - near), hi = std::min(m - 1, i + near);
-      const long others = m - (hi - lo + 1);
+    const long num_differences = static_cast<long>(differences.size());
+    std::vector<double> squares_prefix(num_differences + 1, 0.0);  // prefix sums of d^2
+    for (long i = 0; i < num_differences; ++i)
+      squares_prefix[i + 1] = squares_prefix[i] + differences[i] * differences[i];
+    const long near = (2 * scale + stride - 1) / stride - 1;  // |j - i| <= near: windows overlap
+    for (long i = 0; i < num_differences; ++i) {
+      const long lo = std::max(0L, i - near), hi = std::min(num_differences - 1, i + near);
+      const long others = num_differences - (hi - lo + 1);
       const double nu = others / 1.75;
       if (nu < kMinDof) continue;
-      const double ms = (sq[m] - (sq[hi + 1] - sq[lo])) / others;
-      v->boundary_s.push_back(at[i] / fs);
-      v->boundary_window_s.push_back(l / fs);
-      t_mean.push_back(ms > 0 ? d[i] / std::sqrt(ms) : 0.0);
+      const double reference_mean_square =
+          (squares_prefix[num_differences] - (squares_prefix[hi + 1] - squares_prefix[lo])) /
+          others;
+      view->boundary_s.push_back(boundary_samples[i] / fs);
+      view->boundary_window_s.push_back(scale / fs);
+      t_mean.push_back(reference_mean_square > 0 ? differences[i] / std::sqrt(reference_mean_square)
+                                                 : 0.0);
       nu_mean.push_back(nu);
     }
   }
-  const int count = static_cast<int>(t_mean.size() + v->z_variance.size());
-  v->critical = BonferroniCriticalZ(count, alpha_view);
+  const int count = static_cast<int>(t_mean.size() + view->z_variance.size());
+  view->critical = BonferroniCriticalZ(count, alpha_view);
   for (size_t i = 0; i < t_mean.size(); ++i)
-    v->z_mean.push_back(t_mean[i] * v->critical / NormalToStudent(v->critical, nu_mean[i]));
-  const std::vector<double> am = Abs(v->z_mean), av = Abs(v->z_variance);
-  for (double x : am) v->statistic = std::max(v->statistic, x);
-  for (double x : av) v->statistic = std::max(v->statistic, x);
-  // Failing boundaries -> intervals [b - l, b + l], merged across scales.
-  struct Interval {
-    double from, to, peak_z, peak_s;
-  };
-  std::vector<Interval> iv;
-  for (size_t i = 0; i < am.size(); ++i) {
-    if (am[i] <= v->critical) continue;
-    iv.push_back({std::max(0.0, v->boundary_s[i] - v->boundary_window_s[i]),
-                  std::min(n / fs, v->boundary_s[i] + v->boundary_window_s[i]), am[i],
-                  v->boundary_s[i]});
-  }
-  std::sort(iv.begin(), iv.end(), [](const auto& a, const auto& b) { return a.from < b.from; });
-  std::vector<Interval> merged;
-  for (const auto& x : iv) {
-    if (!merged.empty() && x.from <= merged.back().to) {
-      auto& mm = merged.back();
-      mm.to = std::max(mm.to, x.to);
-      if (x.peak_z > mm.peak_z) {
-        mm.peak_z = x.peak_z;
-        mm.peak_s = x.peak_s;
-      }
-    } else {
-      merged.push_back(x);
-    }
-  }
-  for (const auto& x : merged) {
-    v->change_point_s.push_back(x.peak_s);
-    failures->push_back({"time", x.from, x.to, "", std::pow(x.peak_z / v->critical, 2)});
-  }
-  for (auto [a, b] : Runs(av, v->critical)) {
-    failures->push_back({"time", v->center_s[a] - 0.5 * v->window_s,
-                         v->center_s[b] + 0.5 * v->window_s, "",
-                         std::pow(MaxAbs(av, a, b) / v->critical, 2)});
-  }
+    view->z_mean.push_back(t_mean[i] * view->critical /
+                           NormalToStudent(view->critical, nu_mean[i]));
+  const std::vector<double> abs_z_mean = Abs(view->z_mean), abs_z_variance = Abs(view->z_variance);
+  for (double magnitude : abs_z_mean) view->statistic = std::max(view->statistic, magnitude);
+  for (double magnitude : abs_z_variance) view->statistic = std::max(view->statistic, magnitude);
   // The targeted GLS scans name the effect (they rank bias_step against warmup, compare.h); they
   // are not scored: their null depends on the fitted low-frequency noise, which a 6 h record
   // determines poorly (rate random walk is often fitted at 0), while the window tests above are
   // self-normalised.
   // On long records the scans run on block means (Decimated, below); the noise model is refitted
   // on the block means themselves.
-  if (!o.targeted_scans) return;
-  const TargetedTest step =
-      ScanBiasStep(dec.x, dec.sample_rate_hz, dec.dft, m, o, alpha_view, v->window_s);
+  if (!options.targeted_scans) return;
+  const TargetedTest step = ScanBiasStep(decimated.x, decimated.sample_rate_hz, decimated.dft,
+                                         model, options, alpha_view, view->window_s);
   if (step.evaluated) {
-    v->step_z = step.z;
-    v->step_critical = step.critical;
-    v->step_time_s = step.location;
-    v->step_size_rad_s = step.size;
+    view->step_z = step.z;
+    view->step_critical = step.critical;
+    view->step_time_s = step.location;
+    view->step_size_rad_s = step.size;
   }
-  const TargetedTest warm = ScanWarmup(dec.x, dec.sample_rate_hz, dec.dft, m, o, alpha_view);
-  if (warm.evaluated) {
-    v->warmup_z = warm.z;
-    v->warmup_critical = warm.critical;
-    v->warmup_time_constant_s = warm.location;
-    v->warmup_amplitude_rad_s = warm.size;
+  const TargetedTest warmup =
+      ScanWarmup(decimated.x, decimated.sample_rate_hz, decimated.dft, model, options, alpha_view);
+  if (warmup.evaluated) {
+    view->warmup_z = warmup.z;
+    view->warmup_critical = warmup.critical;
+    view->warmup_time_constant_s = warmup.location;
+    view->warmup_amplitude_rad_s = warmup.size;
   }
 }
 
-void ComputeAuxView(const Eigen::VectorXd& r, double fs, const Decimated& dec,
-                    const std::vector<PreparedAux>& aux, const StochasticModel& m,
-                    const ViewOptions& o, double alpha_view, AuxView* v,
-                    std::vector<Failure>* failures) {
-  const long block = std::max(1L, static_cast<long>(std::lround(o.aux_block_s * fs)));
-  const Eigen::VectorXd rl = BlockMeans(r, block);
-  if (rl.size() < 8) return;
-  for (long b = 0; b < rl.size(); ++b) {
-    v->block_center_s.push_back((b * block + 0.5 * block) / fs);
-    v->residual_lowpass.push_back(rl[b]);
+// Failure step of the time view: failing boundaries (merged into intervals, whose peaks are the
+// change points) and runs of failing window variances. `record_s` bounds the intervals.
+void TimeFailures(double record_s, TimeView* view, std::vector<Failure>* failures) {
+  const std::vector<double> abs_z_mean = Abs(view->z_mean), abs_z_variance = Abs(view->z_variance);
+  // Failing boundaries -> intervals [b - l, b + l], merged across scales.
+  struct Interval {
+    double from, to, peak_z, peak_s;
+  };
+  std::vector<Interval> intervals;
+  for (size_t i = 0; i < abs_z_mean.size(); ++i) {
+    if (abs_z_mean[i] <= view->critical) continue;
+    intervals.push_back({std::max(0.0, view->boundary_s[i] - view->boundary_window_s[i]),
+                         std::min(record_s, view->boundary_s[i] + view->boundary_window_s[i]),
+                         abs_z_mean[i], view->boundary_s[i]});
+  }
+  std::sort(intervals.begin(), intervals.end(),
+            [](const auto& lhs, const auto& rhs) { return lhs.from < rhs.from; });
+  std::vector<Interval> merged;
+  for (const auto& interval : intervals) {
+    if (!merged.empty() && interval.from <= merged.back().to) {
+      auto& merged_last = merged.back();
+      merged_last.to = std::max(merged_last.to, interval.to);
+      if (interval.peak_z > merged_last.peak_z) {
+        merged_last.peak_z = interval.peak_z;
+        merged_last.peak_s = interval.peak_s;
+      }
+    } else {
+      merged.push_back(interval);
+    }
+  }
+  for (const auto& interval : merged) {
+    view->change_point_s.push_back(interval.peak_s);
+    failures->push_back({ViewDomain::kTime, interval.from, interval.to, "",
+                         std::pow(interval.peak_z / view->critical, 2)});
+  }
+  for (auto [first, last] : Runs(abs_z_variance, view->critical)) {
+    failures->push_back({ViewDomain::kTime, view->center_s[first] - 0.5 * view->window_s,
+                         view->center_s[last] + 0.5 * view->window_s, "",
+                         std::pow(MaxAbs(abs_z_variance, first, last) / view->critical, 2)});
+  }
+}
+
+// Statistic step of the aux view.
+void AuxStatistics(const Eigen::VectorXd& residual, double fs, const Decimated& decimated,
+                   const std::vector<PreparedAux>& aux, const StochasticModel& model,
+                   const ViewOptions& options, double alpha_view, AuxView* view) {
+  const long block = std::max(1L, static_cast<long>(std::lround(options.aux_block_s * fs)));
+  const Eigen::VectorXd residual_lowpass = BlockMeans(residual, block);
+  if (residual_lowpass.size() < 8) return;
+  for (long block_index = 0; block_index < residual_lowpass.size(); ++block_index) {
+    view->block_center_s.push_back((block_index * block + 0.5 * block) / fs);
+    view->residual_lowpass.push_back(residual_lowpass[block_index]);
   }
   // The score test runs on the block means (all samples when block = 1) under the noise model
   // refitted on them: the channels' DFTs (PrepareAux) are of their block means over the same
   // blocks.
-  const StochasticModel md = dec.block > 1 ? RefitNoise(dec.x, dec.sample_rate_hz, m, o) : m;
-  const std::vector<double> w = WhittleWeights(md, dec.x.size(), dec.sample_rate_hz);
-  for (const PreparedAux& pa : aux) {
-    const AuxChannel& ch = *pa.channel;
-    AuxChannelView cv;
-    cv.name = ch.name;
-    cv.units = ch.units;
-    const Eigen::VectorXd cl = BlockMeans(ch.values, block), dl = BlockMeans(pa.derivative, block);
-    cv.lowpass.assign(cl.data(), cl.data() + cl.size());
-    double ne = 0;
-    CorrelationWithEffectiveDof(rl, cl, &cv.r, &ne);
-    CorrelationWithEffectiveDof(rl, dl, &cv.r_derivative, &ne);
-    cv.z = WhittleScoreZ(dec.dft, pa.dft, w);
-    cv.z_derivative = WhittleScoreZ(dec.dft, pa.dft_derivative, w);
-    v->channels.push_back(cv);
+  const StochasticModel block_model =
+      decimated.block > 1 ? RefitNoise(decimated.x, decimated.sample_rate_hz, model, options)
+                          : model;
+  const std::vector<double> whittle_weights =
+      WhittleWeights(block_model, decimated.x.size(), decimated.sample_rate_hz);
+  for (const PreparedAux& prepared : aux) {
+    const AuxChannel& channel = *prepared.channel;
+    AuxChannelView channel_view;
+    channel_view.name = channel.name;
+    channel_view.units = channel.units;
+    const Eigen::VectorXd channel_lowpass = BlockMeans(channel.values, block),
+                          derivative_lowpass = BlockMeans(prepared.derivative, block);
+    channel_view.lowpass.assign(channel_lowpass.data(),
+                                channel_lowpass.data() + channel_lowpass.size());
+    double unused_n_eff = 0;
+    CorrelationWithEffectiveDof(residual_lowpass, channel_lowpass, &channel_view.r, &unused_n_eff);
+    CorrelationWithEffectiveDof(residual_lowpass, derivative_lowpass, &channel_view.r_derivative,
+                                &unused_n_eff);
+    channel_view.z = WhittleScoreZ(decimated.dft, prepared.dft, whittle_weights);
+    channel_view.z_derivative =
+        WhittleScoreZ(decimated.dft, prepared.dft_derivative, whittle_weights);
+    view->channels.push_back(channel_view);
   }
-  v->critical = BonferroniCriticalZ(2 * static_cast<int>(std::max<size_t>(v->channels.size(), 1)),
-                                    alpha_view);
-  for (const auto& cv : v->channels) {
-    v->statistic = std::max({v->statistic, std::abs(cv.z), std::abs(cv.z_derivative)});
+  view->critical = BonferroniCriticalZ(
+      2 * static_cast<int>(std::max<size_t>(view->channels.size(), 1)), alpha_view);
+  for (const auto& channel_view : view->channels)
+    view->statistic =
+        std::max({view->statistic, std::abs(channel_view.z), std::abs(channel_view.z_derivative)});
+}
+
+// Failure step of the aux view: each channel and derivative beyond the critical value.
+void AuxFailures(const AuxView& view, std::vector<Failure>* failures) {
+  for (const auto& channel_view : view.channels) {
     const double nan = std::nan("");
-    if (std::abs(cv.z) > v->critical)
-      failures->push_back({"aux", nan, nan, cv.name, std::pow(cv.z / v->critical, 2)});
-    if (std::abs(cv.z_derivative) > v->critical)
-      failures->push_back(
-          {"aux", nan, nan, "d(" + cv.name + ")/dt", std::pow(cv.z_derivative / v->critical, 2)});
+    if (std::abs(channel_view.z) > view.critical)
+      failures->push_back({ViewDomain::kAux, nan, nan, channel_view.name,
+                           std::pow(channel_view.z / view.critical, 2)});
+    if (std::abs(channel_view.z_derivative) > view.critical)
+      failures->push_back({ViewDomain::kAux, nan, nan, "d(" + channel_view.name + ")/dt",
+                           std::pow(channel_view.z_derivative / view.critical, 2)});
   }
 }
 
 }  // namespace
 
+const char* ToString(ViewDomain domain) {
+  switch (domain) {
+    case ViewDomain::kTau:
+      return "tau";
+    case ViewDomain::kFrequency:
+      return "frequency";
+    case ViewDomain::kTime:
+      return "time";
+    case ViewDomain::kAux:
+      return "aux";
+  }
+  return "tau";
+}
+
+std::optional<ViewDomain> ParseViewDomain(std::string_view text) {
+  for (ViewDomain domain :
+       {ViewDomain::kTau, ViewDomain::kFrequency, ViewDomain::kTime, ViewDomain::kAux})
+    if (text == ToString(domain)) return domain;
+  return std::nullopt;
+}
+
 bool ViewOptions::IsValid(std::string* error) const {
-  auto fail = [&](const char* m) {
-    if (error) *error = m;
+  auto fail = [&](const char* message) {
+    if (error) *error = message;
     return false;
   };
   if (!(alpha > 0 && alpha < 1)) return fail("alpha must be in (0, 1)");
@@ -393,104 +485,121 @@ bool ViewOptions::IsValid(std::string* error) const {
 }
 
 Eigen::VectorXd BlockMeans(const Eigen::VectorXd& x, long block) {
-  const long nb = x.size() / block;
-  Eigen::VectorXd m(nb);
-  for (long b = 0; b < nb; ++b) m[b] = x.segment(b * block, block).mean();
-  return m;
+  const long num_blocks = x.size() / block;
+  Eigen::VectorXd means(num_blocks);
+  for (long block_index = 0; block_index < num_blocks; ++block_index)
+    means[block_index] = x.segment(block_index * block, block).mean();
+  return means;
 }
 
-std::vector<long long> ViewAveragingFactors(long n, const ViewOptions& o) {
-  std::vector<long long> m;
-  for (long long k = 1; k <= static_cast<long long>(n * o.max_tau_fraction); k *= 2) m.push_back(k);
-  return m;
+std::vector<long long> ViewAveragingFactors(long n, const ViewOptions& options) {
+  std::vector<long long> factors;
+  for (long long factor = 1; factor <= static_cast<long long>(n * options.max_tau_fraction);
+       factor *= 2)
+    factors.push_back(factor);
+  return factors;
 }
 
-AllanData ResidualAllan(const Eigen::VectorXd& r, double fs, const ViewOptions& o) {
-  allan::AllanOptions ao;
-  ao.grid.kind = allan::TauGridKind::kExplicit;
-  ao.grid.explicit_m = ViewAveragingFactors(r.size(), o);
-  const allan::AllanResult res = allan::ComputeAllan(r, fs, ao);
-  AllanData d;
-  const auto& t = res.table;
-  for (size_t i = 0; i < t.size(); ++i) {
-    d.tau_s.push_back(t.tau_s[i]);
-    d.avar.push_back(t.sigma[i] * t.sigma[i]);
-    d.edf.push_back(t.edf[i]);
-    d.alpha.push_back(t.alpha[i]);
-    d.alpha_method.push_back(allan::ToString(t.alpha_method[i]));
-    d.ci_low.push_back(t.ci_low[i]);
-    d.ci_high.push_back(t.ci_high[i]);
+AllanData ResidualAllan(const Eigen::VectorXd& residual, double fs, const ViewOptions& options) {
+  allan::AllanOptions allan_options;
+  allan_options.grid.kind = allan::TauGridKind::kExplicit;
+  allan_options.grid.explicit_m = ViewAveragingFactors(residual.size(), options);
+  const allan::AllanResult result = allan::ComputeAllan(residual, fs, allan_options);
+  AllanData data;
+  const auto& table = result.table;
+  for (size_t i = 0; i < table.size(); ++i) {
+    data.tau_s.push_back(table.tau_s[i]);
+    data.avar.push_back(table.sigma[i] * table.sigma[i]);
+    data.edf.push_back(table.edf[i]);
+    data.alpha.push_back(table.alpha[i]);
+    data.alpha_method.push_back(allan::ToString(table.alpha_method[i]));
+    data.ci_low.push_back(table.ci_low[i]);
+    data.ci_high.push_back(table.ci_high[i]);
   }
-  d.table = t;
-  return d;
+  data.table = table;
+  return data;
 }
 
-void CorrelationWithEffectiveDof(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double* r,
-                                 double* n_eff) {
+void CorrelationWithEffectiveDof(const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+                                 double* correlation, double* n_eff) {
   const long n = a.size();
   const Eigen::VectorXd x = a.array() - a.mean(), y = b.array() - b.mean();
   const double sxx = x.squaredNorm(), syy = y.squaredNorm();
-  *r = (sxx > 0 && syy > 0) ? x.dot(y) / std::sqrt(sxx * syy) : 0.0;
+  *correlation = (sxx > 0 && syy > 0) ? x.dot(y) / std::sqrt(sxx * syy) : 0.0;
   // Bretherton et al. (1999) eq. 31: n_eff = n / (1 + 2 sum_k (1 - k/n) rho_x(k) rho_y(k)).
   double sum = 0;
-  const long kmax = n / 5;
-  for (long k = 1; k <= kmax && sxx > 0 && syy > 0; ++k) {
-    const double rx = x.head(n - k).dot(x.tail(n - k)) / sxx;
-    const double ry = y.head(n - k).dot(y.tail(n - k)) / syy;
-    sum += (1.0 - static_cast<double>(k) / n) * rx * ry;
+  const long max_lag = n / 5;
+  for (long lag = 1; lag <= max_lag && sxx > 0 && syy > 0; ++lag) {
+    const double autocorrelation_x = x.head(n - lag).dot(x.tail(n - lag)) / sxx;
+    const double autocorrelation_y = y.head(n - lag).dot(y.tail(n - lag)) / syy;
+    sum += (1.0 - static_cast<double>(lag) / n) * autocorrelation_x * autocorrelation_y;
   }
   *n_eff = std::clamp(n / (1.0 + 2.0 * sum), 4.0, static_cast<double>(n));
 }
 
 std::vector<PreparedAux> PrepareAux(const std::vector<AuxChannel>& aux, long n, double fs,
-                                    const ViewOptions& o) {
+                                    const ViewOptions& options) {
   std::vector<PreparedAux> out;
-  for (const AuxChannel& ch : aux) {
-    if (ch.values.size() != n) continue;
-    PreparedAux p;
-    p.channel = &ch;
-    p.derivative = SmoothedDerivative(ch.values, fs, o.aux_smoothing_s);
+  for (const AuxChannel& channel : aux) {
+    if (channel.values.size() != n) continue;
+    PreparedAux prepared;
+    prepared.channel = &channel;
+    prepared.derivative = SmoothedDerivative(channel.values, fs, options.aux_smoothing_s);
     const long block = ScanBlock(n);
-    p.dft = MeanRemovedDft(block > 1 ? BlockMeans(ch.values, block) : ch.values);
-    p.dft_derivative = MeanRemovedDft(block > 1 ? BlockMeans(p.derivative, block) : p.derivative);
-    out.push_back(std::move(p));
+    prepared.dft = MeanRemovedDft(block > 1 ? BlockMeans(channel.values, block) : channel.values);
+    prepared.dft_derivative =
+        MeanRemovedDft(block > 1 ? BlockMeans(prepared.derivative, block) : prepared.derivative);
+    out.push_back(std::move(prepared));
   }
   return out;
 }
 
-Views ComputeViews(const Eigen::VectorXd& r, double fs, const std::vector<PreparedAux>& aux,
-                   const StochasticModel& m, const AllanData& allan, const ViewOptions& o) {
-  Views v;
+Views ComputeViews(const Eigen::VectorXd& residual, double fs, const std::vector<PreparedAux>& aux,
+                   const StochasticModel& model, const AllanData& allan,
+                   const ViewOptions& options) {
+  Views views;
   const bool has_aux = !aux.empty();
   const int num_views = has_aux ? 4 : 3;
-  const double av = o.alpha / num_views;
-  const Decimated dec = Decimate(r, fs);
-  ComputeAllanView(allan, m, o, fs, r.size() / fs, av, &v.allan, &v.failures);
-  ComputeFrequencyView(r, fs, m, o, av, &v.frequency, &v.failures);
-  ComputeTimeView(r, fs, dec, m, o, av, &v.time, &v.failures);
-  if (has_aux) ComputeAuxView(r, fs, dec, aux, m, o, av, &v.aux, &v.failures);
+  const double alpha_view = options.alpha / num_views;
+  const Decimated decimated = Decimate(residual, fs);
+  const double record_s = residual.size() / fs;
+  TargetedTest gauss_markov;
+  AllanStatistics(allan, model, options, fs, record_s, alpha_view, &views.allan, &gauss_markov);
+  AllanFailures(views.allan, gauss_markov, &views.failures);
+  const FrequencyBins bins =
+      FrequencyStatistics(residual, fs, model, options, alpha_view, &views.frequency);
+  FrequencyFailures(bins, options, &views.frequency, &views.failures);
+  TimeStatistics(residual, fs, decimated, model, options, alpha_view, &views.time);
+  TimeFailures(record_s, &views.time, &views.failures);
+  if (has_aux) {
+    AuxStatistics(residual, fs, decimated, aux, model, options, alpha_view, &views.aux);
+    AuxFailures(views.aux, &views.failures);
+  }
   auto sq = [](double x) { return x * x; };
-  v.view_errors = {{"tau", sq(v.allan.statistic / v.allan.critical)},
-                   {"frequency", sq(v.frequency.statistic / v.frequency.critical)},
-                   {"time", sq(v.time.statistic / v.time.critical)}};
-  if (has_aux) v.view_errors.push_back({"aux", sq(v.aux.statistic / v.aux.critical)});
-  v.error = 0;
-  for (const ViewError& e : v.view_errors) v.error = std::max(v.error, e.error);
-  v.consistent = v.error <= 1.0;
-  return v;
+  views.view_errors = {
+      {ViewDomain::kTau, sq(views.allan.statistic / views.allan.critical)},
+      {ViewDomain::kFrequency, sq(views.frequency.statistic / views.frequency.critical)},
+      {ViewDomain::kTime, sq(views.time.statistic / views.time.critical)}};
+  if (has_aux)
+    views.view_errors.push_back({ViewDomain::kAux, sq(views.aux.statistic / views.aux.critical)});
+  views.error = 0;
+  for (const ViewError& view_error : views.view_errors)
+    views.error = std::max(views.error, view_error.error);
+  views.consistent = views.error <= 1.0;
+  return views;
 }
 
-double ViewErrorOf(const Views& v, const std::string& domain) {
-  for (const ViewError& e : v.view_errors)
-    if (e.domain == domain) return e.error;
+double ViewErrorOf(const Views& views, ViewDomain domain) {
+  for (const ViewError& view_error : views.view_errors)
+    if (view_error.domain == domain) return view_error.error;
   return 0.0;
 }
 
-std::vector<std::string> FailingViews(const Views& v) {
-  std::vector<std::string> out;
-  for (const ViewError& e : v.view_errors)
-    if (e.error > 1.0) out.push_back(e.domain);
-  return out;
+std::vector<ViewDomain> FailingViews(const Views& views) {
+  std::vector<ViewDomain> failing;
+  for (const ViewError& view_error : views.view_errors)
+    if (view_error.error > 1.0) failing.push_back(view_error.domain);
+  return failing;
 }
 
 }  // namespace fogpipe::model

@@ -46,7 +46,9 @@
 #include <Eigen/Core>
 #include <complex>
 #include <limits>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "algorithms/allan/allan.h"
@@ -95,9 +97,17 @@ struct AllanData {
   allan::AllanTable table;  ///< the table itself (the IEEE terms' checks read it, compare.h)
 };
 
+/// The scored views, which are also the domains a failure lies in.
+enum class ViewDomain { kTau, kFrequency, kTime, kAux };
+
+/// "tau", "frequency", "time", "aux": the spellings `compare` writes (JSON keys and "domain"
+/// values, the results file's error_<domain> attributes, the text report and the verdict).
+const char* ToString(ViewDomain domain);
+std::optional<ViewDomain> ParseViewDomain(std::string_view text);
+
 struct Failure {
-  std::string domain;  ///< "tau" | "frequency" | "time" | "aux"
-  double from = 0;     ///< s, Hz or s (NaN for aux)
+  ViewDomain domain = ViewDomain::kTau;
+  double from = 0;  ///< s, Hz or s (NaN for aux)
   double to = 0;
   std::string channel;  ///< aux channel ("temperature" or "d(temperature)/dt"); empty otherwise
   double severity = 0;  ///< max |z| / critical over the failure (> 1)
@@ -167,7 +177,7 @@ struct AuxView {
 
 /// One scored view's error (S_v / c_v)^2; the overall error is the largest of them.
 struct ViewError {
-  std::string domain;  ///< "tau" | "frequency" | "time" | "aux"
+  ViewDomain domain = ViewDomain::kTau;
   double error = 0;
 };
 
@@ -211,16 +221,16 @@ Views ComputeViews(const Eigen::VectorXd& residual, double sample_rate_hz,
                    const AllanData& allan, const ViewOptions& options);
 
 /// The error of the view `domain` (0 when it is not scored).
-double ViewErrorOf(const Views& views, const std::string& domain);
+double ViewErrorOf(const Views& views, ViewDomain domain);
 
 /// The scored views whose error exceeds 1 (they fail), in view order.
-std::vector<std::string> FailingViews(const Views& views);
+std::vector<ViewDomain> FailingViews(const Views& views);
 
 /// Means of consecutive blocks of `block` samples (a trailing partial block is dropped).
 Eigen::VectorXd BlockMeans(const Eigen::VectorXd& x, long block);
 
 /// Pearson r and Bretherton n_eff of two equally long series.
-void CorrelationWithEffectiveDof(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double* r,
-                                 double* n_eff);
+void CorrelationWithEffectiveDof(const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+                                 double* correlation, double* n_eff);
 
 }  // namespace fogpipe::model

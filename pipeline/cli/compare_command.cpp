@@ -78,26 +78,27 @@ void PrintText(const model::CompareResult& r) {
               v.consistent ? "consistent" : "NOT consistent");
   std::printf("  per view:");
   for (const auto& e : v.view_errors)
-    std::printf(" %s %.3g%s", e.domain.c_str(), e.error, e.error > 1 ? " (fails)" : "");
+    std::printf(" %s %.3g%s", model::ToString(e.domain), e.error, e.error > 1 ? " (fails)" : "");
   std::printf("\n");
   for (const auto& f : v.failures) {
-    if (f.domain == "aux")
+    if (f.domain == model::ViewDomain::kAux)
       std::printf("  fails in aux: channel %s, severity %.3g\n", f.channel.c_str(), f.severity);
-    else if (f.domain == "frequency")
+    else if (f.domain == model::ViewDomain::kFrequency)
       std::printf(
           "  fails in frequency: band %.4g .. %.4g Hz (centre %.4g, peak %.4g Hz at %.3gx the "
           "model psd, %d failing bins), excess power %.3g (deg/h)^2, severity %.3g\n",
           f.from, f.to, f.center_hz, f.peak_hz, f.peak_ratio, f.failing_bins,
           f.excess_power * std::pow(units::RadPerSecondToDegPerHour(1.0), 2), f.severity);
     else
-      std::printf("  fails in %s: %.4g .. %.4g %s, severity %.3g\n", f.domain.c_str(), f.from, f.to,
-                  f.domain == "frequency" ? "Hz" : "s", f.severity);
+      std::printf("  fails in %s: %.4g .. %.4g %s, severity %.3g\n", model::ToString(f.domain),
+                  f.from, f.to, f.domain == model::ViewDomain::kFrequency ? "Hz" : "s", f.severity);
   }
   std::printf("verdict: %s\n", r.verdict.text.c_str());
   for (size_t i = 0; i < r.suggestions.size(); ++i) {
     const auto& s = r.suggestions[i];
     std::string fixes;
-    for (const auto& f : s.fixes) fixes += (fixes.empty() ? "" : ", ") + f;
+    for (model::ViewDomain domain : s.fixes)
+      fixes += (fixes.empty() ? "" : ", ") + std::string(model::ToString(domain));
     const bool add = i == 0 && r.verdict.suggestion && *r.verdict.suggestion == s.term;
     std::printf("%s %s: error after %.3g, delta BIC %.3g%s%s%s\n  %s\n", add ? "ADD" : "   ",
                 model::ToString(s.term), s.error_after, s.delta_bic,

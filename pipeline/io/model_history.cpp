@@ -83,7 +83,7 @@ void WriteViews(hdf5::Group& g, const model::Evaluation& e) {
   std::vector<double> from, to, center, peak, ratio, excess;
   std::vector<long long> bins;
   for (const auto& fl : v.failures) {
-    if (fl.domain != "frequency") continue;
+    if (fl.domain != model::ViewDomain::kFrequency) continue;
     from.push_back(fl.from);
     to.push_back(fl.to);
     center.push_back(fl.center_hz);
@@ -213,23 +213,34 @@ json ModelJson(const model::Evaluation& e) {
   return {{"terms", terms}, {"fitted", fitted}, {"noise_fit", noise_fit}};
 }
 
+namespace {
+
+// The domains as `compare --json` spells them (views.h).
+json DomainNames(const std::vector<model::ViewDomain>& domains) {
+  json names = json::array();
+  for (model::ViewDomain domain : domains) names.push_back(model::ToString(domain));
+  return names;
+}
+
+}  // namespace
+
 json ViewErrorsJson(const std::vector<model::ViewError>& errors) {
   json o = json::object();
-  for (const auto& e : errors) o[e.domain] = Number(e.error);
+  for (const auto& e : errors) o[model::ToString(e.domain)] = Number(e.error);
   return o;
 }
 
 json FailuresJson(const std::vector<model::Failure>& list) {
   json failures = json::array();
   for (const auto& f : list) {
-    json o = {{"domain", f.domain}, {"severity", Number(f.severity)}};
-    if (f.domain == "aux") {
+    json o = {{"domain", model::ToString(f.domain)}, {"severity", Number(f.severity)}};
+    if (f.domain == model::ViewDomain::kAux) {
       o["channel"] = f.channel;
     } else {
       o["from"] = Number(f.from);
       o["to"] = Number(f.to);
     }
-    if (f.domain == "frequency") {
+    if (f.domain == model::ViewDomain::kFrequency) {
       o["center_hz"] = Number(f.center_hz);
       o["peak_hz"] = Number(f.peak_hz);
       o["peak_ratio"] = Number(f.peak_ratio);
@@ -255,13 +266,13 @@ json CompareJson(const model::CompareResult& r) {
                            {"parameters", ParametersJson(s.parameters)},
                            {"evidence", s.evidence},
                            {"view_errors_after", ViewErrorsJson(s.view_errors_after)},
-                           {"fixes", s.fixes},
+                           {"fixes", DomainNames(s.fixes)},
                            {"bic_rejects", s.bic_rejects}});
   const model::Verdict& v = r.verdict;
   const json verdict = {
       {"status", v.status},
       {"suggestion", v.suggestion ? json(model::ToString(*v.suggestion)) : json(nullptr)},
-      {"fixes", v.fixes},
+      {"fixes", DomainNames(v.fixes)},
       {"consistent_with_suggestion", v.consistent_with_suggestion},
       {"still_failing", FailuresJson(v.still_failing)},
       {"unexplained", FailuresJson(v.unexplained)},
@@ -366,7 +377,7 @@ int AppendHistory(const std::string& results, const std::string& recording, cons
     step.WriteDoubleAttribute("error", r.base.views.error);
     step.WriteInt64Attribute("consistent", r.base.views.consistent ? 1 : 0);
     for (const auto& e : r.base.views.view_errors)
-      step.WriteDoubleAttribute("error_" + e.domain, e.error);
+      step.WriteDoubleAttribute(std::string("error_") + model::ToString(e.domain), e.error);
     step.WriteStringAttribute("verdict", r.verdict.status);
     step.WriteStringAttribute("verdict_text", r.verdict.text);
     step.WriteStringAttribute("first_suggestion",

@@ -89,26 +89,26 @@ bool FailuresPointAt(sim::Term effect, const sim::SimulatedRecording& rec,
         // navigation-grade ARW a line at 1/300..1/20 Hz is a few % of the Allan variance at
         // 0.371/f0: the frequency view is where it is significant).
         const double f0 = e.sinusoids[0].frequency_hz, tau0 = 0.371 / f0;
-        found |= (f.domain == "tau" && f.from <= tau0 && tau0 <= f.to) ||
-                 (f.domain == "frequency" && f.from <= f0 && f0 <= f.to);
+        found |= (f.domain == ViewDomain::kTau && f.from <= tau0 && tau0 <= f.to) ||
+                 (f.domain == ViewDomain::kFrequency && f.from <= f0 && f0 <= f.to);
         break;
       }
       case sim::Term::kBiasStep:
-        found |= f.domain == "time" && f.from <= e.bias_steps[0].time_s &&
+        found |= f.domain == ViewDomain::kTime && f.from <= e.bias_steps[0].time_s &&
                  e.bias_steps[0].time_s <= f.to;
         break;
       case sim::Term::kWarmup:
-        found |= f.domain == "time" && f.from <= 0.0;
+        found |= f.domain == ViewDomain::kTime && f.from <= 0.0;
         break;
       case sim::Term::kTemperature:
-        found |= f.domain == "aux" && f.channel == "temperature";
+        found |= f.domain == ViewDomain::kAux && f.channel == "temperature";
         break;
       case sim::Term::kTemperatureRate:
-        found |= f.domain == "aux" && f.channel == "d(temperature)/dt";
+        found |= f.domain == ViewDomain::kAux && f.channel == "d(temperature)/dt";
         break;
       case sim::Term::kGaussMarkov: {
         const double tau0 = 1.89 * e.gauss_markov[0].correlation_time_s;
-        found |= f.domain == "tau" && f.from <= tau0 && tau0 <= f.to;
+        found |= f.domain == ViewDomain::kTau && f.from <= tau0 && tau0 <= f.to;
         break;
       }
       default:
@@ -294,8 +294,8 @@ Evaluation Synthetic(std::vector<ViewError> errors, double rss, int parameters) 
   for (const auto& v : e.views.view_errors) {
     e.views.error = std::max(e.views.error, v.error);
     if (v.error > 1)
-      e.views.failures.push_back({v.domain, v.domain == "frequency" ? 2.0 : 10.0,
-                                  v.domain == "frequency" ? 3.0 : 20.0, "", v.error});
+      e.views.failures.push_back({v.domain, v.domain == ViewDomain::kFrequency ? 2.0 : 10.0,
+                                  v.domain == ViewDomain::kFrequency ? 3.0 : 20.0, "", v.error});
   }
   e.views.consistent = e.views.error <= 1;
   e.deterministic.residual = Eigen::VectorXd::Zero(10000);
@@ -309,15 +309,18 @@ TEST(RankSuggestions, ATermThatBicRejectsIsNeverFirstAndIsMarked) {
   // The time view fails (error 9). bias_step would fix it best (error 0.5) but its scan statistic
   // is below its look-elsewhere critical value (delta_bic = 3^2 - 2^2 = +5); warmup fixes it too
   // with delta_bic = 3^2 - 5^2 = -16.
-  Evaluation base = Synthetic({{"tau", 0.5}, {"frequency", 0.5}, {"time", 9}}, 1.0, 1);
+  Evaluation base = Synthetic(
+      {{ViewDomain::kTau, 0.5}, {ViewDomain::kFrequency, 0.5}, {ViewDomain::kTime, 9}}, 1.0, 1);
   base.views.time.step_critical = 3;
   base.views.time.step_z = 2;
   base.views.time.warmup_critical = 3;
   base.views.time.warmup_z = 5;
   const std::vector<Term> tt = {Term::kBiasStep, Term::kWarmup};
   const std::vector<Evaluation> trials = {
-      Synthetic({{"tau", 0.5}, {"frequency", 0.5}, {"time", 0.5}}, 0.9, 3),
-      Synthetic({{"tau", 0.5}, {"frequency", 0.5}, {"time", 0.8}}, 0.9, 3)};
+      Synthetic({{ViewDomain::kTau, 0.5}, {ViewDomain::kFrequency, 0.5}, {ViewDomain::kTime, 0.5}},
+                0.9, 3),
+      Synthetic({{ViewDomain::kTau, 0.5}, {ViewDomain::kFrequency, 0.5}, {ViewDomain::kTime, 0.8}},
+                0.9, 3)};
   const auto s = RankSuggestions(base, tt, trials, {});
   ASSERT_EQ(s.size(), 2u);
   EXPECT_EQ(s[0].term, Term::kWarmup);
@@ -337,33 +340,37 @@ TEST(RankSuggestions, ATermIsCreditedForTheViewItFixesWhileAnotherDominates) {
   // The tau view dominates (error 4) and nothing fixes it; the sinusoid makes the failing
   // frequency view pass (2 -> 0.5) without changing the overall error: it is suggested, credited
   // with "frequency", and the verdict does not call the model consistent with it.
-  const Evaluation base = Synthetic({{"tau", 4}, {"frequency", 2}, {"time", 0.5}}, 1.0, 1);
+  const Evaluation base = Synthetic(
+      {{ViewDomain::kTau, 4}, {ViewDomain::kFrequency, 2}, {ViewDomain::kTime, 0.5}}, 1.0, 1);
   const std::vector<Term> tt = {Term::kSinusoid, Term::kRateRandomWalk};
   const std::vector<Evaluation> trials = {
-      Synthetic({{"tau", 4}, {"frequency", 0.5}, {"time", 0.5}}, 0.9, 4),
-      Synthetic({{"tau", 3.9}, {"frequency", 2}, {"time", 0.5}}, 1.0, 1)};
+      Synthetic({{ViewDomain::kTau, 4}, {ViewDomain::kFrequency, 0.5}, {ViewDomain::kTime, 0.5}},
+                0.9, 4),
+      Synthetic({{ViewDomain::kTau, 3.9}, {ViewDomain::kFrequency, 2}, {ViewDomain::kTime, 0.5}},
+                1.0, 1)};
   const auto s = RankSuggestions(base, tt, trials, {});
   ASSERT_EQ(s.size(), 1u);
   EXPECT_EQ(s[0].term, Term::kSinusoid);
-  EXPECT_EQ(s[0].fixes, std::vector<std::string>{"frequency"});
+  EXPECT_EQ(s[0].fixes, std::vector<ViewDomain>{ViewDomain::kFrequency});
   EXPECT_NEAR(s[0].error_after, 4.0, 1e-12);
   const Verdict v = MakeVerdict(base, tt, trials, s);
   EXPECT_EQ(v.status, "inconsistent");
   EXPECT_FALSE(v.consistent_with_suggestion);
   ASSERT_EQ(v.still_failing.size(), 1u);
-  EXPECT_EQ(v.still_failing[0].domain, "tau");
+  EXPECT_EQ(v.still_failing[0].domain, ViewDomain::kTau);
   EXPECT_NE(v.text.find("still failing with it: tau"), std::string::npos) << v.text;
   // Nothing makes the tau view pass: it is listed as unexplained.
   ASSERT_EQ(v.unexplained.size(), 1u);
-  EXPECT_EQ(v.unexplained[0].domain, "tau");
+  EXPECT_EQ(v.unexplained[0].domain, ViewDomain::kTau);
 }
 
 TEST(RankSuggestions, NoTermThatFixesAFailingViewGivesUnexplained) {
   // The frequency view fails (error 6); the best trial lowers it to 2, which still fails.
-  const Evaluation base = Synthetic({{"tau", 0.5}, {"frequency", 6}, {"time", 0.5}}, 1.0, 1);
+  const Evaluation base = Synthetic(
+      {{ViewDomain::kTau, 0.5}, {ViewDomain::kFrequency, 6}, {ViewDomain::kTime, 0.5}}, 1.0, 1);
   const std::vector<Term> tt = {Term::kSinusoid};
-  const std::vector<Evaluation> trials = {
-      Synthetic({{"tau", 0.5}, {"frequency", 2}, {"time", 0.5}}, 0.9, 4)};
+  const std::vector<Evaluation> trials = {Synthetic(
+      {{ViewDomain::kTau, 0.5}, {ViewDomain::kFrequency, 2}, {ViewDomain::kTime, 0.5}}, 0.9, 4)};
   const auto s = RankSuggestions(base, tt, trials, {});
   ASSERT_EQ(s.size(), 1u);
   EXPECT_TRUE(s[0].fixes.empty());
@@ -394,7 +401,8 @@ TEST(Compare, AVibrationBandIsOneFrequencyFailure) {
     int near = 0;
     bool right = false;
     for (const auto& f : e.views.failures) {
-      if (f.domain != "frequency" || f.to < f0 * (1 - 4 * zeta) || f.from > f0 * (1 + 4 * zeta))
+      if (f.domain != ViewDomain::kFrequency || f.to < f0 * (1 - 4 * zeta) ||
+          f.from > f0 * (1 + 4 * zeta))
         continue;
       ++near;
       right = f.from <= f0 && f0 <= f.to && std::abs(f.center_hz - f0) < 2 * zeta * f0 &&
@@ -415,11 +423,11 @@ TEST(Compare, AVibrationBandIsOneFrequencyFailure) {
 // (VerdictStudy below; docs/compare.md has the rates).
 // The verdict lists the failure as unexplained (the status may still name a term that fixes
 // another view, e.g. gauss_markov for the Allan bump of the pressure effect).
-bool Unexplained(const Verdict& v, const std::string& domain, const std::string& channel,
-                 double at) {
+bool Unexplained(const Verdict& v, ViewDomain domain, const std::string& channel, double at) {
   for (const auto& f : v.unexplained) {
     if (f.domain != domain) continue;
-    if (domain == "aux" ? f.channel == channel : (f.from <= at && at <= f.to)) return true;
+    if (domain == ViewDomain::kAux ? f.channel == channel : (f.from <= at && at <= f.to))
+      return true;
   }
   return false;
 }
@@ -433,13 +441,14 @@ TEST(Compare, AnOutOfCatalogEffectIsUnexplainedWithItsRange) {
     auto a = MakeHiddenCase(seed, {});
     testing::AddPressureBias(8.0, seed, &a);
     const CompareResult ra = Compare(a.input, DefaultTerms(), {});
-    pressure += Unexplained(ra.verdict, "aux", "pressure", 0);
+    pressure += Unexplained(ra.verdict, ViewDomain::kAux, "pressure", 0);
     EXPECT_FALSE(ra.verdict.consistent_with_suggestion) << ra.verdict.text;
     auto b = MakeHiddenCase(seed, {});
     const double f0 = BandCentre(seed);
     testing::AddNarrowBand(f0, 0.02, 10.0, seed, &b);
     const CompareResult rb = Compare(b.input, DefaultTerms(), {});
-    band += rb.verdict.status == "unexplained" && Unexplained(rb.verdict, "frequency", "", f0);
+    band += rb.verdict.status == "unexplained" &&
+            Unexplained(rb.verdict, ViewDomain::kFrequency, "", f0);
     EXPECT_FALSE(rb.verdict.consistent_with_suggestion) << rb.verdict.text;
     report += "seed " + std::to_string(seed) + " pressure: " + ra.verdict.text +
               "\n  band: " + rb.verdict.text + "\n";
@@ -464,10 +473,10 @@ TEST(VerdictStudy, DISABLED_VerdictsOverSeeds) {
       if (std::string(kind) == "pressure") testing::AddPressureBias(8.0, seed, &c);
       if (std::string(kind) == "band") testing::AddNarrowBand(f0, 0.02, 10.0, seed, &c);
       const CompareResult r = Compare(c.input, DefaultTerms(), {});
-      const bool range = std::string(kind) == "pressure"
-                             ? Unexplained(r.verdict, "aux", "pressure", 0)
-                         : std::string(kind) == "band" ? Unexplained(r.verdict, "frequency", "", f0)
-                                                       : true;
+      const bool range =
+          std::string(kind) == "pressure" ? Unexplained(r.verdict, ViewDomain::kAux, "pressure", 0)
+          : std::string(kind) == "band"   ? Unexplained(r.verdict, ViewDomain::kFrequency, "", f0)
+                                          : true;
       std::printf("VERDICT %s seed %d error %.3g status %s unexplained-range %d | %s\n", kind, seed,
                   r.base.views.error, r.verdict.status.c_str(), range, r.verdict.text.c_str());
       std::fflush(stdout);
