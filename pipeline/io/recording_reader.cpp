@@ -584,7 +584,7 @@ std::vector<int> SelectAxes(const RecordingInfo& info, const std::string& axis) 
 
 int RecordingReader::AxisIndex(const std::string& axis) const { return io::AxisIndex(info_, axis); }
 
-Eigen::VectorXd RecordingReader::ReadColumn(const hdf5::Dataset& dataset, int column,
+Eigen::VectorXd RecordingReader::ReadColumn(const hdf5::Dataset& dataset, int column, double scale,
                                             const std::string& what, const ReadOptions& options,
                                             bool reject_constant, ReadReport* report) const {
   std::string error;
@@ -618,7 +618,6 @@ Eigen::VectorXd RecordingReader::ReadColumn(const hdf5::Dataset& dataset, int co
     }
     ++local.blocks_read;
   }
-  const double scale = SampleScale(dataset, dataset.type());
   if (scale != 1.0) x *= scale;
   if (!BridgeNanRuns(x, options.max_nan_gap_samples, &local.nan)) {
     const BridgeReport& r = local.nan;
@@ -661,7 +660,8 @@ Eigen::VectorXd RecordingReader::ReadAxisNative(int axis, const ReadOptions& opt
   const std::string what = "/rate axis '" + info_.axis_names[axis] + "'";
   try {
     const hdf5::Dataset rate = file_.Root().OpenDataset("rate");
-    return ReadColumn(rate, axis, what, options, options.reject_constant, report);
+    return ReadColumn(rate, axis, info_.rate_scale_factor, what, options, options.reject_constant,
+                      report);
   } catch (const hdf5::Error& e) {
     throw RecordingError(error_kind::kCorruptFile, info_.path,
                          "HDF5 failed on " + what + ": " + e.innermost_message());
@@ -683,15 +683,16 @@ Eigen::VectorXd RecordingReader::ReadAxisRadPerSecond(const std::string& axis,
 
 Eigen::VectorXd RecordingReader::ReadAux(const std::string& name, const ReadOptions& options,
                                          ReadReport* report) const {
-  const bool known = std::any_of(info_.aux.begin(), info_.aux.end(),
-                                 [&](const AuxChannelInfo& a) { return a.name == name; });
-  if (!known) {
+  const auto channel_info = std::find_if(info_.aux.begin(), info_.aux.end(),
+                                         [&](const AuxChannelInfo& a) { return a.name == name; });
+  if (channel_info == info_.aux.end()) {
     throw RecordingError(error_kind::kUnknownAux, info_.path, "has no aux channel /aux/" + name);
   }
   const std::string what = "/aux/" + name;
   try {
     const hdf5::Dataset channel = file_.Root().OpenDataset(what);
-    return ReadColumn(channel, 0, what, options, /*reject_constant=*/false, report);
+    return ReadColumn(channel, 0, channel_info->scale_factor, what, options,
+                      /*reject_constant=*/false, report);
   } catch (const hdf5::Error& e) {
     throw RecordingError(error_kind::kCorruptFile, info_.path,
                          "HDF5 failed on " + what + ": " + e.innermost_message());

@@ -119,10 +119,11 @@ class RecordingReader {
                           ReadReport* report = nullptr) const;
 
  private:
-  /// Reads column `column` of `dataset` block by block and bridges NaNs.
-  Eigen::VectorXd ReadColumn(const hdf5::Dataset& dataset, int column, const std::string& what,
-                             const ReadOptions& options, bool reject_constant,
-                             ReadReport* report) const;
+  /// Reads column `column` of `dataset` block by block, multiplies it by `scale` (the units per
+  /// count found when the recording was inspected; 1 for floats) and bridges NaNs.
+  Eigen::VectorXd ReadColumn(const hdf5::Dataset& dataset, int column, double scale,
+                             const std::string& what, const ReadOptions& options,
+                             bool reject_constant, ReadReport* report) const;
 
   hdf5::File file_;
   RecordingInfo info_;
