@@ -266,9 +266,9 @@ const std::vector<RunOption>& RunOptions() {
       {"--band-limit-ratio",
        "band-limit-ratio",
        &C::band_limit_ratio,
-       "Each IMF's content below this / its mean period moves to the next component before "
-       "modelling; 0: EMD's IMFs as they are (the paper's)",
-       "cycles per sample",
+       "Each IMF's content below this / its mean period (cycles per sample) moves to the next "
+       "component before modelling; 0: EMD's IMFs as they are (the paper's)",
+       "cycles per mean period",
        {},
        Ratio,
        true,
