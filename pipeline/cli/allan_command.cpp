@@ -105,10 +105,11 @@ int RunAllan(const AllanArgs& args) {
       // The IEEE terms are coefficients of the Allan variance's response; on any other table
       // they would be wrong without saying so.
       report.fitted = allan::IeeeModelApplies(options.deviation);
-      if (report.fitted) progress.Step("axis " + name + ": noise terms and their EDF");
-      if (report.fitted)
+      if (report.fitted) {
+        progress.Step("axis " + name + ": noise terms and their EDF");
         report.fit = allan::FitNoiseTermsAndModelEdf(allan::NoiseFitOptions{}, options.confidence,
                                                      &report.table);
+      }
       reports.push_back(std::move(report));
     }
   } catch (const io::RecordingError& e) {

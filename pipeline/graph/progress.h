@@ -3,7 +3,6 @@
 // (carriage return); otherwise (logs, Slurm) each line is printed once.
 #pragma once
 
-#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <mutex>
