@@ -2,9 +2,11 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 #include <type_traits>
@@ -40,36 +42,6 @@ std::string Quoted(const std::string& text) {
   return out + "\"";
 }
 
-// --model FILE: read once per run; the file is named in every error.
-bool ReadModelCompensation(const std::string& path, CampaignOptions* o, std::string* error) {
-  ModelCompensationOptions m;
-  m.path = path;
-  if (const std::string problem = io::RegularFileProblem(path); !problem.empty()) {
-    *error = "--model " + path + ": needs a model file, but " + problem;
-    return false;
-  }
-  try {
-    const io::ModelFile file = io::ReadModelFile(path);
-    m.deterministic = file.deterministic;
-  } catch (const std::exception& e) {
-    *error = std::string("--model: ") + e.what();
-    return false;
-  }
-  std::string sha_error;
-  const auto sha = io::Sha256FileHex(path, &sha_error);
-  if (!sha) {
-    *error = "--model: " + sha_error;
-    return false;
-  }
-  m.sha256 = *sha;
-  for (const auto& comp : m.deterministic.components) {
-    m.terms += (m.terms.empty() ? "" : ",") + std::string(model::ToString(comp.term));
-    m.needs_temperature = m.needs_temperature || model::NeedsTemperature(comp.term);
-  }
-  o->model = std::move(m);
-  return true;
-}
-
 // The choices of the enumerated options, each spelled by its own ToString.
 constexpr ar::Estimator kEstimators[] = {ar::Estimator::kBurg, ar::Estimator::kLeastSquaresQr,
                                          ar::Estimator::kYuleWalker,
@@ -102,20 +74,19 @@ bool FromName(const std::string& name, const Enum (&values)[N], Enum* value) {
   return false;
 }
 
-// "--key: expected a, b or c, got 'x'".
-std::string ChoiceError(const RunOption& option, const std::string& got) {
+// Sets *value to the choice spelled `name`; "" or "--key: expected a, b or c, got 'x'". CLI11
+// checks the spelling on the command line and in a config file; this catches a RunConfig that was
+// filled otherwise.
+template <typename Enum, std::size_t N>
+std::string Choose(const std::string& key, const std::string& name, const Enum (&values)[N],
+                   Enum* value) {
+  if (FromName(name, values, value)) return "";
+  const std::vector<std::string> choices = Names(values);
   std::string list;
-  for (std::size_t i = 0; i < option.choices.size(); ++i) {
-    list += (i == 0 ? "" : i + 1 == option.choices.size() ? " or " : ", ") + option.choices[i];
+  for (std::size_t i = 0; i < choices.size(); ++i) {
+    list += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + choices[i];
   }
-  return "--" + option.key + ": expected " + list + ", got '" + got + "'";
-}
-
-const RunOption& Find(const std::string& key) {
-  for (const RunOption& option : RunOptions()) {
-    if (option.key == key) return option;
-  }
-  throw std::logic_error("no run option " + key);
+  return "--" + key + ": expected " + list + ", got '" + name + "'";
 }
 
 template <typename T, T kLo, T kHi>
@@ -151,22 +122,33 @@ std::string TomlValue(const RunConfig& config, const RunOption::Member& member) 
       member);
 }
 
-}  // namespace
+// Puts a value where it goes: "" (CLI11 has checked the range of every option that has one).
+template <typename Field, typename Value>
+std::string Store(Field* field, const Value& value) {
+  *field = value;
+  return "";
+}
 
-const std::vector<RunOption>& RunOptions() {
-  using C = RunConfig;
-  // Columns: names, key, member, help, unit, choices, check, hashed, changed (a valid non-default
-  // value for the hash test). The options that cannot change a number say where files go, how to
-  // schedule (results are identical whatever the thread count, checked by the campaign test) and
-  // whether to run at all; `config` names a file whose values set the other options.
-  static const std::vector<RunOption> options = {
-      {"inputs", "inputs", &C::inputs,
+// The option table, in groups of related options. The columns: names, key, member, apply (where
+// the value goes in CampaignOptions), help, unit, choices, check, hashed, changed (a valid
+// non-default value for the hash test). The groups follow each other in --help order, which is
+// also the order of the hashed text that earlier results files hold.
+using C = RunConfig;
+using O = CampaignOptions;
+using Rows = std::vector<RunOption>;
+
+// Which recordings, and where the results and the other options come from. None of them can
+// change a number: `run` itself reads the inputs and the config file.
+Rows InputOutputOptions() {
+  return {
+      {"inputs", "inputs", &C::inputs, nullptr,
        "Recordings: files, folders (recursive *.h5) or quoted glob patterns"},
-      {"--manifest", "manifest", &C::manifest,
+      {"--manifest", "manifest", &C::manifest, nullptr,
        "File with one recording path per line ('#' comments; optional size column)"},
       {"--shard",
        "shard",
        &C::shard,
+       nullptr,
        "Process only shard I of the sorted input list (Slurm arrays)",
        "",
        {},
@@ -174,40 +156,71 @@ const std::vector<RunOption>& RunOptions() {
       {"--num-shards",
        "num-shards",
        &C::num_shards,
+       nullptr,
        "Number of shards N; pass it explicitly (SLURM_ARRAY_TASK_COUNT changes when only failed "
        "indices are resubmitted)",
        "",
        {},
        Positive},
-      {"--shard-by", "shard-by", &C::shard_by,
+      {"--shard-by", "shard-by", &C::shard_by, nullptr,
        "stride (every N-th file) or size (balanced by bytes)"},
-      {"-o,--output", "output", &C::output_dir, "Output folder (one results file per recording)"},
+      {"-o,--output", "output", &C::output_dir,
+       [](const std::string& v, O* o) { return Store(&o->output_dir, v); },
+       "Output folder (one results file per recording)"},
       {"--scratch-dir",
        "scratch-dir",
        &C::scratch_dir,
+       [](const std::string& v, O* o) { return Store(&o->scratch_dir, v); },
        "Folder for the IMFs between the decomposition and the results file, about 8 bytes per "
        "sample per IMF, removed as each recording ends (empty: the output folder; on a cluster, "
        "node-local scratch such as $TMPDIR)",
        "",
        {},
        ExistingFolder},
-      {"--config", "config", &C::config_file,
+      {"--config", "config", &C::config_file, nullptr,
        "TOML file of options (keys are the long option names; unknown keys are errors)"},
+  };
+}
+
+// How to schedule (results are identical whatever the thread count, checked by the campaign test)
+// and whether to run at all: outside the hash.
+Rows ScheduleOptions() {
+  return {
       {"--threads",
        "threads",
        &C::threads,
+       [](const int& v, O* o) { return Store(&o->threads, ResolveThreads(v)); },
        "Worker threads (0: SLURM_CPUS_PER_TASK if set, else all cores)",
        "",
        {},
        InRange<long, 0, kMaxThreads>},
       {"--memory-budget", "memory-budget", &C::memory_budget,
+       [](const std::string& v, O* o) -> std::string {
+         const auto budget =
+             v == "auto" ? std::optional<std::uint64_t>(AutoMemoryBudgetBytes()) : ParseByteSize(v);
+         if (!budget) {
+           return "--memory-budget: expected auto or a size such as 512M or 2G, got '" + v + "'";
+         }
+         o->memory_budget_bytes = *budget;
+         return "";
+       },
        "Memory for recordings in flight, e.g. 512M, 8G, or auto (default: 80 % of "
        "SLURM_MEM_PER_NODE, else half the physical memory)"},
-      {"--dry-run", "dry-run", &C::dry_run, "List what would be done; write nothing"},
-      {"--force", "force", &C::force, "Redo files whose results exist with the same configuration"},
+      {"--dry-run", "dry-run", &C::dry_run,
+       [](const bool& v, O* o) { return Store(&o->dry_run, v); },
+       "List what would be done; write nothing"},
+      {"--force", "force", &C::force, [](const bool& v, O* o) { return Store(&o->force, v); },
+       "Redo files whose results exist with the same configuration"},
+  };
+}
+
+// Reading the recording and the AR models of its components.
+Rows PreprocessingAndArOptions() {
+  return {
       {"--drop-start-s",
        "drop-start-s",
        &C::drop_start_s,
+       [](const double& v, O* o) { return Store(&o->method.preprocess.drop_start_s, v); },
        "Time dropped at the start (transient)",
        "s",
        {},
@@ -217,15 +230,18 @@ const std::vector<RunOption>& RunOptions() {
       {"--max-nan-gap",
        "max-nan-gap",
        &C::max_nan_gap,
+       [](const int& v, O* o) { return Store(&o->read.max_nan_gap_samples, v); },
        "Longest run of NaN samples bridged by interpolation",
        "samples",
        {},
        InRange<int, 0, 1000000>,
        true,
        "7"},
+      // Joined with --ar-order and --direct-ar-order by TryEveryFixedArOrder.
       {"--max-ar-order",
        "max-ar-order",
        &C::max_ar_order,
+       [](const int& v, O* o) { return Store(&o->method.component.ar.max_order, v); },
        "Largest AR order tried by BIC",
        "",
        {},
@@ -235,28 +251,47 @@ const std::vector<RunOption>& RunOptions() {
       {"--ar-order",
        "ar-order",
        &C::ar_order,
+       [](const int& v, O* o) { return Store(&o->method.component.ar.fixed_order, v); },
        "Fixed AR order of every component (0: by BIC)",
        "",
        {},
        InRange<int, 0, 200>,
        true,
        "3"},
-      {"--ar-estimator", "ar-estimator", &C::ar_estimator, "AR estimator", "", Names(kEstimators),
-       nullptr, true, "yule_walker"},
+      {"--ar-estimator", "ar-estimator", &C::ar_estimator,
+       [](const std::string& v, O* o) {
+         return Choose("ar-estimator", v, kEstimators, &o->method.component.ar.estimator);
+       },
+       "AR estimator", "", Names(kEstimators), nullptr, true, "yule_walker"},
+  };
+}
+
+// The empirical mode decomposition.
+Rows DecompositionOptions() {
+  return {
       {"--emd-sifts",
        "emd-sifts",
        &C::emd_sifts,
+       [](const int& v, O* o) {
+         o->method.emd.fixed_sifts = v;
+         o->method.emd.max_sifts = std::max(o->method.emd.max_sifts, v);
+         return std::string();
+       },
        "Sifts per IMF (fixed_sifts rule)",
        "",
        {},
        InRange<int, 1, 10000>,
        true,
        "17"},
-      {"--emd-stop-rule", "emd-stop-rule", &C::emd_stop_rule, "EMD sifting stop rule", "",
-       Names(kStopRules), nullptr, true, "rilling"},
+      {"--emd-stop-rule", "emd-stop-rule", &C::emd_stop_rule,
+       [](const std::string& v, O* o) {
+         return Choose("emd-stop-rule", v, kStopRules, &o->method.emd.stop_rule);
+       },
+       "EMD sifting stop rule", "", Names(kStopRules), nullptr, true, "rilling"},
       {"--max-imfs",
        "max-imfs",
        &C::max_imfs,
+       [](const int& v, O* o) { return Store(&o->method.emd.max_imfs, v); },
        "Maximum number of IMFs (0: until monotonic)",
        "",
        {},
@@ -266,6 +301,7 @@ const std::vector<RunOption>& RunOptions() {
       {"--band-limit-ratio",
        "band-limit-ratio",
        &C::band_limit_ratio,
+       [](const double& v, O* o) { return Store(&o->method.band_limit.cutoff_ratio, v); },
        "Each IMF's content below this / its mean period (cycles per sample) moves to the next "
        "component before modelling; 0: EMD's IMFs as they are (the paper's)",
        "cycles per mean period",
@@ -273,9 +309,16 @@ const std::vector<RunOption>& RunOptions() {
        Ratio,
        true,
        "0.35"},
+  };
+}
+
+// Each component's Kalman filter.
+Rows KalmanOptions() {
+  return {
       {"--q",
        "q",
        &C::q,
+       [](const double& v, O* o) { return Store(&o->method.component.kalman.q, v); },
        "Kalman process-noise variance (<0: default rule)",
        "(rad/s)^2",
        {},
@@ -285,6 +328,7 @@ const std::vector<RunOption>& RunOptions() {
       {"--r",
        "r",
        &C::r,
+       [](const double& v, O* o) { return Store(&o->method.component.kalman.r, v); },
        "Kalman measurement-noise variance (<0: white-noise rule)",
        "(rad/s)^2",
        {},
@@ -292,24 +336,56 @@ const std::vector<RunOption>& RunOptions() {
        true,
        "2e-8"},
       {"--noise-rule", "noise-rule", &C::noise_rule,
+       [](const std::string& v, O* o) {
+         return Choose("noise-rule", v, kNoiseRules, &o->method.component.noise_rule);
+       },
        "How each IMF's Kalman q and R follow from its white-noise share: share (default) or "
        "innovation (see schemas/results-v1.md)",
        "", Names(kNoiseRules), nullptr, true, "innovation"},
-      {"--q-scale", "q-scale", &C::q_scale, "Multiplier of q", "", {}, Positive, true, "2"},
-      {"--r-scale", "r-scale", &C::r_scale, "Multiplier of R", "", {}, Positive, true, "3"},
+      {"--q-scale",
+       "q-scale",
+       &C::q_scale,
+       [](const double& v, O* o) { return Store(&o->method.component.kalman.q_scale, v); },
+       "Multiplier of q",
+       "",
+       {},
+       Positive,
+       true,
+       "2"},
+      {"--r-scale",
+       "r-scale",
+       &C::r_scale,
+       [](const double& v, O* o) { return Store(&o->method.component.kalman.r_scale, v); },
+       "Multiplier of R",
+       "",
+       {},
+       Positive,
+       true,
+       "3"},
       {"--smooth",
        "smooth",
        &C::smooth,
+       [](const bool& v, O* o) { return Store(&o->method.component.kalman.smooth, v); },
        "Use the RTS smoother output instead of the filter's",
        "",
        {},
        nullptr,
        true},
-      {"--imf-storage", "imf-storage", &C::imf_storage, "How IMFs are stored", "",
-       Names(kImfStorages), nullptr, true, "none"},
+  };
+}
+
+// What the results file holds besides the tables, and method 2.
+Rows StorageAndDirectArOptions() {
+  return {
+      {"--imf-storage", "imf-storage", &C::imf_storage,
+       [](const std::string& v, O* o) {
+         return Choose("imf-storage", v, kImfStorages, &o->results.imf_storage);
+       },
+       "How IMFs are stored", "", Names(kImfStorages), nullptr, true, "none"},
       {"--store-filtered-imfs",
        "store-filtered-imfs",
        &C::store_filtered_imfs,
+       [](const bool& v, O* o) { return Store(&o->results.store_filtered_imfs, v); },
        "Also store every filtered component",
        "",
        {},
@@ -318,15 +394,26 @@ const std::vector<RunOption>& RunOptions() {
       {"--direct-ar-order",
        "direct-ar-order",
        &C::direct_ar_order,
+       [](const int& v, O* o) { return Store(&o->method.direct_ar_order, v); },
        "Method 2's AR order (0: by BIC; the paper used 6)",
        "",
        {},
        InRange<int, 0, 200>,
        true,
        "6"},
+  };
+}
+
+// The Allan tables and the deterministic model subtracted before everything else.
+Rows AllanAndModelOptions() {
+  return {
       {"--taus",
        "taus",
        &C::taus,
+       [](const std::string& v, O* o) {
+         std::string error;
+         return allan::ParseTauGrid(v, &o->method.allan.grid, &error) ? "" : error;
+       },
        "Allan tau grid: octave, decade (10 per decade), decade:K, all, or log10 (allantools' "
        "taus='log10')",
        "",
@@ -335,12 +422,25 @@ const std::vector<RunOption>& RunOptions() {
        true,
        "decade"},
       {"--noise-id", "noise-id", &C::noise_id,
+       [](const std::string& v, O* o) {
+         allan::AllanOptions& allan = o->method.allan;
+         const std::string error = Choose("noise-id", v, kNoiseIdRules, &allan.noise_id);
+         // Stable32's bounds come from its noise types and the EDF as Greenhall & Riley printed.
+         allan.sampled_phase_edf = allan.noise_id != allan::NoiseIdRule::kStable32;
+         return error;
+       },
        "Noise identification behind the Allan intervals: calibrated (chosen by measured coverage) "
        "or stable32 (Stable32's Alpha column and EDF convention)",
        "", Names(kNoiseIdRules), nullptr, true, "stable32"},
+      // The file itself is read by ReadModelCompensation, once the method options are valid.
       {"--model",
        "model",
        &C::model,
+       [](const std::string& v, O* o) {
+         o->model.reset();
+         if (!v.empty()) o->model.emplace().path = v;
+         return std::string();
+       },
        "Model file of `compare --save-model`: its deterministic effects are subtracted before the "
        "EMD (thermal terms use each recording's /aux/temperature)",
        "",
@@ -349,6 +449,89 @@ const std::vector<RunOption>& RunOptions() {
        true,
        "thermal.model.json"},
   };
+}
+
+// The steps of ToCampaignOptions that join several options.
+
+// Every option's apply, in table order; false with the first error.
+bool ApplyEveryOption(const RunConfig& c, CampaignOptions* o, std::string* error) {
+  for (const RunOption& option : RunOptions()) {
+    if (!option.apply) continue;
+    if (std::string problem = option.apply(c, o); !problem.empty()) {
+      *error = std::move(problem);
+      return false;
+    }
+  }
+  return true;
+}
+
+// BIC tries every order up to the largest of --max-ar-order, --ar-order and --direct-ar-order, so
+// that a fixed order is always among those tried.
+void TryEveryFixedArOrder(method::MethodOptions* m) {
+  ar::ArOptions& ar = m->component.ar;
+  ar.max_order = std::max(ar.max_order, std::max(ar.fixed_order, m->direct_ar_order));
+}
+
+// --model FILE: read once per run; the file is named in every error.
+bool ReadModelCompensation(ModelCompensationOptions* m, std::string* error) {
+  const std::string& path = m->path;
+  if (const std::string problem = io::RegularFileProblem(path); !problem.empty()) {
+    *error = "--model " + path + ": needs a model file, but " + problem;
+    return false;
+  }
+  try {
+    const io::ModelFile file = io::ReadModelFile(path);
+    m->deterministic = file.deterministic;
+  } catch (const std::exception& e) {
+    *error = std::string("--model: ") + e.what();
+    return false;
+  }
+  std::string sha_error;
+  const auto sha = io::Sha256FileHex(path, &sha_error);
+  if (!sha) {
+    *error = "--model: " + sha_error;
+    return false;
+  }
+  m->sha256 = *sha;
+  for (const auto& comp : m->deterministic.components) {
+    m->terms += (m->terms.empty() ? "" : ",") + std::string(model::ToString(comp.term));
+    m->needs_temperature = m->needs_temperature || model::NeedsTemperature(comp.term);
+  }
+  return true;
+}
+
+// A budget the machine cannot hold would admit recordings that then swap or are killed.
+bool BudgetFitsThisMachine(const std::string& spelled, std::uint64_t budget, std::string* error) {
+  const std::uint64_t physical = PhysicalMemoryBytes();
+  if (physical > 0 && budget > physical) {
+    *error = "--memory-budget " + spelled + " is more than this machine's " +
+             std::to_string(physical >> 20) + " MiB of physical memory; give at most that";
+    return false;
+  }
+  return true;
+}
+
+// The hashed text and its SHA-256, the rerun key. The model file's content is part of the
+// configuration: a changed model redoes every file. A TOML comment keeps config_toml a valid
+// --config file.
+void HashConfiguration(const RunConfig& c, CampaignOptions* o) {
+  o->config_toml = EffectiveConfigToml(c);
+  if (o->model) o->config_toml += "# model-sha256 = " + o->model->sha256 + "\n";
+  o->config_sha256 = io::Sha256Hex(o->config_toml);
+}
+
+}  // namespace
+
+const std::vector<RunOption>& RunOptions() {
+  static const std::vector<RunOption> options = [] {
+    Rows all;
+    for (Rows group : {InputOutputOptions(), ScheduleOptions(), PreprocessingAndArOptions(),
+                       DecompositionOptions(), KalmanOptions(), StorageAndDirectArOptions(),
+                       AllanAndModelOptions()}) {
+      all.insert(all.end(), group.begin(), group.end());
+    }
+    return all;
+  }();
   return options;
 }
 
@@ -418,73 +601,13 @@ int ResolveThreads(int requested) {
 }
 
 bool ToCampaignOptions(const RunConfig& c, CampaignOptions* o, std::string* error) {
-  method::MethodOptions& m = o->method;
-  m.preprocess.drop_start_s = c.drop_start_s;
-  m.emd.fixed_sifts = c.emd_sifts;
-  m.emd.max_sifts = std::max(m.emd.max_sifts, c.emd_sifts);
-  m.emd.max_imfs = c.max_imfs;
-  m.band_limit.cutoff_ratio = c.band_limit_ratio;
-  if (!FromName(c.emd_stop_rule, kStopRules, &m.emd.stop_rule)) {
-    *error = ChoiceError(Find("emd-stop-rule"), c.emd_stop_rule);
-    return false;
-  }
-  m.component.ar.max_order = std::max(c.max_ar_order, std::max(c.ar_order, c.direct_ar_order));
-  m.component.ar.fixed_order = c.ar_order;
-  if (!FromName(c.ar_estimator, kEstimators, &m.component.ar.estimator)) {
-    *error = ChoiceError(Find("ar-estimator"), c.ar_estimator);
-    return false;
-  }
-  m.component.kalman.q = c.q;
-  m.component.kalman.r = c.r;
-  if (!FromName(c.noise_rule, kNoiseRules, &m.component.noise_rule)) {
-    *error = ChoiceError(Find("noise-rule"), c.noise_rule);
-    return false;
-  }
-  m.component.kalman.q_scale = c.q_scale;
-  m.component.kalman.r_scale = c.r_scale;
-  m.component.kalman.smooth = c.smooth;
-  m.direct_ar_order = c.direct_ar_order;
-  if (!allan::ParseTauGrid(c.taus, &m.allan.grid, error)) return false;
-  if (!FromName(c.noise_id, kNoiseIdRules, &m.allan.noise_id)) {
-    *error = ChoiceError(Find("noise-id"), c.noise_id);
-    return false;
-  }
-  // Stable32's bounds come from its noise types and the EDF as Greenhall & Riley printed it.
-  m.allan.sampled_phase_edf = m.allan.noise_id != allan::NoiseIdRule::kStable32;
-  if (!m.IsValid(error)) return false;
-  if (!c.model.empty() && !ReadModelCompensation(c.model, o, error)) return false;
-  if (!FromName(c.imf_storage, kImfStorages, &o->results.imf_storage)) {
-    *error = ChoiceError(Find("imf-storage"), c.imf_storage);
-    return false;
-  }
-  o->results.store_filtered_imfs = c.store_filtered_imfs;
-  o->read.max_nan_gap_samples = c.max_nan_gap;
-  const auto budget = c.memory_budget == "auto"
-                          ? std::optional<std::uint64_t>(AutoMemoryBudgetBytes())
-                          : ParseByteSize(c.memory_budget);
-  if (!budget) {
-    *error = "--memory-budget: expected auto or a size such as 512M or 2G, got '" +
-             c.memory_budget + "'";
-    return false;
-  }
-  // A budget the machine cannot hold would admit recordings that then swap or are killed.
-  const std::uint64_t physical = PhysicalMemoryBytes();
-  if (physical > 0 && *budget > physical) {
-    *error = "--memory-budget " + c.memory_budget + " is more than this machine's " +
-             std::to_string(physical >> 20) + " MiB of physical memory; give at most that";
-    return false;
-  }
-  o->memory_budget_bytes = *budget;
-  o->threads = ResolveThreads(c.threads);
-  o->output_dir = c.output_dir;
-  o->scratch_dir = c.scratch_dir.empty() ? c.output_dir : c.scratch_dir;
-  o->force = c.force;
-  o->dry_run = c.dry_run;
-  o->config_toml = EffectiveConfigToml(c);
-  // The model file's content is part of the configuration: a changed model redoes every file.
-  // A TOML comment keeps config_toml a valid --config file.
-  if (o->model) o->config_toml += "# model-sha256 = " + o->model->sha256 + "\n";
-  o->config_sha256 = io::Sha256Hex(o->config_toml);
+  if (!ApplyEveryOption(c, o, error)) return false;
+  TryEveryFixedArOrder(&o->method);
+  if (!o->method.IsValid(error)) return false;
+  if (o->model && !ReadModelCompensation(&*o->model, error)) return false;
+  if (!BudgetFitsThisMachine(c.memory_budget, o->memory_budget_bytes, error)) return false;
+  if (o->scratch_dir.empty()) o->scratch_dir = o->output_dir;
+  HashConfiguration(c, o);
   return true;
 }
 

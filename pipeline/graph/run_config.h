@@ -2,7 +2,9 @@
 // options, and the effective configuration text whose SHA-256 is the rerun key.
 #pragma once
 
+#include <functional>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -59,16 +61,26 @@ struct RunConfig {
 };
 
 /// One option of `fogpipe run`, declared once: the command line, the TOML config file, the hashed
-/// configuration text and RunConfig are all made from the table of these (RunOptions()).
+/// configuration text, RunConfig and the campaign options are all made from the table of these
+/// (RunOptions()), so adding an option is adding one row.
 struct RunOption {
   using Member = std::variant<std::vector<std::string> RunConfig::*, std::string RunConfig::*,
                               int RunConfig::*, double RunConfig::*, bool RunConfig::*>;
+  /// Puts an option's value of type T into the campaign options; returns "" or, for a value
+  /// outside its domain, the error. (common_type_t: T is deduced from the member alone, so a
+  /// lambda converts.)
+  template <typename T>
+  using ApplyValue = std::string (*)(const std::common_type_t<T>& value, CampaignOptions* options);
   /// CLI11's names: "--q", "-o,--output", or "inputs" (the positional argument).
   std::string names;
   /// The long name without dashes: the TOML key and the name in the hashed configuration.
   std::string key;
   /// Where the value goes; its default is RunConfig's. A bool member is a flag.
   Member member;
+  /// Where the value goes in the campaign options (ToCampaignOptions); empty for the options that
+  /// only say which recordings to read (inputs, manifest, the shards) or where other values come
+  /// from (config), which `run` itself acts on.
+  std::function<std::string(const RunConfig&, CampaignOptions*)> apply;
   std::string help;
   /// The unit of a quantity, shown at the end of its --help line ("" for none).
   std::string unit;
@@ -83,8 +95,9 @@ struct RunOption {
   /// test that every hashed option changes the hash.
   std::string changed;
 
-  RunOption(std::string names_, std::string key_, Member member_, std::string help_,
-            std::string unit_ = "", std::vector<std::string> choices_ = {},
+  template <typename T>
+  RunOption(std::string names_, std::string key_, T RunConfig::*member_, ApplyValue<T> apply_,
+            std::string help_, std::string unit_ = "", std::vector<std::string> choices_ = {},
             void (*check_)(CLI::Option*) = nullptr, bool hashed_ = false, std::string changed_ = "")
       : names(std::move(names_)),
         key(std::move(key_)),
@@ -94,7 +107,13 @@ struct RunOption {
         choices(std::move(choices_)),
         check(check_),
         hashed(hashed_),
-        changed(std::move(changed_)) {}
+        changed(std::move(changed_)) {
+    if (apply_ != nullptr) {
+      apply = [member_, apply_](const RunConfig& config, CampaignOptions* options) {
+        return apply_(config.*member_, options);
+      };
+    }
+  }
 };
 
 /// Every option of `fogpipe run`, in --help order; the hashed ones in the order of
@@ -113,8 +132,9 @@ bool ApplyConfigFile(CLI::App* cmd, const std::string& path, std::string* error)
 /// The options that change numbers, as TOML in a fixed order (itself a valid --config file).
 std::string EffectiveConfigToml(const RunConfig& config);
 
-/// Translates the configuration into campaign options (method, storage, threads, budget, hash).
-/// Returns false with *error for a value out of its domain.
+/// Translates the configuration into campaign options (method, storage, threads, budget, hash):
+/// every option's `apply`, then the steps that join several options. Returns false with *error
+/// for a value out of its domain.
 bool ToCampaignOptions(const RunConfig& config, CampaignOptions* options, std::string* error);
 
 /// --threads 0: SLURM_CPUS_PER_TASK when set and positive, else the hardware concurrency.

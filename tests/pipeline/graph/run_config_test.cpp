@@ -12,7 +12,9 @@
 #include <cstdlib>
 #include <fstream>
 #include <set>
+#include <sstream>
 #include <string>
+#include <tuple>
 #include <variant>
 #include <vector>
 
@@ -72,6 +74,65 @@ TEST(RunOptions, EveryHashedOptionChangesTheHashWhenItsValueChanges) {
     ++checked;
   }
   EXPECT_EQ(checked, static_cast<int>(RunOptions().size() - kNotHashed.size()));
+}
+
+// The campaign options that the rows of the table fill, as text. A row whose changed value leaves
+// this text as it was does not reach the campaign; a row added with a new destination adds that
+// destination here.
+std::string CampaignFields(const CampaignOptions& o) {
+  const method::MethodOptions& m = o.method;
+  const allan::TauGridOptions& grid = m.allan.grid;
+  std::ostringstream out;
+  out.precision(17);
+  out << "drop_start_s " << m.preprocess.drop_start_s << "\nmax_nan_gap_samples "
+      << o.read.max_nan_gap_samples << "\nar max_order " << m.component.ar.max_order
+      << " fixed_order " << m.component.ar.fixed_order << " estimator "
+      << static_cast<int>(m.component.ar.estimator) << "\nemd fixed_sifts " << m.emd.fixed_sifts
+      << " max_sifts " << m.emd.max_sifts << " stop_rule " << static_cast<int>(m.emd.stop_rule)
+      << " max_imfs " << m.emd.max_imfs << "\nband_limit " << m.band_limit.cutoff_ratio
+      << "\nkalman q " << m.component.kalman.q << " r " << m.component.kalman.r << " q_scale "
+      << m.component.kalman.q_scale << " r_scale " << m.component.kalman.r_scale << " smooth "
+      << m.component.kalman.smooth << " noise_rule " << static_cast<int>(m.component.noise_rule)
+      << "\nimf_storage " << static_cast<int>(o.results.imf_storage) << " store_filtered "
+      << o.results.store_filtered_imfs << "\ndirect_ar_order " << m.direct_ar_order << "\ntaus "
+      << static_cast<int>(grid.kind) << " " << grid.per_decade << " " << grid.explicit_m.size()
+      << "\nnoise_id " << static_cast<int>(m.allan.noise_id) << " sampled_phase_edf "
+      << m.allan.sampled_phase_edf << "\nmodel " << (o.model ? o.model->path : "none") << "\n";
+  return out.str();
+}
+
+// Every hashed option reaches the campaign options through its own row: its changed value gives
+// other campaign options than its default, so no option can enter the hash and then be dropped
+// on the way to the method. (The row is applied alone: --model's file is read by a later step.)
+TEST(RunOptions, EveryHashedOptionReachesTheCampaignOptions) {
+  const RunConfig defaults;
+  int checked = 0;
+  for (const RunOption& option : RunOptions()) {
+    if (!option.hashed) continue;
+    ASSERT_TRUE(option.apply) << "--" << option.key << " goes nowhere";
+    CLI::App app;
+    RunConfig config;
+    AddRunOptions(&app, &config);
+    ASSERT_NO_THROW(Parse(&app, ChangedArgs(option))) << option.key;
+    CampaignOptions from_default, from_changed;
+    EXPECT_EQ(option.apply(defaults, &from_default), "") << option.key;
+    EXPECT_EQ(option.apply(config, &from_changed), "") << option.key;
+    EXPECT_NE(CampaignFields(from_changed), CampaignFields(from_default))
+        << "--" << option.key << " does not reach the campaign options";
+    ++checked;
+  }
+  EXPECT_EQ(checked, static_cast<int>(RunOptions().size() - kNotHashed.size()));
+}
+
+// The rows without a destination in the campaign options are those `run` acts on itself: which
+// recordings to read (inputs, manifest and the shards) and the config file that sets the others.
+TEST(RunOptions, OnlyTheOptionsThatRunReadsItselfHaveNoPlaceInTheCampaignOptions) {
+  std::set<std::string> without_apply;
+  for (const RunOption& option : RunOptions()) {
+    if (!option.apply) without_apply.insert(option.key);
+  }
+  EXPECT_EQ(without_apply, (std::set<std::string>{"inputs", "manifest", "shard", "num-shards",
+                                                  "shard-by", "config"}));
 }
 
 // The hashed text is itself a --config file: read back through CLI11's TOML reader onto fresh
@@ -186,6 +247,62 @@ TEST(RunConfig, AMemoryBudgetAboveThePhysicalMemoryIsRefused) {
   error.clear();
   EXPECT_TRUE(ToCampaignOptions(config, &options, &error)) << error;
   EXPECT_EQ(options.memory_budget_bytes, 256u << 20);
+}
+
+// Defaults to the translation: the method options of `fogpipe run` with no options, the scratch
+// folder the output folder, and the hash of the default text.
+TEST(RunConfig, TheDefaultOptionsGiveTheDefaultMethodAndHash) {
+  RunConfig config;
+  config.output_dir = "out";
+  CampaignOptions options;
+  std::string error;
+  ASSERT_TRUE(ToCampaignOptions(config, &options, &error)) << error;
+  EXPECT_EQ(options.method.component.ar.max_order, 20);
+  EXPECT_EQ(options.method.emd.fixed_sifts, 10);
+  EXPECT_EQ(options.scratch_dir, "out");
+  EXPECT_FALSE(options.model.has_value());
+  EXPECT_EQ(options.config_toml, EffectiveConfigToml(config));
+}
+
+// BIC tries every order up to the largest of the three AR orders, so a fixed order (of the
+// components or of method 2) above --max-ar-order is still among those tried.
+TEST(RunConfig, TheLargestOfTheThreeArOrdersBoundsTheOrdersTried) {
+  for (const auto& [max_ar_order, ar_order, direct_ar_order, expected] :
+       {std::tuple{20, 0, 0, 20}, {20, 30, 0, 30}, {20, 0, 40, 40}, {20, 30, 25, 30}}) {
+    RunConfig config;
+    config.output_dir = "out";
+    config.max_ar_order = max_ar_order;
+    config.ar_order = ar_order;
+    config.direct_ar_order = direct_ar_order;
+    CampaignOptions options;
+    std::string error;
+    ASSERT_TRUE(ToCampaignOptions(config, &options, &error)) << error;
+    EXPECT_EQ(options.method.component.ar.max_order, expected);
+    EXPECT_EQ(options.method.component.ar.fixed_order, ar_order);
+    EXPECT_EQ(options.method.direct_ar_order, direct_ar_order);
+  }
+}
+
+// A RunConfig filled other than through CLI11 (which checks the spellings) still cannot carry a
+// choice outside the list: the error names the option and its choices.
+TEST(RunConfig, AChoiceOutsideItsListIsRefusedNamingTheChoices) {
+  RunConfig config;
+  config.output_dir = "out";
+  config.noise_id = "allantools";
+  CampaignOptions options;
+  std::string error;
+  EXPECT_FALSE(ToCampaignOptions(config, &options, &error));
+  EXPECT_EQ(error, "--noise-id: expected calibrated or stable32, got 'allantools'");
+  config = RunConfig{};
+  config.ar_estimator = "lsq";
+  EXPECT_FALSE(ToCampaignOptions(config, &options, &error));
+  EXPECT_EQ(error,
+            "--ar-estimator: expected burg, least_squares_qr, yule_walker or "
+            "maximum_likelihood, got 'lsq'");
+  config = RunConfig{};
+  config.memory_budget = "lots";
+  EXPECT_FALSE(ToCampaignOptions(config, &options, &error));
+  EXPECT_EQ(error, "--memory-budget: expected auto or a size such as 512M or 2G, got 'lots'");
 }
 
 // Restores an environment variable when the test ends.
