@@ -38,87 +38,75 @@ struct AllanArgs {
   bool progress = false;
 };
 
-int RunAllan(const AllanArgs& args) {
-  if (args.recording.empty()) {
-    std::cerr << "fogpipe allan: give a RECORDING (see fogpipe allan --help)\n";
-    return 2;
-  }
-  hdf5::SilenceHdf5ErrorPrinter();
-  allan::AllanOptions options;
-  options.confidence = args.confidence;
-  options.threads = graph::ResolveThreads(args.threads);
-  if (!allan::ParseNoiseIdRule(args.noise_id, &options.noise_id)) {
+// The analysis options from the arguments; false (a usage error, stderr says which) for a bad one.
+bool ToAllanOptions(const AllanArgs& args, allan::AllanOptions* options) {
+  options->confidence = args.confidence;
+  options->threads = graph::ResolveThreads(args.threads);
+  if (!allan::ParseNoiseIdRule(args.noise_id, &options->noise_id)) {
     std::cerr << "fogpipe allan: --noise-id must be calibrated or stable32, got '" << args.noise_id
               << "'\n";
-    return 2;
+    return false;
   }
   // Stable32's bounds come from its noise types and the EDF as Greenhall & Riley printed it.
-  options.sampled_phase_edf = options.noise_id != allan::NoiseIdRule::kStable32;
-  if (!allan::ParseDeviation(args.deviation, &options.deviation)) {
+  options->sampled_phase_edf = options->noise_id != allan::NoiseIdRule::kStable32;
+  if (!allan::ParseDeviation(args.deviation, &options->deviation)) {
     std::cerr << "fogpipe allan: --deviation must be one of " << io::DeviationList() << ", got '"
               << args.deviation << "'\n";
-    return 2;
+    return false;
   }
   std::string error;
-  if (!allan::ParseTauGrid(args.taus, &options.grid, &error) || !options.IsValid(&error)) {
+  if (!allan::ParseTauGrid(args.taus, &options->grid, &error) || !options->IsValid(&error)) {
     std::cerr << "fogpipe allan: " << error << "\n";
-    return 2;
+    return false;
   }
-  std::vector<io::AllanReport> reports;
-  bool redraw = false;
-  std::FILE* progress_stream = graph::ProgressStream(args.progress, &redraw);
-  // Steps only: the deviation sums and the fit take no ForEach to count tasks through.
-  graph::WorkProgress progress("allan " + args.recording, progress_stream, redraw);
-  try {
-    // Inspected and read in child processes: a file that crashes HDF5 is named, not fatal.
-    const io::RecordingInfo info = io::InspectRecordingIsolated(args.recording);
-    const std::string axis_arg = args.axis.empty() ? "0" : args.axis;
-    for (const int axis : io::SelectAxes(info, axis_arg)) {
-      const std::string& name = info.axis_names[axis];
-      progress.Step("axis " + name + ": reading");
-      io::ReadOptions read;
-      read.max_nan_gap_samples = args.max_nan_gap;
-      io::ReadReport read_report;
-      const Eigen::VectorXd rate_rad_s =
-          io::ReadAxisRadPerSecondIsolated(info, name, read, &read_report);
-      io::AllanReport report;
-      report.file = args.recording;
-      report.axis = name;
-      report.rate_units = info.rate_units;
-      report.rate_unit = info.rate_unit;
-      report.sample_rate_hz = info.sample_rate_hz;
-      report.samples = info.samples;
-      report.nan_bridged = read_report.nan.bridged_samples;
-      report.data_warning =
-          io::DescribeRepeatedRun(read_report.repeats, info.sample_rate_hz, info.rate_units);
-      report.taus = args.taus;
-      report.confidence = options.confidence;
-      progress.Step("axis " + name + ": " + args.deviation + " on the " + args.taus +
-                    " grid and its intervals");
-      allan::AllanResult allan = allan::ComputeAllan(rate_rad_s, report.sample_rate_hz, options);
-      if (!HasResult(allan.summary.termination)) {
-        std::cerr << "fogpipe allan: " << args.recording << ": axis " << report.axis << ": "
-                  << allan.summary.message << " [" << ToString(allan.summary.termination) << "]\n";
-        return 1;
-      }
-      report.table = std::move(allan.table);
-      // The IEEE terms are coefficients of the Allan variance's response; on any other table
-      // they would be wrong without saying so.
-      report.fitted = allan::IeeeModelApplies(options.deviation);
-      if (report.fitted) {
-        progress.Step("axis " + name + ": noise terms and their EDF");
-        report.fit = allan::FitNoiseTermsAndModelEdf(allan::NoiseFitOptions{}, options.confidence,
-                                                     &report.table);
-      }
-      reports.push_back(std::move(report));
-    }
-  } catch (const io::RecordingError& e) {
-    std::cerr << "fogpipe allan: " << e.what() << " [" << e.kind() << "]\n";
-    return 1;
+  return true;
+}
+
+// One axis read, its table computed and, for the deviations the IEEE model fits, its noise terms
+// fitted. False (stderr says why) when the table has no result.
+bool AnalyseAxis(const AllanArgs& args, const io::RecordingInfo& info, const std::string& name,
+                 const allan::AllanOptions& options, graph::WorkProgress* progress,
+                 io::AllanReport* report) {
+  progress->Step("axis " + name + ": reading");
+  io::ReadOptions read;
+  read.max_nan_gap_samples = args.max_nan_gap;
+  io::ReadReport read_report;
+  const Eigen::VectorXd rate_rad_s =
+      io::ReadAxisRadPerSecondIsolated(info, name, read, &read_report);
+  report->file = args.recording;
+  report->axis = name;
+  report->rate_units = info.rate_units;
+  report->rate_unit = info.rate_unit;
+  report->sample_rate_hz = info.sample_rate_hz;
+  report->samples = info.samples;
+  report->nan_bridged = read_report.nan.bridged_samples;
+  report->data_warning =
+      io::DescribeRepeatedRun(read_report.repeats, info.sample_rate_hz, info.rate_units);
+  report->taus = args.taus;
+  report->confidence = options.confidence;
+  progress->Step("axis " + name + ": " + args.deviation + " on the " + args.taus +
+                 " grid and its intervals");
+  allan::AllanResult allan = allan::ComputeAllan(rate_rad_s, report->sample_rate_hz, options);
+  if (!HasResult(allan.summary.termination)) {
+    std::cerr << "fogpipe allan: " << args.recording << ": axis " << report->axis << ": "
+              << allan.summary.message << " [" << ToString(allan.summary.termination) << "]\n";
+    return false;
   }
-  progress.Finish();
-  // One axis prints as it always has; several are labelled by an `axis` column (CSV) or an
-  // `axes` list (JSON) so that no row can be taken for another axis's.
+  report->table = std::move(allan.table);
+  // The IEEE terms are coefficients of the Allan variance's response; on any other table
+  // they would be wrong without saying so.
+  report->fitted = allan::IeeeModelApplies(options.deviation);
+  if (report->fitted) {
+    progress->Step("axis " + name + ": noise terms and their EDF");
+    report->fit = allan::FitNoiseTermsAndModelEdf(allan::NoiseFitOptions{}, options.confidence,
+                                                  &report->table);
+  }
+  return true;
+}
+
+// One axis prints as it always has; several are labelled by an `axis` column (CSV) or an
+// `axes` list (JSON) so that no row can be taken for another axis's.
+void PrintReports(const AllanArgs& args, const std::vector<io::AllanReport>& reports) {
   const bool several = args.axis == io::kAllAxes;
   if (args.json) {
     std::cout << (several ? io::AllanReportJson(reports) : io::AllanReportJson(reports[0])).dump(2)
@@ -134,6 +122,36 @@ int RunAllan(const AllanArgs& args) {
       io::PrintAllanText(std::cout, reports[i]);
     }
   }
+}
+
+int RunAllan(const AllanArgs& args) {
+  if (args.recording.empty()) {
+    std::cerr << "fogpipe allan: give a RECORDING (see fogpipe allan --help)\n";
+    return 2;
+  }
+  hdf5::SilenceHdf5ErrorPrinter();
+  allan::AllanOptions options;
+  if (!ToAllanOptions(args, &options)) return 2;
+  std::vector<io::AllanReport> reports;
+  bool redraw = false;
+  std::FILE* progress_stream = graph::ProgressStream(args.progress, &redraw);
+  // Steps only: the deviation sums and the fit take no ForEach to count tasks through.
+  graph::WorkProgress progress("allan " + args.recording, progress_stream, redraw);
+  try {
+    // Inspected and read in child processes: a file that crashes HDF5 is named, not fatal.
+    const io::RecordingInfo info = io::InspectRecordingIsolated(args.recording);
+    const std::string axis_arg = args.axis.empty() ? "0" : args.axis;
+    for (const int axis : io::SelectAxes(info, axis_arg)) {
+      io::AllanReport report;
+      if (!AnalyseAxis(args, info, info.axis_names[axis], options, &progress, &report)) return 1;
+      reports.push_back(std::move(report));
+    }
+  } catch (const io::RecordingError& e) {
+    std::cerr << "fogpipe allan: " << e.what() << " [" << e.kind() << "]\n";
+    return 1;
+  }
+  progress.Finish();
+  PrintReports(args, reports);
   return 0;
 }
 

@@ -135,6 +135,62 @@ int PrintHistory(const std::string& results) {
   return 0;
 }
 
+// The model's terms: the model file's, --terms or the default ones, then each --add. False (a
+// usage error, stderr says which) for an unknown term.
+bool ChooseTerms(const CompareArguments& a, std::vector<model::Term>* terms) {
+  if (!a.model_file.empty()) {
+    *terms = io::ReadModelFile(a.model_file).terms;
+  } else if (!a.terms.empty()) {
+    std::string err;
+    if (!model::ParseTermList(a.terms, terms, &err)) {
+      std::cerr << "fogpipe compare: --terms: " << err << "\n";
+      return false;
+    }
+  } else {
+    *terms = model::DefaultTerms();
+  }
+  for (const auto& name : a.add) {
+    std::string err;
+    if (!model::ParseTermList(name, terms, &err)) {
+      std::cerr << "fogpipe compare: --add: " << err << "\n";
+      return false;
+    }
+  }
+  return true;
+}
+
+// Every aux channel of the recording, read once for all axes. A constant channel is read as it
+// is: only a constant rate column has no noise to analyse (ReadOptions::reject_constant).
+std::vector<model::AuxChannel> ReadAuxChannels(const io::RecordingInfo& info,
+                                               const io::ReadOptions& ro) {
+  std::vector<model::AuxChannel> aux;
+  for (const auto& ch : info.aux) {
+    io::ReadOptions ao = ro;
+    ao.reject_constant = false;
+    aux.push_back({ch.name, ch.units, io::ReadAuxIsolated(info, ch.name, ao)});
+  }
+  return aux;
+}
+
+// One axis's comparison printed (or, with --axis all and --json, kept in *all for the one JSON
+// object), appended to RESULTS and saved as a model file, as asked.
+void ReportAxis(const CompareArguments& a, const std::string& name, bool several, bool first,
+                const model::CompareResult& r, nlohmann::json* all) {
+  if (a.json && several) {
+    nlohmann::json j = io::CompareJson(r);
+    j["axis"] = name;
+    all->push_back(std::move(j));
+  } else if (a.json) {
+    std::cout << io::CompareJson(r).dump(2) << "\n";
+  } else {
+    if (several) std::printf("%saxis %s\n", first ? "" : "\n", name.c_str());
+    PrintText(r);
+  }
+  // Each axis is a step of its own, named by the axis's name (never an index or "all").
+  if (!a.results.empty()) io::AppendHistory(a.results, a.recording, name, r);
+  if (!a.save_model.empty()) io::WriteModelFile(a.save_model, r.base);
+}
+
 int Run(const CompareArguments& a) {
   if (!a.history.empty()) return PrintHistory(a.history);
   if (a.recording.empty()) {
@@ -142,24 +198,7 @@ int Run(const CompareArguments& a) {
     return 2;
   }
   std::vector<model::Term> terms;
-  if (!a.model_file.empty()) {
-    terms = io::ReadModelFile(a.model_file).terms;
-  } else if (!a.terms.empty()) {
-    std::string err;
-    if (!model::ParseTermList(a.terms, &terms, &err)) {
-      std::cerr << "fogpipe compare: --terms: " << err << "\n";
-      return 2;
-    }
-  } else {
-    terms = model::DefaultTerms();
-  }
-  for (const auto& name : a.add) {
-    std::string err;
-    if (!model::ParseTermList(name, &terms, &err)) {
-      std::cerr << "fogpipe compare: --add: " << err << "\n";
-      return 2;
-    }
-  }
+  if (!ChooseTerms(a, &terms)) return 2;
   const io::RecordingInfo info = io::InspectRecordingIsolated(a.recording);
   const std::vector<int> axes = io::SelectAxes(info, a.axis);
   const bool several = a.axis == io::kAllAxes;
@@ -167,13 +206,8 @@ int Run(const CompareArguments& a) {
     std::cerr << "fogpipe compare: --save-model writes one axis's model; give --axis NAME\n";
     return 2;
   }
-  io::ReadOptions ro;
-  std::vector<model::AuxChannel> aux;
-  for (const auto& ch : info.aux) {
-    io::ReadOptions ao = ro;
-    ao.reject_constant = false;
-    aux.push_back({ch.name, ch.units, io::ReadAuxIsolated(info, ch.name, ao)});
-  }
+  const io::ReadOptions ro;
+  const std::vector<model::AuxChannel> aux = ReadAuxChannels(info, ro);
   bool redraw = false;
   std::FILE* progress_stream = graph::ProgressStream(a.progress, &redraw);
   graph::WorkProgress progress("compare " + a.recording, progress_stream, redraw);
@@ -198,19 +232,7 @@ int Run(const CompareArguments& a) {
                 << ": " << r.summary.message << "\n";
       return 1;
     }
-    if (a.json && several) {
-      nlohmann::json j = io::CompareJson(r);
-      j["axis"] = name;
-      all.push_back(std::move(j));
-    } else if (a.json) {
-      std::cout << io::CompareJson(r).dump(2) << "\n";
-    } else {
-      if (several) std::printf("%saxis %s\n", axis == axes.front() ? "" : "\n", name.c_str());
-      PrintText(r);
-    }
-    // Each axis is a step of its own, named by the axis's name (never an index or "all").
-    if (!a.results.empty()) io::AppendHistory(a.results, a.recording, name, r);
-    if (!a.save_model.empty()) io::WriteModelFile(a.save_model, r.base);
+    ReportAxis(a, name, several, axis == axes.front(), r, &all);
   }
   if (a.json && several)
     std::cout << nlohmann::json{{"file", a.recording}, {"axes", all}}.dump(2) << "\n";

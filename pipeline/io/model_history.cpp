@@ -51,8 +51,7 @@ void WriteScalar(hdf5::Group& g, const std::string& name, double value, const st
   g.WriteDataset(name, std::vector<double>{value}, units);
 }
 
-void WriteViews(hdf5::Group& g, const model::Evaluation& e) {
-  const model::Views& v = e.views;
+void WriteAllanView(hdf5::Group& g, const model::Views& v) {
   hdf5::Group a = g.CreateGroup("allan");
   a.WriteDataset("tau_s", v.allan.tau_s, "s");
   a.WriteDataset("avar_meas", v.allan.avar_meas, "(rad/s)^2");
@@ -73,6 +72,9 @@ void WriteViews(hdf5::Group& g, const model::Evaluation& e) {
   hdf5::Group terms = a.CreateGroup("terms");
   for (size_t i = 0; i < v.allan.term_names.size(); ++i)
     terms.WriteDataset(v.allan.term_names[i], v.allan.term_avar[i], "(rad/s)^2");
+}
+
+void WriteFrequencyView(hdf5::Group& g, const model::Views& v) {
   hdf5::Group f = g.CreateGroup("frequency");
   f.WriteDataset("frequency_hz", v.frequency.frequency_hz, "Hz");
   f.WriteDataset("psd", v.frequency.psd, "(rad/s)^2/Hz");
@@ -104,6 +106,9 @@ void WriteViews(hdf5::Group& g, const model::Evaluation& e) {
   f.WriteDoubleAttribute("critical", v.frequency.critical);
   f.WriteDoubleAttribute("dof", v.frequency.dof);
   f.WriteDoubleAttribute("scale", v.frequency.scale);
+}
+
+void WriteTimeView(hdf5::Group& g, const model::Views& v) {
   hdf5::Group t = g.CreateGroup("time");
   t.WriteDataset("center_s", v.time.center_s, "s");
   t.WriteDataset("mean", v.time.mean, "rad/s");
@@ -125,6 +130,9 @@ void WriteViews(hdf5::Group& g, const model::Evaluation& e) {
   WriteScalar(t, "warmup_critical", v.time.warmup_critical, "1");
   WriteScalar(t, "warmup_time_constant_s", v.time.warmup_time_constant_s, "s");
   WriteScalar(t, "warmup_amplitude_rad_s", v.time.warmup_amplitude_rad_s, "rad/s");
+}
+
+void WriteAuxView(hdf5::Group& g, const model::Views& v) {
   hdf5::Group x = g.CreateGroup("aux");
   x.WriteDataset("block_center_s", v.aux.block_center_s, "s");
   x.WriteDataset("residual_lowpass", v.aux.residual_lowpass, "rad/s");
@@ -138,6 +146,14 @@ void WriteViews(hdf5::Group& g, const model::Evaluation& e) {
     cg.WriteDoubleAttribute("r_derivative", c.r_derivative);
     cg.WriteDoubleAttribute("z_derivative", c.z_derivative);
   }
+}
+
+// The four views of an evaluation (views.h), one group each.
+void WriteViews(hdf5::Group& g, const model::Evaluation& e) {
+  WriteAllanView(g, e.views);
+  WriteFrequencyView(g, e.views);
+  WriteTimeView(g, e.views);
+  WriteAuxView(g, e.views);
 }
 
 std::vector<long long> Int64(const std::vector<int>& v) { return {v.begin(), v.end()}; }
