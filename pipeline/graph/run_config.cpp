@@ -122,7 +122,8 @@ std::string TomlValue(const RunConfig& config, const RunOption::Member& member) 
       member);
 }
 
-// Puts a value where it goes: "" (CLI11 has checked the range of every option that has one).
+// Puts a value where it goes; "" for no error: the ranges are checked by CLI11 (the check column)
+// and, for the method, after every row by MethodOptions::IsValid.
 template <typename Field, typename Value>
 std::string Store(Field* field, const Value& value) {
   *field = value;
