@@ -14,7 +14,8 @@
 # Usage: scripts/benchmark_pipeline.sh [BUILD_DIR] [WORK_DIR]
 # Environment: REPS (default 3); LONG=1 for case 4 (one run each); METHOD_ARGS, extra `fogpipe
 #   run` options for every run, e.g. METHOD_ARGS="--q 1e-12 --r 2e-10".
-# Run it on a quiet machine: the load average is printed before each run.
+# Run it on a quiet machine: the load average is printed before each run. The targets are quoted
+# for a native build (-DFOGPIPE_NATIVE=ON, docs/performance.md): pass its folder as BUILD_DIR.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD="${1:-build}"
