@@ -21,7 +21,7 @@ constexpr unsigned kMaxCompactEntries = 256;
 /// Dataset creation properties with HDF5's "no attributes" hint: the object header is allocated
 /// at its size instead of HDF5's 256-byte minimum for datasets, and grows in place (it is last in
 /// the file) when the few attributes fogpipe writes (units, a note) are added. The padding the
-/// minimum leaves unused was ~100 bytes per dataset, 16 KB of a demo results file.
+/// minimum would leave unused is ~100 bytes per dataset, 16 KB of a demo results file.
 /// Neither groups nor datasets record access, modification, change and birth times in their
 /// headers (16 bytes each): /provenance holds when the analysis ran, and without them a rerun
 /// with the same inputs writes the same bytes.

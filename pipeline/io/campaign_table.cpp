@@ -70,10 +70,8 @@ ResultsRows ReadResultsRows(const fs::path& path) {
   auto lock = hdf5::LockHdf5();
   hdf5::File file = hdf5::File::OpenReadOnly(path.string());
   const hdf5::Group root = file.Root();
-  if (!root.HasAttribute(results::kFormatAttribute) ||
-      root.ReadStringAttribute(results::kFormatAttribute) != results::kFormat) {
-    throw std::runtime_error(path.string() + ": not a " + std::string(results::kFormat) + " file");
-  }
+  // A results file of the previous layout is named as such (file_validation.h).
+  RequireFormatTag(root, path.string(), results::kFormat);
   const hdf5::Group provenance = root.OpenGroup("provenance");
   ResultsRows out;
   out.input_path = Normal(provenance.ReadStringAttribute("input_path"));

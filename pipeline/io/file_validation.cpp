@@ -65,8 +65,8 @@ std::string ReadFormatTag(const std::string& path) {
   return FormatTag(OpenHdf5ReadOnly(path).Root());
 }
 
-std::string PreviousLayoutText(const std::string& path) {
-  return path + ": " + results::kPreviousFormat +
+std::string PreviousLayoutText() {
+  return std::string(results::kPreviousFormat) +
          " is the previous results layout, which this fogpipe no longer reads; `fogpipe run` "
          "on its recording writes " +
          results::kFormat + " (a rerun replaces it)";
@@ -75,7 +75,7 @@ std::string PreviousLayoutText(const std::string& path) {
 void RequireFormatTag(const hdf5::Group& root, const std::string& path, const std::string& format) {
   const std::string tag = FormatTag(root);
   if (tag == results::kPreviousFormat && format == results::kFormat) {
-    throw std::runtime_error(PreviousLayoutText(path));
+    throw std::runtime_error(path + ": " + PreviousLayoutText());
   }
   if (tag != format) {
     throw std::runtime_error(path + ": not a " + format +
@@ -130,7 +130,7 @@ std::optional<Schema> TaggedSchema(const std::string& tag, const FileValidationO
                                    FileValidation* result) {
   const std::string name = SchemaNameForFormat(tag);
   if (tag == results::kPreviousFormat) {
-    result->problems.push_back({"/", PreviousLayoutText(result->file)});
+    result->problems.push_back({"/", PreviousLayoutText()});
     return std::nullopt;
   }
   // The layouts of fogpipe's own outputs ship with it: not finding one is an installation

@@ -69,8 +69,8 @@ std::string ReadFormatTag(const std::string& path);
 void RequireFormatTag(const hdf5::Group& root, const std::string& path, const std::string& format);
 
 /// What a reader says of a file in the previous results layout (results::kPreviousFormat): which
-/// layout it is and that a rerun rewrites it.
-std::string PreviousLayoutText(const std::string& path);
+/// layout it is and that a rerun rewrites it (without the file's path).
+std::string PreviousLayoutText();
 
 /// The schema name for a `fogpipe_format` tag: "fogpipe-results-v2" -> "results-v2"; "" (no
 /// tag) -> "recording-v1".

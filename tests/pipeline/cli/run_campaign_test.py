@@ -273,6 +273,11 @@ def case_previous_layout(rec, out1):
         r = run(command)
         check(r.returncode == 1 and "previous results layout" in r.stdout + r.stderr,
               f"previous layout: {command[0]} names the layout: {(r.stdout + r.stderr)[-300:]}")
+    r = run(["merge", out1, "-o", os.path.join(out1, "previous_layout_campaign.h5")])
+    check("good1.fogpipe.h5" in r.stderr and "previous results layout" in r.stderr,
+          f"previous layout: merge names the layout of the file it leaves out: {r.stderr[-300:]}")
+    if os.path.exists(os.path.join(out1, "previous_layout_campaign.h5")):
+        os.remove(os.path.join(out1, "previous_layout_campaign.h5"))
     r = run(again)
     last = status_lines(out1)[-1]
     check(r.returncode == 0 and last["status"] == "ok",
