@@ -133,9 +133,10 @@ def compare_h5(label, path_a, path_b):
         if (key.endswith(IMF_STORAGE_DATASETS) and np.asarray(x).dtype == np.float64
                 and np.asarray(y).dtype == np.float32):
             # float32 storage: exactly the old doubles rounded to nearest.
-            if not np.array_equal(np.asarray(x).astype(np.float32), y, equal_nan=True):
+            if np.array_equal(np.asarray(x).astype(np.float32), y, equal_nan=True):
+                rounded += 1
+            else:
                 differences.append(f"{label}: {key} is not the float64 values rounded")
-            rounded += 1
             continue
         if not same_values(x, y):
             differences.append(f"{label}: {key}")
