@@ -110,11 +110,11 @@ def allan_curves(axis_group):
     """{signal: (tau_s, sigma_deg_h, ci_low, ci_high, alpha)} for every Allan table present."""
     out = {}
     for name, g in axis_group["allan"].items():
-        if "tau_s" not in g:
+        if "table" not in g:
             continue
-        out[name] = (g["tau_s"][()], g["sigma"][()] * RAD_S_TO_DEG_H,
-                     g["ci_low"][()] * RAD_S_TO_DEG_H, g["ci_high"][()] * RAD_S_TO_DEG_H,
-                     g["alpha"][()] if "alpha" in g else None)
+        t = g["table"][()]  # one row per tau (schemas/results-v2.md)
+        out[name] = (t["tau_s"], t["sigma"] * RAD_S_TO_DEG_H, t["ci_low"] * RAD_S_TO_DEG_H,
+                     t["ci_high"] * RAD_S_TO_DEG_H, t["alpha"])
     return out
 
 
@@ -246,37 +246,40 @@ def imf_figure(axis_group, fs, title, path):
     save(fig, path)
 
 
+def noise_terms(axis_group, name):
+    """The noise-term table of one signal as {term: row} (allan/<signal>/noise/terms of
+    schemas/results-v2.md), or None when the signal has no noise fit."""
+    allan = axis_group["allan"]
+    if name not in allan or "noise" not in allan[name]:
+        return None
+    return {text(row["name"]): row for row in allan[name]["noise/terms"][()]}
+
+
 def table5_html(axis_group, order):
-    head = "".join(f"<th>{t} [{html.escape(text(axis_group['allan/raw/noise'][t].attrs.get('units', '')))}]</th>"
-                   if t in axis_group["allan/raw/noise"] else f"<th>{t}</th>" for t in TERMS)
+    raw = noise_terms(axis_group, "raw") or {}
+    head = "".join(f"<th>{t} [{html.escape(text(raw[t]['units']))}]</th>" if t in raw
+                   else f"<th>{t}</th>" for t in TERMS)
     rows = []
+    reasons = []
     for name in order:
-        noise = axis_group["allan"][name]["noise"] if "noise" in axis_group["allan"][name] else None
+        terms = noise_terms(axis_group, name)
         cells = []
         for t in TERMS:
-            if noise is None or t not in noise:
+            if terms is None or t not in terms:
                 cells.append("<td></td>")
                 continue
-            value = number(noise[t][()])
-            se = number(noise[t + "_std_error"][()], 2) if t + "_std_error" in noise else ""
-            reason = text(noise.attrs.get(t + "_reason", ""))
+            row = terms[t]
+            value, se = number(row["value"]), number(row["std_error"], 2)
+            reason = text(row["reason"])
             content = value + (" &plusmn; " + se if se else "")
             if reason:
                 content = (f'<span class="unreliable" title="{html.escape(reason)}">{content} '
                            f"(unreliable)</span>")
+                reasons.append(f"<li>{html.escape(SIGNAL_LABELS.get(name, name))} {t}: "
+                               f"{html.escape(reason)}</li>")
             cells.append(f"<td>{content}</td>")
         rows.append(f'<tr class="signal"><td class="text">{html.escape(SIGNAL_LABELS.get(name, name))}'
                     f"</td>{''.join(cells)}</tr>")
-    reasons = []
-    for name in order:
-        noise = axis_group["allan"][name]["noise"] if "noise" in axis_group["allan"][name] else None
-        if noise is None:
-            continue
-        for t in TERMS:
-            reason = text(noise.attrs.get(t + "_reason", ""))
-            if reason:
-                reasons.append(f"<li>{html.escape(SIGNAL_LABELS.get(name, name))} {t}: "
-                               f"{html.escape(reason)}</li>")
     return (f'<table class="table5"><tr><th>signal</th>{head}</tr>{"".join(rows)}</table>' +
             (f"<details><summary>{len(reasons)} unreliable terms: reasons</summary><ul>"
              f"{''.join(reasons)}</ul></details>" if reasons else ""))

@@ -5,12 +5,12 @@ Usage: check_results_h5py.py RESULTS.fogpipe.h5 [RESULTS...]
 
 For every results file (Debian's python3-h5py + numpy only):
   - layout: every dataset in the file is read in full (so every compressed chunk is inflated) and
-    must be described by schemas/results-v1.json: its type class, rank, `units` attribute (one of
-    the allowed values) and described attributes are checked against the schema, every required
+    must be described by schemas/results-v2.json: its type class, rank, `units` attribute (one of
+    the allowed values), the fields of a table (compound dataset) and described attributes are checked against the schema, every required
     object of the schema must exist, and every numeric dataset has a `units` attribute;
   - shapes: with N samples, K IMFs and C = K + 1 components per axis, imfs is [N, K], residue,
     method1 and method2 are [N], kalman/filtered is [N, C], per-component tables have C rows
-    (method 2's tables 1 row), per-IMF vectors K, each Allan table's columns one common length;
+    (method 2's tables 1 row), per-IMF vectors K, one unit per field of each Allan table;
   - numbers, recomputed in numpy from the input recording named in /provenance:
       * the preprocessed signal x (rate converted to rad/s, start dropped, outliers replaced by the
         median of the 11 centred samples, mean removed); the stationarity windows' mean and
@@ -26,7 +26,8 @@ For every results file (Debian's python3-h5py + numpy only):
       * the overlapping Allan deviation (NIST SP 1065 eq. 14 on the cumulative sum) of x, method 1
         and method 2 agrees with the stored sigma to 1e-9; tau = m / rate, count = N + 1 - 2m,
         ci_low <= sigma <= ci_high;
-      * the five noise terms and their standard errors are finite and >= 0.
+      * the noise-term table has the rows Q, N, B, K, R, whose values and standard errors are
+        finite and >= 0.
 Exit code 0 when every check passes, 1 otherwise (each failure printed).
 """
 import json
@@ -38,7 +39,7 @@ import h5py
 import numpy as np
 
 SCHEMA_PATH = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "schemas",
-                           "results-v1.json")
+                           "results-v2.json")
 UNITS_TO_RAD_S = {"rad/s": 1.0, "deg/s": np.pi / 180.0, "deg/h": np.pi / 180.0 / 3600.0}
 FLOAT32_UNIT_ROUNDOFF = 2.0 ** -24  # IEEE binary32 round to nearest: |error| <= 2^-24 |value|
 # The signal-length datasets of an axis that check_numbers reads in full anyway: the layout check
@@ -76,7 +77,7 @@ def text(value):
 def type_matches(kind, wanted):
     wanted = wanted if isinstance(wanted, list) else [wanted]
     classes = {"f": "float", "i": "integer", "u": "integer", "O": "string", "S": "string",
-               "U": "string"}
+               "U": "string", "V": "compound"}
     have = classes.get(kind, "other")
     return have in wanted or ("number" in wanted and have in ("float", "integer"))
 
@@ -121,6 +122,16 @@ def check_dataset(where, dataset, rule):
         fail(where, f"type {dataset.dtype}, schema wants {rule.get('type')}")
     if "rank" in rule and not rank_matches(dataset.ndim, rule["rank"]):
         fail(where, f"rank {dataset.ndim}, schema wants {rule['rank']}")
+    for name, field in rule.get("fields", {}).items():
+        names = dataset.dtype.names or ()
+        if name not in names:
+            if field.get("required", True):
+                fail(where, f"table has no field '{name}'")
+            continue
+        kind = h5py.check_string_dtype(dataset.dtype[name]) and "O" or dataset.dtype[name].kind
+        if "type" in field and not type_matches(kind, field["type"]):
+            fail(where, f"field '{name}' has type {dataset.dtype[name]}, schema wants "
+                        f"{field['type']}")
     units = rule.get("units", False)
     if units is not False:
         have = text(dataset.attrs["units"]) if "units" in dataset.attrs else None
@@ -200,11 +211,13 @@ def check_shapes(where, g):
         fail(f"{where}/preprocessing", "window_mean and window_variance differ in length")
     for signal in ("raw", "method1", "method2"):
         a = g[f"allan/{signal}"]
-        lengths = {name: a[name].shape for name in ("tau_s", "m", "sigma", "ci_low", "ci_high",
-                                                   "edf", "edf_source", "alpha", "alpha_method",
-                                                   "count")}
-        if len(set(lengths.values())) != 1 or len(next(iter(lengths.values()))) != 1:
-            fail(f"{where}/allan/{signal}", f"columns of different shapes {lengths}")
+        table = a["table"]
+        if table.ndim != 1 or table.shape[0] < 1:
+            fail(f"{where}/allan/{signal}", f"table of shape {table.shape}")
+        units = [text(u) for u in table.attrs["field_units"]]
+        if len(units) != len(table.dtype.names):
+            fail(f"{where}/allan/{signal}/table", f"{len(units)} field_units for "
+                                                  f"{len(table.dtype.names)} fields")
     return n, k
 
 
@@ -397,26 +410,30 @@ def check_numbers(path, f, axis_name, g, n, k):
 
     for signal, y in (("raw", x), ("method1", method1), ("method2", read_full(g["signals/method2"]))):
         a = g[f"allan/{signal}"]
-        m = a["m"][:]
+        table = a["table"][()]
+        m = table["m"]
         ours = oadev_from_cumsum(y, rate_hz, m)
-        stored = a["sigma"][:]
+        stored = table["sigma"]
         rel = np.max(np.abs(ours - stored) / np.maximum(stored, 1e-300))
         if not rel <= 1e-9:
             fail(where, f"{signal} Allan deviation differs from numpy's by {rel:.3g} relative")
-        if not close(a["tau_s"][:], m / rate_hz, 1e-15):
+        if not close(table["tau_s"], m / rate_hz, 1e-15):
             fail(where, f"{signal} tau_s != m / sample_rate_hz")
-        if text(a.attrs["deviation"]) == "oadev" and not np.array_equal(a["count"][:],
+        if text(a.attrs["deviation"]) == "oadev" and not np.array_equal(table["count"],
                                                                           n + 1 - 2 * m):
             fail(where, f"{signal} count != N + 1 - 2m")
-        lo, hi = a["ci_low"][:], a["ci_high"][:]
+        lo, hi = table["ci_low"], table["ci_high"]
         ok = np.isnan(lo) | ((lo <= stored) & (stored <= hi))
         if not np.all(ok):
             fail(where, f"{signal} sigma outside [ci_low, ci_high]")
-        for term in "QNBKR":
-            for name in (term, term + "_std_error"):
-                v = a[f"noise/{name}"][()]
-                if not np.isfinite(v) or v < 0:
-                    fail(where, f"allan/{signal}/noise/{name} = {v}")
+        terms = a["noise/terms"][()]
+        if [text(t) for t in terms["name"]] != list("QNBKR"):
+            fail(where, f"allan/{signal}/noise/terms rows are {list(terms['name'])}")
+        for row in terms:
+            for name in ("value", "std_error"):
+                if not np.isfinite(row[name]) or row[name] < 0:
+                    fail(where, f"allan/{signal}/noise/terms {text(row['name'])} {name} = "
+                                f"{row[name]}")
     checked.append(f"OADEV of raw, method 1, method 2 = numpy to 1e-9")
     for name in ("fit_one_step_percent", "innovation_variance", "order"):
         if not np.all(np.isfinite(g["models"][name][:])):
@@ -426,8 +443,8 @@ def check_numbers(path, f, axis_name, g, n, k):
 
 def check_file(path, schema):
     with h5py.File(path, "r") as f:
-        if text(f.attrs.get("fogpipe_format", "")) != "fogpipe-results-v1":
-            fail(path, "root attribute fogpipe_format is not fogpipe-results-v1")
+        if text(f.attrs.get("fogpipe_format", "")) != "fogpipe-results-v2":
+            fail(path, "root attribute fogpipe_format is not fogpipe-results-v2")
             return
         before = len(failures)
         check_group("", f, schema["root"], schema.get("every_numeric_dataset_has_units", False))

@@ -1,6 +1,6 @@
 // The Kalman measurement-noise variance R (and the rule for q) of each component's filter.
 //
-// Rule (documented in schemas/results-v1.md as well):
+// Rule (documented in schemas/results-v2.md as well):
 //  1. The raw signal's white measurement noise has two parts, estimated jointly from its first
 //     and second differences: white rate noise (angle random walk N) of variance u per sample,
 //     and white angle noise (quantization Q), which enters the rate as e_t - e_{t-1} with
@@ -37,7 +37,7 @@
 //     step 2) is judged pure noise: q = 0 and P(0|0) = 0, so its filter outputs its mean instead
 //     of extrapolating its AR model from a fitted initial state.
 //     Measurements (a real record; sweeps on simulated moving-rate records): docs/filtering.md,
-//     "Per-component Kalman filters". The stored fields: schemas/results-v1.md.
+//     "Per-component Kalman filters". The stored fields: schemas/results-v2.md.
 //
 // Why not R = u + 2v (the whole white level) on every IMF or Q = innovation variance with R = u +
 // 2v: the AR innovation variance of a noisy component already contains its share of the measurement

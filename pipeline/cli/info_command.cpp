@@ -49,6 +49,9 @@ std::string Summarize(const std::string& path) {
     }
     return has_history ? text + "\n" + ModelHistory(path) : text;
   }
+  if (tag == io::results::kPreviousFormat) {
+    throw std::runtime_error(path + ": " + io::PreviousLayoutText());
+  }
   if (tag == io::kCampaignFormat) {
     return io::FormatCampaignSummary(path, io::ReadCampaignTable(path));
   }

@@ -50,7 +50,7 @@ constexpr emd::StopRule kStopRules[] = {emd::StopRule::kFixedSifts, emd::StopRul
                                         emd::StopRule::kSNumber, emd::StopRule::kRilling};
 constexpr method::ComponentNoiseRule kNoiseRules[] = {
     method::ComponentNoiseRule::kShareOfInnovation, method::ComponentNoiseRule::kInnovationMatch};
-constexpr io::ImfStorage kImfStorages[] = {io::ImfStorage::kFloat64, io::ImfStorage::kFloat32,
+constexpr io::ImfStorage kImfStorages[] = {io::ImfStorage::kFloat32, io::ImfStorage::kFloat64,
                                            io::ImfStorage::kNone};
 constexpr allan::NoiseIdRule kNoiseIdRules[] = {allan::NoiseIdRule::kCalibrated,
                                                 allan::NoiseIdRule::kStable32};
@@ -341,7 +341,7 @@ Rows KalmanOptions() {
          return Choose("noise-rule", v, kNoiseRules, &o->method.component.noise_rule);
        },
        "How each IMF's Kalman q and R follow from its white-noise share: share (default) or "
-       "innovation (see schemas/results-v1.md)",
+       "innovation (see schemas/results-v2.md)",
        "", Names(kNoiseRules), nullptr, true, "innovation"},
       {"--q-scale",
        "q-scale",
@@ -382,7 +382,10 @@ Rows StorageAndDirectArOptions() {
        [](const std::string& v, O* o) {
          return Choose("imf-storage", v, kImfStorages, &o->results.imf_storage);
        },
-       "How IMFs are stored", "", Names(kImfStorages), nullptr, true, "none"},
+       "How the stored IMFs, residue and filtered components are kept: float32 (default; "
+       "rounding 6e-8 relative), float64 (exact) or none. Only the stored copy: the models, "
+       "filters and Allan tables are computed from doubles before storage",
+       "", Names(kImfStorages), nullptr, true, "none"},
       {"--store-filtered-imfs",
        "store-filtered-imfs",
        &C::store_filtered_imfs,

@@ -51,7 +51,7 @@ struct RunConfig {
   double q_scale = 1.0;
   double r_scale = 1.0;
   bool smooth = false;
-  std::string imf_storage = "float64";
+  std::string imf_storage = "float32";
   bool store_filtered_imfs = false;
   int direct_ar_order = 0;
   std::string taus = "octave";

@@ -99,6 +99,104 @@ std::vector<std::string> Dataset::ReadStrings() const {
   return values;
 }
 
+namespace {
+
+/// The member type of `field` in the compound `file_type`; throws naming what is wrong.
+ScopedId FieldType(hid_t file_type, const std::string& field, const std::string& file,
+                   const std::string& object, const std::string& operation) {
+  if (H5Tget_class(file_type) != H5T_COMPOUND) {
+    throw Error(file, object, operation, "dataset is not a table (compound type)", "");
+  }
+  const int index = H5Tget_member_index(file_type, field.c_str());
+  if (index < 0) throw Error(file, object, operation, "table has no field '" + field + "'", "");
+  return ScopedId(
+      CheckC(H5Tget_member_type(file_type, static_cast<unsigned>(index)), file, object, operation),
+      H5Tclose);
+}
+
+/// A compound memory type holding only `field`, of `member_type`: HDF5 then reads that field
+/// alone, converting it (e.g. int64 to double) on the way.
+ScopedId SingleFieldType(const std::string& field, hid_t member_type) {
+  ScopedId type(H5Tcreate(H5T_COMPOUND, H5Tget_size(member_type)), H5Tclose);
+  H5Tinsert(type.get(), field.c_str(), 0, member_type);
+  return type;
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, TypeInfo>> Dataset::Fields() const {
+  ScopedId file_type(CheckC(H5Dget_type(id()), file_path(), path(), "list fields"), H5Tclose);
+  if (H5Tget_class(file_type.get()) != H5T_COMPOUND) {
+    throw Error(file_path(), path(), "list fields", "dataset is not a table (compound type)", "");
+  }
+  std::vector<std::pair<std::string, TypeInfo>> fields;
+  const int n = CheckC(H5Tget_nmembers(file_type.get()), file_path(), path(), "list fields");
+  for (unsigned i = 0; i < static_cast<unsigned>(n); ++i) {
+    char* name = H5Tget_member_name(file_type.get(), i);
+    ScopedId member(
+        CheckC(H5Tget_member_type(file_type.get(), i), file_path(), path(), "list fields"),
+        H5Tclose);
+    fields.emplace_back(name ? name : "", DescribeType(member.get()));
+    H5free_memory(name);
+  }
+  return fields;
+}
+
+std::vector<double> Dataset::ReadFieldDoubles(const std::string& field) const {
+  const std::string operation = "read field " + field;
+  ScopedId file_type(CheckC(H5Dget_type(id()), file_path(), path(), operation), H5Tclose);
+  const ScopedId member = FieldType(file_type.get(), field, file_path(), path(), operation);
+  const H5T_class_t c = H5Tget_class(member.get());
+  if (c != H5T_FLOAT && c != H5T_INTEGER) {
+    throw Error(file_path(), path(), operation, "field is not numeric", "");
+  }
+  const ScopedId memory_type = SingleFieldType(field, H5T_NATIVE_DOUBLE);
+  std::vector<double> values(size());
+  if (!values.empty()) {
+    CheckC(H5Dread(id(), memory_type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
+           file_path(), path(), operation);
+  }
+  return values;
+}
+
+std::vector<long long> Dataset::ReadFieldInt64s(const std::string& field) const {
+  const std::string operation = "read field " + field;
+  ScopedId file_type(CheckC(H5Dget_type(id()), file_path(), path(), operation), H5Tclose);
+  const ScopedId member = FieldType(file_type.get(), field, file_path(), path(), operation);
+  if (H5Tget_class(member.get()) != H5T_INTEGER) {
+    throw Error(file_path(), path(), operation, "field is not of an integer type", "");
+  }
+  const ScopedId memory_type = SingleFieldType(field, H5T_NATIVE_LLONG);
+  std::vector<long long> values(size());
+  if (!values.empty()) {
+    CheckC(H5Dread(id(), memory_type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
+           file_path(), path(), operation);
+  }
+  return values;
+}
+
+std::vector<std::string> Dataset::ReadFieldStrings(const std::string& field) const {
+  const std::string operation = "read field " + field;
+  ScopedId file_type(CheckC(H5Dget_type(id()), file_path(), path(), operation), H5Tclose);
+  const ScopedId member = FieldType(file_type.get(), field, file_path(), path(), operation);
+  if (H5Tget_class(member.get()) != H5T_STRING) {
+    throw Error(file_path(), path(), operation, "field is not of a string type", "");
+  }
+  ScopedId space(CheckC(H5Dget_space(id()), file_path(), path(), operation), H5Sclose);
+  std::vector<std::string> values;
+  const hid_t dataset_id = id();
+  const bool ok = detail::ReadStrings(
+      member.get(), space.get(), size(),
+      [dataset_id, &field](hid_t string_type, void* buffer) {
+        // The string type read inside a one-field compound has the same memory layout.
+        const ScopedId memory_type = SingleFieldType(field, string_type);
+        return H5Dread(dataset_id, memory_type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer);
+      },
+      &values);
+  if (!ok) throw Error(file_path(), path(), operation, "", CurrentErrorStack());
+  return values;
+}
+
 void Dataset::TransferBlock(const std::vector<hsize_t>& start, const std::vector<hsize_t>& count,
                             hid_t memory_type, void* buffer, bool write,
                             const std::string& operation) const {

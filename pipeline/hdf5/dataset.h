@@ -8,6 +8,7 @@
 #include <H5Cpp.h>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "pipeline/hdf5/object.h"
@@ -67,6 +68,17 @@ class Dataset : public Object {
   std::vector<long long> ReadInt64s() const;
   /// The whole dataset as strings (string datasets only).
   std::vector<std::string> ReadStrings() const;
+
+  // Tables (1-D compound datasets, Group::WriteTable): one field, all rows. Each throws
+  // hdf5::Error when the dataset is not compound or has no such field.
+  /// The fields (name and type), in the stored order.
+  std::vector<std::pair<std::string, TypeInfo>> Fields() const;
+  /// A numeric field converted to double.
+  std::vector<double> ReadFieldDoubles(const std::string& field) const;
+  /// An integer field as int64.
+  std::vector<long long> ReadFieldInt64s(const std::string& field) const;
+  /// A string field (fixed or variable length).
+  std::vector<std::string> ReadFieldStrings(const std::string& field) const;
 
   /// Rows [row0, row0 + rows) of column `column` of a [N, A] dataset (or of a [N] dataset when
   /// column is 0), converted to double, into out[0 .. rows). Reads only that hyperslab.

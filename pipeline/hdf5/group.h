@@ -37,6 +37,22 @@ struct LinkTrace {
 /// The name of the attribute every numeric dataset carries.
 inline constexpr const char* kUnitsAttribute = "units";
 
+/// One named column of a small table written by Group::WriteTable: float64, int64 or UTF-8
+/// strings. The columns of one table have the same number of rows.
+struct TableColumn {
+  enum class Kind { kFloat64, kInt64, kString };
+  std::string name;
+  Kind kind = Kind::kFloat64;
+  std::vector<double> doubles;
+  std::vector<long long> integers;
+  std::vector<std::string> strings;
+
+  static TableColumn Doubles(std::string name, std::vector<double> values);
+  static TableColumn Int64s(std::string name, std::vector<long long> values);
+  static TableColumn Strings(std::string name, std::vector<std::string> values);
+  std::size_t rows() const;
+};
+
 class Group : public Object {
  public:
   Group(std::string file_path, std::string path, H5::Group group);
@@ -84,6 +100,13 @@ class Group : public Object {
   /// A scalar variable-length UTF-8 string dataset, e.g. a configuration text too long for an
   /// attribute (attributes in the object header are limited to 64 KiB).
   Dataset WriteTextDataset(const std::string& name, const std::string& text);
+  /// A small table as ONE 1-D compound dataset, one element per row and one field per column
+  /// (IEEE float64 LE, int64 LE, variable-length UTF-8), laid out compact (inside the object
+  /// header): one object instead of one dataset per value. h5py reads it as a structured array,
+  /// MATLAB's h5read as a struct of columns. No `units` attribute: a table whose rows have
+  /// different units carries them as a column. Throws std::invalid_argument when the columns
+  /// differ in length or there are none.
+  Dataset WriteTable(const std::string& name, const std::vector<TableColumn>& columns);
 
   hid_t id() const override { return group_.getId(); }
 

@@ -30,6 +30,8 @@ const char* ToString(TypeClass type_class) {
       return "integer";
     case TypeClass::kString:
       return "string";
+    case TypeClass::kCompound:
+      return "compound";
     case TypeClass::kOther:
       break;
   }
@@ -54,6 +56,9 @@ TypeInfo DescribeType(hid_t type_id) {
     case H5T_STRING:
       info.type_class = TypeClass::kString;
       info.variable_length_string = H5Tis_variable_str(type_id) > 0;
+      break;
+    case H5T_COMPOUND:
+      info.type_class = TypeClass::kCompound;
       break;
     default:
       info.type_class = TypeClass::kOther;

@@ -14,9 +14,9 @@
 namespace fogpipe::hdf5 {
 
 /// The class of an HDF5 datatype, as far as fogpipe cares.
-enum class TypeClass { kFloat, kInteger, kString, kOther };
+enum class TypeClass { kFloat, kInteger, kString, kCompound, kOther };
 
-/// "float", "integer", "string", "other" (the spelling used by schema files).
+/// "float", "integer", "string", "compound", "other" (the spelling used by schema files).
 const char* ToString(TypeClass type_class);
 
 struct TypeInfo {

@@ -25,6 +25,7 @@
 #include "pipeline/io/inputs.h"
 #include "pipeline/io/isolated_reader.h"
 #include "pipeline/io/results_layout.h"
+#include "pipeline/io/results_reader.h"
 
 namespace fogpipe::io {
 namespace {
@@ -69,10 +70,8 @@ ResultsRows ReadResultsRows(const fs::path& path) {
   auto lock = hdf5::LockHdf5();
   hdf5::File file = hdf5::File::OpenReadOnly(path.string());
   const hdf5::Group root = file.Root();
-  if (!root.HasAttribute(results::kFormatAttribute) ||
-      root.ReadStringAttribute(results::kFormatAttribute) != results::kFormat) {
-    throw std::runtime_error(path.string() + ": not a " + std::string(results::kFormat) + " file");
-  }
+  // A results file of the previous layout is named as such (file_validation.h).
+  RequireFormatTag(root, path.string(), results::kFormat);
   const hdf5::Group provenance = root.OpenGroup("provenance");
   ResultsRows out;
   out.input_path = Normal(provenance.ReadStringAttribute("input_path"));
@@ -88,29 +87,27 @@ ResultsRows ReadResultsRows(const fs::path& path) {
     for (std::size_t s = 0; s < kCampaignSignals.size(); ++s) {
       const std::string noise = std::string("allan/") + kCampaignSignals[s] + "/noise";
       if (!g.Exists(noise)) continue;
-      const hdf5::Group n = g.OpenGroup(noise);
+      const NoiseTable n = ReadNoiseTable(g.OpenGroup(noise));
+      // kCampaignTerms is Q, N, B, K, R: the order of allan::TermSymbol and of NoiseTable.
       for (std::size_t t = 0; t < kCampaignTerms.size(); ++t) {
         const std::string symbol = kCampaignTerms[t];
-        row.term[s][t] = Scalar(n, symbol);
-        row.term_std_error[s][t] = Scalar(n, symbol + "_std_error");
-        row.term_readoff[s][t] = Scalar(n, symbol + "_readoff");
-        const std::string reason =
-            n.HasAttribute(symbol + "_reason") ? n.ReadStringAttribute(symbol + "_reason") : "";
+        row.term[s][t] = n.value[t];
+        row.term_std_error[s][t] = n.std_error[t];
+        row.term_readoff[s][t] = n.readoff[t];
+        const std::string& reason = n.reason[t];
         if (reason.empty()) continue;
         const bool first = row.unreliable_terms[s].empty();
         row.unreliable_terms[s] += (first ? "" : ",") + symbol;
         row.unreliable_reasons[s] += (first ? "" : " | ") + symbol + ": " + reason;
       }
-      const double dof = Scalar(n, "dof");
-      row.noise_fit_chi2_per_dof[s] = dof > 0.0 ? Scalar(n, "chi2") / dof : kNaN;
-      row.noise_fit_p_value[s] = Scalar(n, "p_value");
-      if (n.HasAttribute("misfit_tau_ranges"))
-        row.misfit_tau_ranges[s] = n.ReadStringAttribute("misfit_tau_ranges");
+      row.noise_fit_chi2_per_dof[s] = n.dof > 0 ? n.chi2 / static_cast<double>(n.dof) : kNaN;
+      row.noise_fit_p_value[s] = n.p_value;
+      row.misfit_tau_ranges[s] = n.misfit_tau_ranges;
     }
     const hdf5::Group pre = g.OpenGroup("preprocessing");
     if (pre.HasAttribute("repeat_warning"))
       row.data_warning = pre.ReadStringAttribute("repeat_warning");
-    // A model history (fogpipe compare) is not part of fogpipe-results-v1 yet.
+    // A model history (fogpipe compare) is not part of fogpipe-results-v2 yet.
     if (g.Exists("model_history/loop_rms_error")) {
       row.model_loop_error = Scalar(g, "model_history/loop_rms_error");
     }

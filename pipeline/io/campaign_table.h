@@ -1,5 +1,5 @@
 // The campaign table written by `fogpipe merge OUTDIR -o campaign.h5`: one row per recording and
-// axis, gathered from the results files (fogpipe-results-v1) and OUTDIR/status.jsonl.
+// axis, gathered from the results files (fogpipe-results-v2) and OUTDIR/status.jsonl.
 //
 // Layout of campaign.h5 (fogpipe-campaign-v1, schemas/campaign-v1.json):
 //   /                 attributes fogpipe_format, rows, source_folder
@@ -56,7 +56,7 @@ struct CampaignRow {
   std::array<double, 3> noise_fit_p_value{};
   std::array<std::string, 3> misfit_tau_ranges{};
   /// RMS error of the model loop (fogpipe compare) when the results file has a model history;
-  /// NaN otherwise (fogpipe-results-v1 has none yet).
+  /// NaN otherwise (fogpipe-results-v2 has none yet).
   double model_loop_error = 0.0;
   /// Why the recorded column is suspect though it was analysed ("" when not): the results
   /// file's preprocessing/repeat_warning (a run of one repeated value, repeated_samples.h).

@@ -12,6 +12,7 @@
 #include "pipeline/hdf5/hdf5_lock.h"
 #include "pipeline/io/recording_check.h"
 #include "pipeline/io/recording_reader.h"
+#include "pipeline/io/results_layout.h"
 
 namespace fogpipe::io {
 namespace {
@@ -64,8 +65,19 @@ std::string ReadFormatTag(const std::string& path) {
   return FormatTag(OpenHdf5ReadOnly(path).Root());
 }
 
+std::string PreviousLayoutText() {
+  return std::string(results::kPreviousFormat) +
+         " is the previous results layout, which this fogpipe no longer reads; `fogpipe run` "
+         "on its recording writes " +
+         results::kFormat + " (a rerun replaces it)";
+}
+
 void RequireFormatTag(const hdf5::Group& root, const std::string& path, const std::string& format) {
-  if (FormatTag(root) != format) {
+  const std::string tag = FormatTag(root);
+  if (tag == results::kPreviousFormat && format == results::kFormat) {
+    throw std::runtime_error(path + ": " + PreviousLayoutText());
+  }
+  if (tag != format) {
     throw std::runtime_error(path + ": not a " + format +
                              " file (root attribute fogpipe_format missing or different)");
   }
@@ -80,10 +92,10 @@ std::string SchemaNameForFormat(const std::string& format_tag) {
 namespace {
 
 /// The layouts of the files fogpipe writes, which ship with it (schemas/).
-constexpr std::array<const char*, 4> kOutputSchemaNames = {"results-v1", "campaign-v1", "sweep-v1",
+constexpr std::array<const char*, 4> kOutputSchemaNames = {"results-v2", "campaign-v1", "sweep-v1",
                                                            "compare-v1"};
 
-/// A plain schema name ("results-v1"): what a file's own `fogpipe_format` may select. Anything
+/// A plain schema name ("results-v2"): what a file's own `fogpipe_format` may select. Anything
 /// else (a path, "..") is the file's problem: a file never chooses what else is read.
 bool IsPlainSchemaName(const std::string& name) {
   if (name.empty() || name.size() > 64) return false;
@@ -117,6 +129,10 @@ std::optional<Schema> UserSchema(const std::string& name, const FileValidationOp
 std::optional<Schema> TaggedSchema(const std::string& tag, const FileValidationOptions& options,
                                    FileValidation* result) {
   const std::string name = SchemaNameForFormat(tag);
+  if (tag == results::kPreviousFormat) {
+    result->problems.push_back({"/", PreviousLayoutText()});
+    return std::nullopt;
+  }
   // The layouts of fogpipe's own outputs ship with it: not finding one is an installation
   // problem, not the file's.
   if (std::find(kOutputSchemaNames.begin(), kOutputSchemaNames.end(), name) !=

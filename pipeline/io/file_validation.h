@@ -12,7 +12,7 @@
 
 namespace fogpipe::io {
 
-/// Root attribute that marks fogpipe output files, e.g. "fogpipe-results-v1". A file without it
+/// Root attribute that marks fogpipe output files, e.g. "fogpipe-results-v2". A file without it
 /// is treated as a recording (contract v1).
 inline constexpr const char* kFormatAttribute = "fogpipe_format";
 
@@ -68,7 +68,11 @@ std::string ReadFormatTag(const std::string& path);
 /// holds LockHdf5().
 void RequireFormatTag(const hdf5::Group& root, const std::string& path, const std::string& format);
 
-/// The schema name for a `fogpipe_format` tag: "fogpipe-results-v1" -> "results-v1"; "" (no
+/// What a reader says of a file in the previous results layout (results::kPreviousFormat): which
+/// layout it is and that a rerun rewrites it (without the file's path).
+std::string PreviousLayoutText();
+
+/// The schema name for a `fogpipe_format` tag: "fogpipe-results-v2" -> "results-v2"; "" (no
 /// tag) -> "recording-v1".
 std::string SchemaNameForFormat(const std::string& format_tag);
 

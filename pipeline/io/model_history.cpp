@@ -408,7 +408,7 @@ int AppendHistory(const std::string& results, const std::string& recording, cons
     hdf5::Group noise = step.OpenGroup("allan").CreateGroup("noise");
     noise.WriteStringAttribute("termination", ToString(r.base.noise_check.summary.termination));
     noise.WriteStringAttribute("message", r.base.noise_check.summary.message);
-    WriteNoiseTerms(noise, r.base.noise_check);
+    WriteNoiseTermDatasets(noise, r.base.noise_check);
     WriteImfView(step, r.base.imf);
     compare.WriteInt64Attribute("steps", index + 1);
     file->flush(H5F_SCOPE_GLOBAL);

@@ -1,11 +1,21 @@
-// The results file layout, fogpipe-results-v1 (schemas/results-v1.json, schemas/results-v1.md):
-// names shared by the writer, the reader and the tests.
+// The results file layout, fogpipe-results-v2 (schemas/results-v2.json, schemas/results-v2.md):
+// names shared by the writer, the readers and the tests.
 #pragma once
 
 namespace fogpipe::io::results {
 
 /// Root attribute `fogpipe_format`.
-inline constexpr const char* kFormat = "fogpipe-results-v1";
+inline constexpr const char* kFormat = "fogpipe-results-v2";
+/// The previous layout (one scalar dataset per noise-term number, float64 IMFs by default), which
+/// this version no longer reads: `fogpipe run` rewrites such files.
+inline constexpr const char* kPreviousFormat = "fogpipe-results-v1";
+/// allan/<signal>/noise/<kNoiseTable>: the noise terms, one row per term (WriteNoiseTable).
+inline constexpr const char* kNoiseTable = "terms";
+/// allan/<signal>/<kAllanTable>: the Allan table, one row per tau.
+inline constexpr const char* kAllanTable = "table";
+/// Attribute of a table whose columns each have one unit: the units, one per field in field
+/// order ("" for a text field).
+inline constexpr const char* kFieldUnitsAttribute = "field_units";
 inline constexpr const char* kFormatAttribute = "fogpipe_format";
 /// /provenance attribute holding the SHA-256 of the effective configuration (the rerun key).
 inline constexpr const char* kConfigHashAttribute = "config_sha256";

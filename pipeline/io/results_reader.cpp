@@ -1,5 +1,6 @@
 #include "pipeline/io/results_reader.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <limits>
 #include <sstream>
@@ -27,26 +28,18 @@ double Scalar(const Group& g, const std::string& name) {
 method::NoiseRow ReadNoiseRow(const Group& allan, const std::string& signal,
                               const std::string& label) {
   const Group noise = allan.OpenGroup(signal + "/noise");
+  const NoiseTable table = ReadNoiseTable(noise);
   method::NoiseRow row;
   row.signal = label;
-  row.q_arcsec = Scalar(noise, "Q");
-  row.n_deg_sqrt_h = Scalar(noise, "N");
-  row.b_deg_h = Scalar(noise, "B");
-  row.k_deg_h_sqrt_h = Scalar(noise, "K");
-  row.r_deg_h2 = Scalar(noise, "R");
-  // Goodness of fit and flags (absent from files written before they were stored: NaN / none).
-  if (noise.Exists("p_value")) {
-    row.p_value = Scalar(noise, "p_value");
-    const std::vector<long long> dof =
-        noise.Exists("dof") ? noise.OpenDataset("dof").ReadInt64s() : std::vector<long long>();
-    if (!dof.empty() && dof[0] > 0) row.chi2_per_dof = Scalar(noise, "chi2") / dof[0];
-  }
-  for (int j = 0; j < allan::kNoiseTermCount; ++j) {
-    const std::string symbol = allan::TermSymbol(j);
-    if (noise.HasAttribute(symbol + "_reason"))
-      row.unreliable_reason[j] = noise.ReadStringAttribute(symbol + "_reason");
-    if (noise.Exists(symbol + "_readoff")) row.readoff[j] = Scalar(noise, symbol + "_readoff");
-  }
+  row.q_arcsec = table.value[0];
+  row.n_deg_sqrt_h = table.value[1];
+  row.b_deg_h = table.value[2];
+  row.k_deg_h_sqrt_h = table.value[3];
+  row.r_deg_h2 = table.value[4];
+  row.p_value = table.p_value;
+  if (table.dof > 0) row.chi2_per_dof = table.chi2 / static_cast<double>(table.dof);
+  row.unreliable_reason = table.reason;
+  row.readoff = table.readoff;
   return row;
 }
 
@@ -78,6 +71,40 @@ void ReadFitRows(const Group& models, const std::string& label_override,
 }
 
 }  // namespace
+
+NoiseTable ReadNoiseTable(const hdf5::Group& noise) {
+  const hdf5::Dataset terms = noise.OpenDataset(results::kNoiseTable);
+  const std::vector<std::string> names = terms.ReadFieldStrings("name");
+  const std::vector<double> value = terms.ReadFieldDoubles("value");
+  const std::vector<double> se = terms.ReadFieldDoubles("std_error");
+  const std::vector<double> readoff = terms.ReadFieldDoubles("readoff");
+  const std::vector<long long> reliable = terms.ReadFieldInt64s("reliable");
+  const std::vector<std::string> reason = terms.ReadFieldStrings("reason");
+  NoiseTable out;
+  out.value.fill(std::numeric_limits<double>::quiet_NaN());
+  out.std_error = out.value;
+  out.readoff = out.value;
+  out.reliable.fill(false);
+  // Rows are found by name, so that the order of the rows is not part of the contract.
+  for (int j = 0; j < allan::kNoiseTermCount; ++j) {
+    const auto row = std::find(names.begin(), names.end(), allan::TermSymbol(j));
+    if (row == names.end()) {
+      throw std::runtime_error(terms.file_path() + ": " + terms.path() + " has no row " +
+                               allan::TermSymbol(j));
+    }
+    const std::size_t i = static_cast<std::size_t>(row - names.begin());
+    out.value[j] = value[i];
+    out.std_error[j] = se[i];
+    out.readoff[j] = readoff[i];
+    out.reliable[j] = reliable[i] != 0;
+    out.reason[j] = reason[i];
+  }
+  out.chi2 = noise.ReadDoubleAttribute("chi2");
+  out.dof = noise.ReadInt64Attribute("dof");
+  out.p_value = noise.ReadDoubleAttribute("p_value");
+  out.misfit_tau_ranges = noise.ReadStringAttribute("misfit_tau_ranges");
+  return out;
+}
 
 ResultsSummary ReadResultsSummary(const std::string& path) {
   auto lock = hdf5::LockHdf5();

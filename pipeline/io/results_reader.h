@@ -1,6 +1,7 @@
 // Reads back what `fogpipe info` prints and what a rerun needs to decide whether to skip a file.
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,6 +25,22 @@ struct AxisSummary {
   std::vector<method::NoiseRow> table5;  ///< raw, method 1, method 2
 };
 
+/// One signal's noise terms as a results file holds them (allan/<signal>/noise: the `terms`
+/// table and its attributes), indexed by term Q, N, B, K, R (allan::TermSymbol), engineer's units.
+struct NoiseTable {
+  std::array<double, 5> value{}, std_error{}, readoff{};
+  std::array<bool, 5> reliable{};
+  std::array<std::string, 5> reason{};  ///< why a term is unreliable ("" when reliable)
+  double chi2 = 0.0;
+  long long dof = 0;
+  double p_value = 0.0;
+  std::string misfit_tau_ranges;
+};
+
+/// Reads a `noise` group of a results file (under the caller's HDF5 lock). Throws hdf5::Error,
+/// or std::runtime_error when the table lacks a term.
+NoiseTable ReadNoiseTable(const hdf5::Group& noise);
+
 struct ResultsSummary {
   std::string path;
   Provenance provenance;
@@ -31,11 +48,11 @@ struct ResultsSummary {
 };
 
 /// Reads the summary of a results file (takes the HDF5 lock). Throws hdf5::Error, or
-/// std::runtime_error naming the file when it is not a fogpipe-results-v1 file.
+/// std::runtime_error naming the file when it is not a fogpipe-results-v2 file.
 ResultsSummary ReadResultsSummary(const std::string& path);
 
 /// The configuration hash of a complete results file, or nullopt when the file does not exist,
-/// cannot be read or is not a fogpipe-results-v1 file (takes the HDF5 lock; never throws).
+/// cannot be read or is not a fogpipe-results-v2 file (takes the HDF5 lock; never throws).
 std::optional<std::string> ReadConfigHash(const std::string& path);
 
 /// What a rerun finds at an output path (CheckCompletedResults).

@@ -154,7 +154,48 @@ void WriteReferenceFilters(Group signals, Group allan,
 
 }  // namespace
 
-void WriteNoiseTerms(Group& noise, const allan::NoiseFitResult& fit) {
+void WriteNoiseTable(Group& noise, const allan::NoiseFitResult& fit) {
+  const allan::NoiseTermsEngineering e = allan::ToEngineeringUnits(fit.terms);
+  const double value[allan::kNoiseTermCount] = {e.q_arcsec, e.n_deg_sqrt_h, e.b_deg_h,
+                                                e.k_deg_h_sqrt_h, e.r_deg_h2};
+  const double se[allan::kNoiseTermCount] = {e.q_se, e.n_se, e.b_se, e.k_se, e.r_se};
+  std::vector<std::string> names, units, reasons;
+  std::vector<double> values, std_errors, z, upper_limits, readoffs;
+  std::vector<long long> significant, reliable;
+  for (int j = 0; j < allan::kNoiseTermCount; ++j) {
+    const allan::TermAssessment& a = fit.assessment[j];
+    allan::NoiseTerms limit;
+    double* amp[allan::kNoiseTermCount] = {&limit.q_rad, &limit.n_rad_sqrt_s, &limit.b_rad_s,
+                                           &limit.k_rad_s_sqrt_s, &limit.r_rad_s2};
+    *amp[j] = a.upper_limit;
+    names.push_back(allan::TermSymbol(j));
+    values.push_back(value[j]);
+    std_errors.push_back(se[j]);
+    z.push_back(a.z);
+    significant.push_back(a.significant ? 1 : 0);
+    upper_limits.push_back(allan::EngineeringValue(limit, j));
+    readoffs.push_back(allan::EngineeringValue(fit.slope_readoff, j));
+    reliable.push_back(a.reliable ? 1 : 0);
+    units.push_back(allan::EngineeringUnit(j));
+    reasons.push_back(a.reason);
+  }
+  using hdf5::TableColumn;
+  noise.WriteTable(
+      results::kNoiseTable,
+      {TableColumn::Strings("name", names), TableColumn::Doubles("value", values),
+       TableColumn::Doubles("std_error", std_errors), TableColumn::Doubles("z", z),
+       TableColumn::Int64s("significant", significant),
+       TableColumn::Doubles("upper_limit", upper_limits), TableColumn::Doubles("readoff", readoffs),
+       TableColumn::Int64s("reliable", reliable), TableColumn::Strings("units", units),
+       TableColumn::Strings("reason", reasons)});
+  // Goodness of fit of the whole fit (allan/noise_fit.h): dimensionless, beside the table.
+  noise.WriteDoubleAttribute("chi2", fit.chi2);
+  noise.WriteInt64Attribute("dof", fit.dof);
+  noise.WriteDoubleAttribute("p_value", fit.p_value);
+  noise.WriteStringAttribute("misfit_tau_ranges", allan::FormatTauRanges(fit.misfit_ranges));
+}
+
+void WriteNoiseTermDatasets(Group& noise, const allan::NoiseFitResult& fit) {
   const allan::NoiseTermsEngineering e = allan::ToEngineeringUnits(fit.terms);
   const struct {
     const char* name;
@@ -196,31 +237,36 @@ namespace {
 void WriteAllan(Group group, const method::AllanEvaluation& evaluation) {
   const allan::AllanTable& t = evaluation.allan.table;
   group.WriteStringAttribute("deviation", allan::ToString(t.deviation));
-  group.WriteDataset("tau_s", t.tau_s, "s");
-  group.WriteDataset("m", t.m, "1");
-  group.WriteDataset("sigma", t.sigma, results::kRateUnits);
-  group.WriteDataset("ci_low", t.ci_low, results::kRateUnits);
-  group.WriteDataset("ci_high", t.ci_high, results::kRateUnits);
-  group.WriteDataset("edf", t.edf, "1");
-  group.WriteStringDataset("edf_source", allan::EdfSourceNames(t.edf_source));
   group.WriteStringAttribute("noise_id_rule", allan::ToString(t.noise_id_rule));
-  group.WriteDataset("alpha", std::vector<long long>(t.alpha.begin(), t.alpha.end()), "1");
-  group.WriteStringDataset("alpha_method", allan::MethodNames(t.alpha_method));
-  group.WriteDataset("count", t.count, "1");
+  // One table, a row per tau: one object instead of eleven datasets (schemas/results-v2.md).
+  // model_alpha, the noise fit's dominant term at each tau, sits beside the identified alpha.
+  const std::vector<int> model_alpha = allan::ModelDominantAlpha(evaluation.noise.terms, t.tau_s);
+  using hdf5::TableColumn;
+  hdf5::Dataset table = group.WriteTable(
+      results::kAllanTable,
+      {TableColumn::Doubles("tau_s", t.tau_s), TableColumn::Int64s("m", t.m),
+       TableColumn::Doubles("sigma", t.sigma), TableColumn::Doubles("ci_low", t.ci_low),
+       TableColumn::Doubles("ci_high", t.ci_high), TableColumn::Doubles("edf", t.edf),
+       TableColumn::Strings("edf_source", allan::EdfSourceNames(t.edf_source)),
+       TableColumn::Int64s("alpha", std::vector<long long>(t.alpha.begin(), t.alpha.end())),
+       TableColumn::Strings("alpha_method", allan::MethodNames(t.alpha_method)),
+       TableColumn::Int64s("count", t.count),
+       TableColumn::Int64s("model_alpha",
+                           std::vector<long long>(model_alpha.begin(), model_alpha.end()))});
+  table.WriteStringArrayAttribute(results::kFieldUnitsAttribute,
+                                  {"s", "1", results::kRateUnits, results::kRateUnits,
+                                   results::kRateUnits, "1", "", "1", "", "1", "1"});
 
   Group noise = group.CreateGroup("noise");
   noise.WriteStringAttribute("termination", ToString(evaluation.noise.summary.termination));
   noise.WriteStringAttribute("message", evaluation.noise.summary.message);
-  const std::vector<int> model_alpha = allan::ModelDominantAlpha(evaluation.noise.terms, t.tau_s);
-  noise.WriteDataset("model_alpha", std::vector<long long>(model_alpha.begin(), model_alpha.end()),
-                     "1");
   noise.WriteStringAttribute("noise_type_check", io::NoiseTypeCrossCheckLine(t, evaluation.noise));
   noise.WriteStringAttribute(
       "model",
       std::string("sigma^2 = 3Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2 + K^2 tau/3 + R^2 tau^2/2, ") +
           std::string(evaluation.noise.generalized ? "generalised" : "weighted") +
           " NNLS (IEEE Std 952-1997 Annex C)");
-  WriteNoiseTerms(noise, evaluation.noise);
+  WriteNoiseTable(noise, evaluation.noise);
 }
 
 /// preprocessing/: what was dropped, replaced and removed before the EMD, and what the reader

@@ -1,4 +1,4 @@
-// Writes one results file (fogpipe-results-v1, schemas/results-v1.md) per recording: provenance,
+// Writes one results file (fogpipe-results-v2, schemas/results-v2.md) per recording: provenance,
 // then per axis preprocessing, decomposition, models, kalman, signals and allan groups.
 #pragma once
 
@@ -20,9 +20,11 @@ const char* ToString(ImfStorage storage);
 bool ParseImfStorage(const std::string& text, ImfStorage* storage);
 
 struct ResultsOptions {
-  /// IMFs and residue: float64 (default, exact), float32 (half the size; relative rounding 6e-8)
-  /// or none (per-IMF metadata, models and the reconstruction are still stored).
-  ImfStorage imf_storage = ImfStorage::kFloat64;
+  /// IMFs and residue: float32 (default; relative rounding 6e-8, half the size of float64),
+  /// float64 (exact) or none (per-IMF metadata, models and the reconstruction are still stored).
+  /// Only the stored copy is rounded: the models, filters and Allan tables are computed from the
+  /// doubles before storage.
+  ImfStorage imf_storage = ImfStorage::kFloat32;
   /// Also store each component's Kalman output ([N, K+1], same storage as the IMFs).
   bool store_filtered_imfs = false;
   /// The large N-sample datasets (IMFs, residue, filtered components, method 1 and 2) are chunked
@@ -72,11 +74,17 @@ struct AxisResults {
 void WriteResultsFile(const std::filesystem::path& final_path, const Provenance& provenance,
                       const std::vector<AxisResults>& axes, const ResultsOptions& options);
 
-/// The noise terms of a fit and their assessment in `noise` (the layout of allan/<signal>/noise/
-/// in schemas/results-v1.md, also under compare's steps: schemas/model-history.md): Q ... R and
-/// their standard errors in engineer's units, chi2, dof, p_value, misfit_tau_ranges and per term
-/// z, significance, upper limit, read-off, reliability and reason.
-void WriteNoiseTerms(hdf5::Group& noise, const allan::NoiseFitResult& fit);
+/// The noise terms of a fit and their assessment in `noise` as the results file lays them out
+/// (allan/<signal>/noise/ in schemas/results-v2.md): one table `terms`, a row per term Q ... R
+/// with its value and standard error in engineer's units, z, significance, upper limit,
+/// read-off, reliability, unit and reason; chi2, dof, p_value and misfit_tau_ranges as
+/// attributes of `noise`.
+void WriteNoiseTable(hdf5::Group& noise, const allan::NoiseFitResult& fit);
+
+/// The same numbers as one scalar dataset each (Q, Q_std_error, ..., chi2, dof, p_value, per term
+/// T_z, T_significant, T_upper_limit, T_readoff, T_reliable, attribute T_reason): the layout of
+/// the model history's steps (compare/step_NNN/allan/noise, schemas/model-history.md).
+void WriteNoiseTermDatasets(hdf5::Group& noise, const allan::NoiseFitResult& fit);
 
 /// Current UTC time, ISO 8601 with seconds ("2026-11-21T06:30:00Z").
 std::string UtcNowIso8601();

@@ -65,8 +65,16 @@ struct ObjectRule {
   bool forbid_additional_attributes = false;
 };
 
+/// A field of a table (a compound dataset): name, type, required.
+struct FieldRule {
+  std::string name;
+  TypeRule type;
+  bool required = true;
+};
+
 struct DatasetRule : ObjectRule {
   TypeRule type;
+  std::vector<FieldRule> fields;  ///< of a compound dataset; additional fields are accepted
   std::vector<int> ranks;
   bool units_required = false;
   std::vector<std::string> units_allowed;
@@ -158,8 +166,10 @@ class Parser {
         rule.allowed.push_back(TypeClass::kInteger);
       } else if (n == "string") {
         rule.allowed.push_back(TypeClass::kString);
+      } else if (n == "compound") {
+        rule.allowed.push_back(TypeClass::kCompound);
       } else {
-        Fail(where, "unknown type '" + n + "' (float, integer, number, string)");
+        Fail(where, "unknown type '" + n + "' (float, integer, number, string, compound)");
       }
       rule.text += (rule.text.empty() ? "" : " or ") + n;
     }
@@ -267,10 +277,24 @@ class Parser {
   DatasetRule ParseDataset(const std::string& key, const Json& node, const std::string& where) {
     CheckKeys(node, where,
               {"description", "required", "min_count", "max_count", "type", "rank", "attributes",
-               "additional_attributes", "units", "same_length_as"});
+               "additional_attributes", "units", "same_length_as", "fields"});
     DatasetRule rule;
     ParseCommon(key, node, where, &rule);
     if (node.contains("type")) rule.type = ParseType(node["type"], where);
+    if (node.contains("fields")) {
+      if (!node["fields"].is_object()) Fail(where, "'fields' must be an object");
+      for (const auto& item : node["fields"].items()) {
+        const std::string field_where = where + "/" + item.key();
+        if (!item.value().is_object()) Fail(field_where, "a field must be an object");
+        CheckKeys(item.value(), field_where, {"description", "required", "type"});
+        FieldRule field;
+        field.name = item.key();
+        field.required = OptionalBool(item.value(), "required", field_where, true);
+        if (item.value().contains("type"))
+          field.type = ParseType(item.value()["type"], field_where);
+        rule.fields.push_back(std::move(field));
+      }
+    }
     if (node.contains("rank")) rule.ranks = ParseRanks(node["rank"], where);
     if (node.contains("units")) {
       const Json& units = node["units"];
@@ -479,6 +503,23 @@ class Validator {
     }
   }
 
+  void CheckFields(const hdf5::Dataset& dataset, const std::vector<FieldRule>& rules) {
+    const auto fields = dataset.Fields();
+    for (const FieldRule& rule : rules) {
+      const auto field = std::find_if(fields.begin(), fields.end(),
+                                      [&rule](const auto& f) { return f.first == rule.name; });
+      if (field == fields.end()) {
+        if (rule.required) Problem(dataset.path(), "missing required field '" + rule.name + "'");
+        continue;
+      }
+      if (!rule.type.Accepts(field->second.type_class)) {
+        Problem(dataset.path(), "field '" + rule.name + "' has type " +
+                                    hdf5::ToString(field->second.type_class) + ", expected " +
+                                    rule.type.text);
+      }
+    }
+  }
+
   void CheckDataset(const hdf5::Dataset& dataset, const DatasetRule* rule) {
     ++report_->objects_checked;
     const hdf5::TypeInfo type = dataset.type();
@@ -490,6 +531,9 @@ class Validator {
     if (!rule->type.Accepts(type.type_class)) {
       Problem(dataset.path(), std::string("has type ") + hdf5::ToString(type.type_class) +
                                   ", expected " + rule->type.text);
+    }
+    if (!rule->fields.empty() && type.type_class == TypeClass::kCompound) {
+      CheckFields(dataset, rule->fields);
     }
     const int rank = static_cast<int>(dims.size());
     if (!rule->ranks.empty() &&

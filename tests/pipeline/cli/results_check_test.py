@@ -6,7 +6,7 @@ Usage: results_check_test.py FOGPIPE_BINARY SOURCE_DIR
 1. Results files of each storage option (float64 default; float32 with filtered components;
    none; float64 with filtered components) of a 1-axis recording long enough for several chunks
    per IMF and a short 2-axis float32 recording pass the h5py check (which reads every dataset,
-   checks it against schemas/results-v1.json and recomputes the numbers in numpy).
+   checks it against schemas/results-v2.json and recomputes the numbers in numpy).
 2. The check can fail: copies of a good file with one IMF sample changed, a wrong units
    attribute, a required dataset removed, or an undescribed dataset added each fail it with a
    message saying so.
@@ -45,9 +45,10 @@ def case_storage_options(tmp):
                     units="deg/s")
     # Explicit q and R: the run does not depend on the default noise rule.
     common = ["--threads", "2", "--q", "1e-14", "--r", "2e-10"]
-    options = {"float64": [], "float32_filtered": ["--imf-storage", "float32",
-                                                   "--store-filtered-imfs"],
-               "none": ["--imf-storage", "none"], "float64_filtered": ["--store-filtered-imfs"]}
+    options = {"float64": ["--imf-storage", "float64"],
+               "float32_filtered": ["--store-filtered-imfs"],
+               "none": ["--imf-storage", "none"],
+               "float64_filtered": ["--imf-storage", "float64", "--store-filtered-imfs"]}
     outputs = {}
     for name, extra in options.items():
         out = os.path.join(tmp, "out_" + name)

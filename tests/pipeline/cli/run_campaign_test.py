@@ -218,14 +218,14 @@ def case_config(tmp, rec):
     check(r.returncode == 2 and "max-ar-ordr" in r.stderr, "an unknown config key exits 2 naming it")
     cfg = os.path.join(tmp, "good.toml")
     with open(cfg, "w") as fh:
-        fh.write("max-ar-order = 8\nimf-storage = \"float32\"\n")
+        fh.write("max-ar-order = 8\nimf-storage = \"float64\"\n")
     outc = os.path.join(tmp, "outc")
     r = run(["run", os.path.join(rec, "good1.h5"), "-o", outc, "--config", cfg])
     check(r.returncode == 0, "a valid config runs")
     with h5py.File(os.path.join(outc, "good1.fogpipe.h5"), "r") as f:
         text = f["provenance/config_toml"][()].decode()
         check("max-ar-order = 8" in text, "the effective config records the config file's value")
-        check(f["axes/axis0/decomposition/imfs"].dtype == np.float32, "imf-storage float32 applied")
+        check(f["axes/axis0/decomposition/imfs"].dtype == np.float64, "imf-storage float64 applied")
         check(int(np.nanmax(f["axes/axis0/models/order"][:])) <= 8, "max-ar-order applied")
     r = run(["run", os.path.join(rec, "good1.h5"), "-o", outc, "--memory-budget", "12Q"])
     check(r.returncode == 2, "a bad --memory-budget exits 2")
@@ -255,6 +255,37 @@ def case_resume(tmp, rec, out1):
     check(r.returncode == 0 and status_lines(out1)[-1]["status"] == "ok", "--force redoes a done file")
     r = run(["run", os.path.join(rec, "good1.h5"), "-o", out1, "--max-ar-order", "7"])
     check(status_lines(out1)[-1]["status"] == "ok", "a changed configuration is not skipped")
+    case_previous_layout(rec, out1)
+
+
+def case_previous_layout(rec, out1):
+    """A results file of the previous layout (fogpipe-results-v1) is never up to date, even under
+    the configuration hash and input of this run: the rerun rewrites it. info and validate name
+    the layout instead of failing on a missing dataset."""
+    again = ["run", os.path.join(rec, "good1.h5"), "-o", out1, "--max-ar-order", "7"]
+    run(again)
+    check(status_lines(out1)[-1]["status"] == "skipped",
+          "previous layout: the same configuration again is skipped (the control)")
+    path = os.path.join(out1, "good1.fogpipe.h5")
+    with h5py.File(path, "a") as f:
+        f.attrs["fogpipe_format"] = "fogpipe-results-v1"
+    for command in (["info", path], ["validate", path]):
+        r = run(command)
+        check(r.returncode == 1 and "previous results layout" in r.stdout + r.stderr,
+              f"previous layout: {command[0]} names the layout: {(r.stdout + r.stderr)[-300:]}")
+    r = run(["merge", out1, "-o", os.path.join(out1, "previous_layout_campaign.h5")])
+    check("good1.fogpipe.h5" in r.stderr and "previous results layout" in r.stderr,
+          f"previous layout: merge names the layout of the file it leaves out: {r.stderr[-300:]}")
+    if os.path.exists(os.path.join(out1, "previous_layout_campaign.h5")):
+        os.remove(os.path.join(out1, "previous_layout_campaign.h5"))
+    r = run(again)
+    last = status_lines(out1)[-1]
+    check(r.returncode == 0 and last["status"] == "ok",
+          f"previous layout: a fogpipe-results-v1 file is rewritten, not skipped: {last}")
+    with h5py.File(path, "r") as f:
+        tag = f.attrs["fogpipe_format"]
+        tag = tag.decode() if isinstance(tag, bytes) else str(tag)
+        check(tag == "fogpipe-results-v2", f"previous layout: the rewritten file is {tag}")
 
 
 def case_identity(tmp):
@@ -329,13 +360,15 @@ def case_flags(tmp):
             h5py.File(campaign, "r") as c:
         axis = list(f["axes"].keys())[0]
         noise = f["axes"][axis]["allan"]["raw"]["noise"]
-        value = lambda name: np.asarray(noise[name][()]).reshape(-1)[0]  # scalar or [1]
-        reasons = {t: noise.attrs[f"{t}_reason"] for t in terms}
-        reasons = {t: v.decode() if isinstance(v, bytes) else str(v) for t, v in reasons.items()}
-        flagged = [t for t in terms if value(f"{t}_reliable") == 0]
+        table = {r["name"].decode(): r for r in noise["terms"][()]}
+        check([r["name"].decode() for r in noise["terms"][()]] == terms,
+              "flags: the noise table has one row per term, Q, N, B, K, R")
+        value = lambda term, field: table[term][field]
+        reasons = {t: table[t]["reason"].decode() for t in terms}
+        flagged = [t for t in terms if value(t, "reliable") == 0]
         check(flagged == [t for t in terms if reasons[t]],
               f"flags: results file {flagged} have reasons, the others none")
-        check(value("K_reliable") == 0 and "slope read-off" in reasons["K"],
+        check(value("K", "reliable") == 0 and "slope read-off" in reasons["K"],
               f"flags: results file flags K against its read-off: {reasons['K']}")
         col = c["campaign"]
         text = lambda name: col[name][0].decode() if isinstance(col[name][0], bytes) \
@@ -346,11 +379,15 @@ def case_flags(tmp):
               " | ".join(f"{t}: {reasons[t]}" for t in flagged),
               f"flags: campaign raw_unreliable_reasons carries the results file's reasons")
         for t in terms:
-            a, b = value(f"{t}_readoff"), col[f"raw_{t}_readoff"][0]
+            a, b = value(t, "readoff"), col[f"raw_{t}_readoff"][0]
             check((np.isnan(a) and np.isnan(b)) or a == b,
                   f"flags: campaign raw_{t}_readoff {b} = results {a} "
                   f"[{col[f'raw_{t}_readoff'].attrs['units']}]")
-        check(col["raw_noise_fit_chi2_per_dof"][0] == value("chi2") / value("dof"),
+            units = col[f"raw_{t}_readoff"].attrs["units"]
+            units = units.decode() if isinstance(units, bytes) else str(units)
+            check(table[t]["units"].decode() == units,
+                  f"flags: the table's {t} units {table[t]['units']} = the campaign's {units}")
+        check(col["raw_noise_fit_chi2_per_dof"][0] == noise.attrs["chi2"] / noise.attrs["dof"],
               "flags: campaign raw_noise_fit_chi2_per_dof = chi2 / dof of the results file")
         ranges = noise.attrs["misfit_tau_ranges"]
         ranges = ranges.decode() if isinstance(ranges, bytes) else str(ranges)

@@ -49,8 +49,8 @@ struct AllanTable {
 AllanTable ReadAllan(const std::string& results, const std::string& which) {
   auto lock = hdf5::LockHdf5();
   const hdf5::File f = hdf5::File::OpenReadOnly(results);
-  const hdf5::Group g = f.Root().OpenGroup("axes/axis0/allan/" + which);
-  return {g.OpenDataset("tau_s").ReadDoubles(), g.OpenDataset("sigma").ReadDoubles()};
+  const hdf5::Dataset table = f.Root().OpenDataset("axes/axis0/allan/" + which + "/table");
+  return {table.ReadFieldDoubles("tau_s"), table.ReadFieldDoubles("sigma")};
 }
 
 std::string ProvenanceAttribute(const std::string& results, const std::string& name) {

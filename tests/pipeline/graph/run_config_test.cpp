@@ -165,11 +165,13 @@ TEST(RunOptions, TheHashedConfigurationReadsBackAsTheSameConfigFile) {
   unlink(path.c_str());
 }
 
-// The defaults' hashed text, as results files of earlier versions hold it: a rerun of an old
-// campaign with the same options skips its finished files.
-TEST(RunOptions, TheDefaultConfigurationTextIsUnchanged) {
+// The defaults' hashed text. Its first line names the results layout, so the configuration hash,
+// the rerun key, changes with the layout: files of the previous layout (fogpipe-results-v1, whose
+// default stored float64 IMFs) are rewritten by a rerun, never skipped (schemas/results-v2.md).
+// Any other change of this text makes a rerun redo every finished file of a campaign.
+TEST(RunOptions, TheDefaultConfigurationTextNamesTheResultsLayoutAndFloat32Imfs) {
   EXPECT_EQ(EffectiveConfigToml(RunConfig{}),
-            "# fogpipe run: effective configuration (fogpipe-results-v1)\n"
+            "# fogpipe run: effective configuration (fogpipe-results-v2)\n"
             "drop-start-s = 0.0\n"
             "max-nan-gap = 10\n"
             "max-ar-order = 20\n"
@@ -185,7 +187,7 @@ TEST(RunOptions, TheDefaultConfigurationTextIsUnchanged) {
             "q-scale = 1.0\n"
             "r-scale = 1.0\n"
             "smooth = false\n"
-            "imf-storage = \"float64\"\n"
+            "imf-storage = \"float32\"\n"
             "store-filtered-imfs = false\n"
             "direct-ar-order = 0\n"
             "taus = \"octave\"\n"

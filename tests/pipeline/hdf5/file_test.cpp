@@ -114,6 +114,46 @@ TEST_F(Hdf5Test, NumericDatasetsCarryUnitsAndAreChunkedShuffledAndDeflated) {
   EXPECT_EQ(root.OpenDataset("names").ReadStrings(), (std::vector<std::string>{"a", "bb"}));
 }
 
+TEST_F(Hdf5Test, ATableIsOneCompactCompoundDatasetWhoseFieldsReadBackExactly) {
+  const std::string path = dir_.File("table.h5");
+  const double nan = std::nan("");
+  auto lock = LockHdf5();
+  {
+    File file = File::Create(path);
+    Group root = file.Root();
+    root.WriteTable("terms", {TableColumn::Strings("name", {"Q", "N", "B"}),
+                              TableColumn::Doubles("value", {0.1 + 0.2, nan, -1e-300}),
+                              TableColumn::Int64s("reliable", {1, 0, -9007199254740993LL}),
+                              TableColumn::Strings("reason", {"", "slope Â° read-off", ""})});
+    EXPECT_THROW(root.WriteTable("ragged", {TableColumn::Doubles("a", {1.0, 2.0}),
+                                            TableColumn::Int64s("b", {1})}),
+                 std::invalid_argument);
+    file.Close();
+  }
+  File file = File::OpenReadOnly(path);
+  const Dataset t = file.Root().OpenDataset("terms");
+  EXPECT_EQ(t.type().type_class, TypeClass::kCompound);
+  EXPECT_EQ(t.dims(), (std::vector<hsize_t>{3}));
+  std::vector<std::string> names;
+  for (const auto& field : t.Fields()) names.push_back(field.first);
+  EXPECT_EQ(names, (std::vector<std::string>{"name", "value", "reliable", "reason"}));
+  EXPECT_EQ(t.Fields()[2].second.type_class, TypeClass::kInteger);
+  EXPECT_EQ(t.ReadFieldStrings("name"), (std::vector<std::string>{"Q", "N", "B"}));
+  const std::vector<double> value = t.ReadFieldDoubles("value");
+  EXPECT_EQ(value[0], 0.1 + 0.2);
+  EXPECT_TRUE(std::isnan(value[1]));
+  EXPECT_EQ(value[2], -1e-300);
+  EXPECT_EQ(t.ReadFieldInt64s("reliable"), (std::vector<long long>{1, 0, -9007199254740993LL}));
+  EXPECT_EQ(t.ReadFieldStrings("reason"), (std::vector<std::string>{"", "slope Â° read-off", ""}));
+  EXPECT_THROW(t.ReadFieldDoubles("missing"), Error);
+  EXPECT_THROW(t.ReadFieldInt64s("value"), Error);
+  EXPECT_THROW(t.ReadFieldDoubles("name"), Error);
+  // Compact: the rows live in the object header, no data block of their own.
+  hid_t plist = H5Dget_create_plist(t.id());
+  EXPECT_EQ(H5Pget_layout(plist), H5D_COMPACT);
+  H5Pclose(plist);
+}
+
 TEST_F(Hdf5Test, WritingANumericDatasetWithoutUnitsIsAProgrammingError) {
   auto lock = LockHdf5();
   File file = File::Create(dir_.File("u.h5"));

@@ -348,26 +348,44 @@ TEST(FileValidation, AFormatTagThatNamesAPathOrNoFormatIsTheFilesProblem) {
 
 TEST(FileValidation, PicksTheSchemaFromTheFormatTagAndFailsCleanlyWhenItIsMissing) {
   EXPECT_EQ(SchemaNameForFormat(""), "recording-v1");
-  EXPECT_EQ(SchemaNameForFormat("fogpipe-results-v1"), "results-v1");
+  EXPECT_EQ(SchemaNameForFormat("fogpipe-results-v2"), "results-v2");
   TempDir dir;
   const std::string path = dir.File("r.fogpipe.h5");
+  {
+    RawFile f(path);
+    f.StringAttribute("/", "fogpipe_format", "fogpipe-results-v2");
+  }
+  FileValidationOptions options;
+  options.schemas_dir = dir.path().string();  // holds no schema
+  FileValidation v = ValidateFile(path, options);
+  EXPECT_EQ(v.detected, "fogpipe-results-v2");
+  EXPECT_NE(v.usage_error.find("schema 'results-v2.json' not found"), std::string::npos);
+  std::ofstream(dir.File("results-v2.json"))
+      << R"({"format": "fogpipe-schema-v1", "name": "results-v2", "root": {
+             "attributes": {"fogpipe_format": {"required": true, "type": "string",
+                                               "enum": ["fogpipe-results-v2"]}},
+             "groups": {"provenance": {"required": true}}}})";
+  v = ValidateFile(path, options);
+  EXPECT_TRUE(v.usage_error.empty()) << v.usage_error;
+  EXPECT_EQ(Lines(v.problems), "/: missing required group 'provenance'\n");
+}
+
+// A file of the previous results layout is named as such, whatever schemas are around: it is a
+// problem of the file (validate exits 1, a rerun rewrites it), not a missing schema.
+TEST(FileValidation, NamesThePreviousResultsLayoutInsteadOfLookingForItsSchema) {
+  TempDir dir;
+  const std::string path = dir.File("old.fogpipe.h5");
   {
     RawFile f(path);
     f.StringAttribute("/", "fogpipe_format", "fogpipe-results-v1");
   }
   FileValidationOptions options;
-  options.schemas_dir = dir.path().string();  // holds no schema
-  FileValidation v = ValidateFile(path, options);
-  EXPECT_EQ(v.detected, "fogpipe-results-v1");
-  EXPECT_NE(v.usage_error.find("schema 'results-v1.json' not found"), std::string::npos);
-  std::ofstream(dir.File("results-v1.json"))
-      << R"({"format": "fogpipe-schema-v1", "name": "results-v1", "root": {
-             "attributes": {"fogpipe_format": {"required": true, "type": "string",
-                                               "enum": ["fogpipe-results-v1"]}},
-             "groups": {"provenance": {"required": true}}}})";
-  v = ValidateFile(path, options);
+  options.schemas_dir = kSchemasDir;
+  const FileValidation v = ValidateFile(path, options);
   EXPECT_TRUE(v.usage_error.empty()) << v.usage_error;
-  EXPECT_EQ(Lines(v.problems), "/: missing required group 'provenance'\n");
+  EXPECT_NE(Lines(v.problems).find("previous results layout"), std::string::npos)
+      << Lines(v.problems);
+  EXPECT_NE(Lines(v.problems).find("fogpipe-results-v2"), std::string::npos) << Lines(v.problems);
 }
 
 // ------------------------------------------------------------------ the engine
@@ -503,9 +521,40 @@ TEST(SchemaLinks, DescribedExternalLinksAreCountedNotFollowedAndSiblingLengthsCo
   EXPECT_EQ(report.find("/results/a"), std::string::npos) << report;
 }
 
+// A table (compound dataset) is held to its fields: each required one present, of its type.
+TEST(SchemaTables, ATableMissesAFieldOrHasOneOfAnotherType) {
+  hdf5::SilenceHdf5ErrorPrinter();
+  TempDir dir;
+  const std::string path = dir.File("table.h5");
+  {
+    auto lock = hdf5::LockHdf5();
+    hdf5::File file = hdf5::File::Create(path);
+    hdf5::Group root = file.Root();
+    root.WriteTable("good", {hdf5::TableColumn::Strings("name", {"Q"}),
+                             hdf5::TableColumn::Doubles("value", {1.0})});
+    root.WriteTable("bad", {hdf5::TableColumn::Strings("name", {"Q"}),
+                            hdf5::TableColumn::Strings("value", {"1.0"})});
+    root.WriteTable("short", {hdf5::TableColumn::Strings("name", {"Q"})});
+    file.Close();
+  }
+  const std::string fields = R"("type": "compound", "rank": 1, "fields": {
+      "name": {"type": "string"}, "value": {"type": "float"},
+      "note": {"type": "string", "required": false}})";
+  const Schema schema = Schema::FromJsonText(
+      R"({"format": "fogpipe-schema-v1", "name": "tables", "every_numeric_dataset_has_units": true,
+          "root": {"datasets": {"good": {)" +
+          fields + R"(}, "bad": {)" + fields + R"(}, "short": {)" + fields + R"(}}}})",
+      "tables");
+  auto lock = hdf5::LockHdf5();
+  const hdf5::File file = hdf5::File::OpenReadOnly(path);
+  EXPECT_EQ(Lines(schema.Validate(file).problems),
+            "/bad: field 'value' has type string, expected float\n"
+            "/short: missing required field 'value'\n");
+}
+
 // The layouts of every HDF5 file fogpipe writes ship with it and parse.
 TEST(ShippedSchemas, EveryOutputLayoutLoads) {
-  for (const char* name : {"recording-v1", "results-v1", "campaign-v1", "sweep-v1", "compare-v1"}) {
+  for (const char* name : {"recording-v1", "results-v2", "campaign-v1", "sweep-v1", "compare-v1"}) {
     const std::string file = FindSchemaFile(name, kSchemasDir);
     ASSERT_FALSE(file.empty()) << name;
     EXPECT_EQ(Schema::FromFile(file).name(), name);
