@@ -54,7 +54,8 @@ set(CPACK_DEBIAN_PACKAGE_DESCRIPTION
 # tests/pipeline/packaging/package_test.sh fails when a NEEDED library's package is missing here.
 string(CONCAT CPACK_DEBIAN_PACKAGE_DEPENDS
     "libc6 (>= 2.35), libgcc-s1 (>= 4.0), libhdf5-103-1, libhdf5-cpp-103-1 (>= 1.10.5), "
-    "libssl3 (>= 3.0.0), libstdc++6 (>= 11), libtbb12 (>= 2021.4.0), zlib1g (>= 1:1.2.0)")
+    "libssl3 (>= 3.0.0), libstdc++6 (>= 11), libtbb12 (>= 2021.4.0), libtomlplusplus3 (>= 3.2.0), "
+    "zlib1g (>= 1:1.2.0)")
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "python3, python3-numpy, python3-h5py, python3-matplotlib")
 set(CPACK_DEBIAN_PACKAGE_SUGGESTS "slurm-client")
 include(CPack)

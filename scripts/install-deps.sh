@@ -8,7 +8,7 @@ PACKAGES=(
   build-essential cmake git pkg-config
   libeigen3-dev libhdf5-dev hdf5-tools libtbb-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev libboost-dev
-  nlohmann-json3-dev libssl-dev
+  nlohmann-json3-dev libtomlplusplus-dev libssl-dev
   python3 python3-numpy python3-h5py python3-matplotlib
 )
 if [ "${1:-}" = "--test" ]; then PACKAGES+=(chromium); fi

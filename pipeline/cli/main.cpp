@@ -54,8 +54,6 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, 64 << 20);
 #endif
   CLI::App app{"fogpipe: FOG test-campaign pipeline (EMD, per-IMF AR + Kalman, Allan variance)"};
-  // Before any subcommand is added: CLI11 2.1 otherwise ignores misspelled config keys.
-  app.allow_config_extras(CLI::config_extras_mode::error);
   app.set_version_flag("--version",
                        std::string(fogpipe::Version()) + " (" + fogpipe::GitCommit() + ")");
   app.require_subcommand(1);

@@ -34,7 +34,10 @@ struct SweepConfig {
 
 int RunSweepCommand(CLI::App* cmd, const SweepConfig& config) {
   std::string error;
-  if (!config.config_file.empty() && !graph::ApplyConfigFile(cmd, config.config_file, &error)) {
+  // The grids are texts ("2:12", "0.1,1,10"); in the file they may also be TOML arrays.
+  if (!config.config_file.empty() &&
+      !graph::ApplyConfigFile(cmd, config.config_file, &error,
+                              {"ar-order", "q-scale", "r-scale", "emd-sifts"})) {
     std::cerr << "fogpipe sweep: " << error << "\n";
     return 2;
   }
@@ -88,8 +91,8 @@ void AddSweepCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("recordings", c->recordings, "Recordings (v1 HDF5)")->required();
   cmd->add_option("-o,--output", c->output_dir, "Output folder")->required();
   cmd->add_option("--config", c->config_file,
-                  "TOML file holding the grid (keys are the long option names, e.g. "
-                  "ar-order = \"2:12\")");
+                  "TOML file of options (keys are the long option names, at the top or under "
+                  "[sweep]; e.g. ar-order = [2, 4, 8] or \"2:12\")");
   cmd->add_option("--ar-order", c->ar_order, "AR orders: FROM:TO[:STEP] or a list");
   cmd->add_option("--q-scale", c->q_scale, "Multipliers of the default q: list or FROM:TO:COUNT");
   cmd->add_option("--r-scale", c->r_scale, "Multipliers of the default R: list or FROM:TO:COUNT");

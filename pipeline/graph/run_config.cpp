@@ -1,5 +1,7 @@
 #include "pipeline/graph/run_config.h"
 
+#include <toml++/toml.h>
+
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdint>
@@ -9,6 +11,7 @@
 #include <optional>
 #include <stdexcept>
 #include <thread>
+#include <tuple>
 #include <type_traits>
 
 #include "pipeline/graph/memory_budget.h"
@@ -33,10 +36,19 @@ std::string Number(double value) {
   return out;
 }
 
+// A TOML basic string. Control characters, which TOML allows only escaped, are written as \uXXXX;
+// every other byte as it is, so the text of a string without them is what it always was.
 std::string Quoted(const std::string& text) {
   std::string out = "\"";
   for (char c : text) {
-    if (c == '"' || c == '\\') out += '\\';
+    if (c == '"' || c == '\\') {
+      out += '\\';
+    } else if ((c >= 0 && c < 0x20) || c == 0x7f) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof(escaped), "\\u%04x", static_cast<unsigned>(c));
+      out += escaped;
+      continue;
+    }
     out += c;
   }
   return out + "\"";
@@ -179,7 +191,8 @@ Rows InputOutputOptions() {
        {},
        ExistingFolder},
       {"--config", "config", &C::config_file, nullptr,
-       "TOML file of options (keys are the long option names; unknown keys are errors)"},
+       "TOML file of options: keys are the long option names, at the top or under [run]; unknown "
+       "keys are errors"},
   };
 }
 
@@ -524,6 +537,221 @@ void HashConfiguration(const RunConfig& c, CampaignOptions* o) {
   o->config_sha256 = io::Sha256Hex(o->config_toml);
 }
 
+// The --config file, read by toml++: where each key is, what it may hold, and the option it sets.
+
+// "FILE:LINE:COLUMN: ", where something in a config file is.
+std::string At(const std::string& path, const toml::source_position& where) {
+  if (where.line == 0) return path + ": ";
+  return path + ":" + std::to_string(where.line) + ":" + std::to_string(where.column) + ": ";
+}
+
+bool ParseConfigFile(const std::string& path, toml::table* file, std::string* error) {
+  if (const std::string problem = io::RegularFileProblem(path); !problem.empty()) {
+    *error = path + ": --config needs a TOML file, but " + problem;
+    return false;
+  }
+  try {
+    *file = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    *error = At(path, e.source().begin) + std::string(e.description());
+    return false;
+  }
+  return true;
+}
+
+// One `key = value` of a config file.
+struct ConfigEntry {
+  std::string key;
+  const toml::node* value;
+  toml::source_position where;  ///< of the key
+};
+
+// The sections of the other commands that read --config (sweep's for run, run's for sweep): one
+// file may hold both, each command reading its own.
+std::vector<std::string> OtherCommandsSections(const CLI::App& cmd) {
+  std::vector<std::string> names;
+  if (const CLI::App* parent = cmd.get_parent()) {
+    for (const CLI::App* other : parent->get_subcommands([](const CLI::App*) { return true; })) {
+      if (other != &cmd && other->get_option_no_throw("--config") != nullptr) {
+        names.push_back(other->get_name());
+      }
+    }
+  }
+  return names;
+}
+
+// The table that holds the command's options besides the top level ([run] for `fogpipe run`), and
+// the other commands' tables, which are skipped.
+struct ConfigSections {
+  std::string own;
+  std::vector<std::string> skipped;
+};
+
+// A table that is neither the command's section nor another command's: named in the error, since
+// its keys would otherwise be lost.
+std::string NotASection(const std::string& table, const std::string& section) {
+  if (section.empty()) return "[" + table + "] holds no options: they go at the top of the file";
+  return "[" + table + "] is not a section of fogpipe " + section +
+         ": its options go at the top of the file or under [" + section + "]";
+}
+
+// The entries of `table` and of the command's own table within it ([run]; a dotted key run.q or an
+// inline table run = {...} is the same table in TOML). A key both at the top and in the section is
+// an error, as a key given twice is in TOML.
+bool CollectTable(const toml::table& table, const std::string& prefix, const std::string& path,
+                  const ConfigSections& sections, std::vector<ConfigEntry>* entries,
+                  std::string* error) {
+  for (auto&& [key, value] : table) {
+    const std::string name(key.str());
+    if (const toml::table* inner = value.as_table()) {
+      const bool top = prefix.empty();
+      if (top && !sections.own.empty() && name == sections.own) {
+        if (!CollectTable(*inner, name, path, sections, entries, error)) return false;
+      } else if (!top || std::find(sections.skipped.begin(), sections.skipped.end(), name) ==
+                             sections.skipped.end()) {
+        *error = At(path, key.source().begin) +
+                 NotASection(top ? name : prefix + "." + name, sections.own);
+        return false;
+      }
+      continue;
+    }
+    for (const ConfigEntry& seen : *entries) {
+      if (seen.key != name) continue;
+      *error = At(path, key.source().begin) + "'" + name +
+               "' is given twice: at the top of the file and in [" + sections.own + "]";
+      return false;
+    }
+    entries->push_back({name, &value, key.source().begin});
+  }
+  return true;
+}
+
+// The entries in the order of the file, so that the first error reported is the first in it.
+bool CollectEntries(const toml::table& file, const std::string& path,
+                    const ConfigSections& sections, std::vector<ConfigEntry>* entries,
+                    std::string* error) {
+  if (!CollectTable(file, "", path, sections, entries, error)) return false;
+  std::stable_sort(
+      entries->begin(), entries->end(), [](const ConfigEntry& a, const ConfigEntry& b) {
+        return std::tie(a.where.line, a.where.column) < std::tie(b.where.line, b.where.column);
+      });
+  return true;
+}
+
+// The option a key sets: --KEY, or the positional argument named KEY (run's inputs, sweep's
+// recordings). Not --config itself, nor --help, nor a short name spelled with its dash.
+CLI::Option* OptionOfKey(CLI::App* cmd, const std::string& key) {
+  if (key.empty() || key[0] == '-' || key == "config" || key == "help") return nullptr;
+  if (CLI::Option* option = cmd->get_option_no_throw("--" + key)) return option;
+  CLI::Option* positional = cmd->get_option_no_throw(key);
+  return positional != nullptr && positional->get_positional() ? positional : nullptr;
+}
+
+// What an option takes, as TOML: CLI11's own type of the option (INT, UINT, FLOAT, TEXT; a flag
+// takes none), one value or a list.
+enum class ValueKind { kBool, kInteger, kNumber, kText };
+struct Expected {
+  ValueKind kind;
+  bool many;        ///< a list option: an array (or one value)
+  bool comma_list;  ///< one text spelled FROM:TO or a,b,c: an array joined with ','
+};
+
+Expected ExpectedOf(const CLI::Option& option, bool comma_list) {
+  if (option.get_expected_min() == 0) return {ValueKind::kBool, false, false};
+  const std::string type = option.get_type_name();
+  const std::string base = type.substr(0, type.find(':'));
+  const ValueKind kind = base == "INT" || base == "UINT" ? ValueKind::kInteger
+                         : base == "FLOAT"               ? ValueKind::kNumber
+                                                         : ValueKind::kText;
+  return {kind, option.get_items_expected_max() > 1, comma_list && kind == ValueKind::kText};
+}
+
+std::string KindName(ValueKind kind, bool plural) {
+  switch (kind) {
+    case ValueKind::kBool:
+      return plural ? "booleans" : "true or false";
+    case ValueKind::kInteger:
+      return plural ? "integers" : "an integer";
+    case ValueKind::kNumber:
+      return plural ? "numbers" : "a number";
+    default:
+      return plural ? "strings" : "a string";
+  }
+}
+
+std::string ExpectedName(const Expected& expected) {
+  if (expected.comma_list) return "a string or an array of numbers or strings";
+  if (expected.many) {
+    return KindName(expected.kind, false) + " or an array of " + KindName(expected.kind, true);
+  }
+  return KindName(expected.kind, false);
+}
+
+std::string TomlTypeName(const toml::node& value) {
+  switch (value.type()) {
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a float";
+    case toml::node_type::boolean:
+      return "a boolean";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::table:
+      return "a table";
+    default:
+      return "a date or time";
+  }
+}
+
+// One TOML value as the option's command-line text: strictly typed (a number is not read from a
+// string, nor an integer option from a float); an integer is a valid number. Floats go through
+// %.17g, which CLI11 reads back to the same double.
+std::optional<std::string> ScalarText(const toml::node& value, ValueKind kind) {
+  if (kind == ValueKind::kBool && value.is_boolean()) {
+    return value.as_boolean()->get() ? "true" : "false";
+  }
+  if ((kind == ValueKind::kInteger || kind == ValueKind::kNumber) && value.is_integer()) {
+    return std::to_string(value.as_integer()->get());
+  }
+  if (kind == ValueKind::kNumber && value.is_floating_point()) {
+    return Number(value.as_floating_point()->get());
+  }
+  if (kind == ValueKind::kText && value.is_string()) return value.as_string()->get();
+  return std::nullopt;
+}
+
+// The texts CLI11 gets for one key; false with "expected ..., got ..." in *error.
+bool OptionTexts(const toml::node& value, const Expected& expected, std::vector<std::string>* texts,
+                 std::string* error) {
+  const toml::array* array = value.as_array();
+  if (array != nullptr && (expected.many || expected.comma_list)) {
+    std::string joined;
+    for (const toml::node& element : *array) {
+      std::optional<std::string> text = ScalarText(element, expected.kind);
+      if (expected.comma_list && !text) text = ScalarText(element, ValueKind::kNumber);
+      if (!text) {
+        *error = "expected " + ExpectedName(expected) + ", got an array holding " +
+                 TomlTypeName(element);
+        return false;
+      }
+      if (expected.many) texts->push_back(*text);
+      joined += (joined.empty() ? "" : ",") + *text;
+    }
+    if (expected.comma_list) texts->push_back(joined);
+    return true;
+  }
+  std::optional<std::string> text = ScalarText(value, expected.kind);
+  if (!text) {
+    *error = "expected " + ExpectedName(expected) + ", got " + TomlTypeName(value);
+    return false;
+  }
+  texts->push_back(*text);
+  return true;
+}
+
 }  // namespace
 
 const std::vector<RunOption>& RunOptions() {
@@ -558,37 +786,50 @@ void AddRunOptions(CLI::App* cmd, RunConfig* c, const std::vector<std::string>& 
   }
 }
 
-bool ApplyConfigFile(CLI::App* cmd, const std::string& path, std::string* error) {
-  if (const std::string problem = io::RegularFileProblem(path); !problem.empty()) {
-    *error = path + ": --config needs a TOML file, but " + problem;
+bool ApplyConfigFile(CLI::App* cmd, const std::string& path, std::string* error,
+                     const std::vector<std::string>& comma_lists) {
+  toml::table file;
+  std::vector<ConfigEntry> entries;
+  if (!ParseConfigFile(path, &file, error) ||
+      !CollectEntries(file, path, {cmd->get_name(), OtherCommandsSections(*cmd)}, &entries,
+                      error)) {
     return false;
   }
-  try {
-    for (const CLI::ConfigItem& item : CLI::ConfigTOML().from_file(path)) {
-      const std::string key =
-          (item.parents.empty() ? "" : CLI::detail::join(item.parents, ".") + ".") + item.name;
-      CLI::Option* option =
-          item.parents.empty() ? cmd->get_option_no_throw("--" + item.name) : nullptr;
-      if (option == nullptr || key == "config") {
-        *error = path + ": unknown configuration key '" + key + "'";
-        return false;
-      }
-      if (option->count() > 0) continue;  // the command line wins
-      option->add_result(item.inputs);
-      option->run_callback();
+  for (const ConfigEntry& entry : entries) {
+    CLI::Option* option = OptionOfKey(cmd, entry.key);
+    if (option == nullptr) {
+      *error = At(path, entry.where) + "unknown configuration key '" + entry.key + "'";
+      return false;
     }
-  } catch (const CLI::Error& e) {
-    *error = path + ": " + e.what();
-    return false;
+    if (option->count() > 0) continue;  // the command line wins
+    const bool comma_list =
+        std::find(comma_lists.begin(), comma_lists.end(), entry.key) != comma_lists.end();
+    std::vector<std::string> texts;
+    if (!OptionTexts(*entry.value, ExpectedOf(*option, comma_list), &texts, error)) {
+      *error = At(path, entry.value->source().begin) + entry.key + ": " + *error;
+      return false;
+    }
+    if (texts.empty()) continue;  // an empty list: the lists' default
+    try {
+      option->add_result(texts);
+      option->run_callback();
+    } catch (const CLI::Error& e) {
+      *error = At(path, entry.value->source().begin) + e.what();
+      return false;
+    }
   }
   return true;
+}
+
+std::string ConfigTomlLine(const RunConfig& c, const RunOption& option) {
+  return option.key + " = " + TomlValue(c, option.member) + "\n";
 }
 
 std::string EffectiveConfigToml(const RunConfig& c) {
   std::string out =
       "# fogpipe run: effective configuration (" + std::string(io::results::kFormat) + ")\n";
   for (const RunOption& option : RunOptions()) {
-    if (option.hashed) out += option.key + " = " + TomlValue(c, option.member) + "\n";
+    if (option.hashed) out += ConfigTomlLine(c, option);
   }
   return out;
 }

@@ -124,12 +124,24 @@ const std::vector<RunOption>& RunOptions();
 /// are listed (another command sharing them, such as sweep's --threads).
 void AddRunOptions(CLI::App* cmd, RunConfig* config, const std::vector<std::string>& keys = {});
 
-/// Applies a TOML file (keys = long option names, no sections) to the options of `cmd` that were
-/// not given on the command line. Returns false with *error for an unreadable file, an unknown key
-/// or a value an option rejects.
-bool ApplyConfigFile(CLI::App* cmd, const std::string& path, std::string* error);
+/// Applies a TOML file to the options of `cmd` that were not given on the command line (the
+/// command line wins). Its keys are the long option names (or a positional argument's name, such
+/// as run's `inputs`), at the top of the file or in the table named after the command (`[run]`);
+/// the tables of the other commands that read --config are skipped, any other table is an error.
+/// Values are typed: a list option takes an array, and each key of `comma_lists` (a single text
+/// such as sweep's "2:12" or "0.1,1,10") takes an array joined with ','. Returns false with
+/// *error "FILE:LINE:COLUMN: ..." for a syntax error, an unknown key, a value of the wrong type or
+/// one the option rejects.
+bool ApplyConfigFile(CLI::App* cmd, const std::string& path, std::string* error,
+                     const std::vector<std::string>& comma_lists = {});
 
-/// The options that change numbers, as TOML in a fixed order (itself a valid --config file).
+/// One option's `key = value` line, as EffectiveConfigToml writes it (for any row, hashed or not):
+/// floats as %.17g with a '.' or an exponent, strings as TOML basic strings.
+std::string ConfigTomlLine(const RunConfig& config, const RunOption& option);
+
+/// The options that change numbers, as TOML in a fixed order (itself a valid --config file). The
+/// text is written here rather than by toml++, whose writer orders keys alphabetically and
+/// formats floats otherwise: its SHA-256 is every results file's rerun key (docs/dependencies.md).
 std::string EffectiveConfigToml(const RunConfig& config);
 
 /// Translates the configuration into campaign options (method, storage, threads, budget, hash):

@@ -227,6 +227,14 @@ def case_config(tmp, rec):
         check("max-ar-order = 8" in text, "the effective config records the config file's value")
         check(f["axes/axis0/decomposition/imfs"].dtype == np.float64, "imf-storage float64 applied")
         check(int(np.nanmax(f["axes/axis0/models/order"][:])) <= 8, "max-ar-order applied")
+    # The inputs and the output folder can come from the file too, the inputs as a TOML array.
+    cfg = os.path.join(tmp, "section.toml")
+    outs = os.path.join(tmp, "outs")
+    with open(cfg, "w") as fh:
+        fh.write(f'[run]\ninputs = [\n  "{os.path.join(rec, "good1.h5")}",\n]\noutput = "{outs}"\n')
+    r = run(["run", "--config", cfg])
+    check(r.returncode == 0 and os.path.exists(os.path.join(outs, "good1.fogpipe.h5")),
+          f"a [run] section gives the inputs and the output folder: {r.stderr.strip()[:200]}")
     r = run(["run", os.path.join(rec, "good1.h5"), "-o", outc, "--memory-budget", "12Q"])
     check(r.returncode == 2, "a bad --memory-budget exits 2")
 

@@ -86,7 +86,8 @@ def main():
         "--seed", "4", "--n-deg-sqrt-h", "0.05", "--rate-profile", "step:300:20,sine:0.005:10")
     config = os.path.join(tmp, "grid.toml")
     with open(config, "w") as f:
-        f.write('ar-order = "2,4"\nq-scale = "0.1,1"\nr-scale = "1,10,100"\n')
+        # A grid as the command line spells it, or as a TOML array; in [sweep] or at the top.
+        f.write('ar-order = "2,4"\n[sweep]\nq-scale = [0.1, 1]\nr-scale = [1, 10, 100]\n')
     out = os.path.join(tmp, "sweep")
     p = run(fogpipe, "sweep", rec, "-o", out, "--config", config, "--threads", "2")
     print(p.stdout)

@@ -4,12 +4,15 @@
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <toml++/toml.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -20,6 +23,7 @@
 
 #include "pipeline/graph/memory_budget.h"
 #include "pipeline/io/inputs.h"
+#include "pipeline/io/sha256.h"
 
 namespace fogpipe::graph {
 namespace {
@@ -135,8 +139,8 @@ TEST(RunOptions, OnlyTheOptionsThatRunReadsItselfHaveNoPlaceInTheCampaignOptions
                                                   "shard-by", "config"}));
 }
 
-// The hashed text is itself a --config file: read back through CLI11's TOML reader onto fresh
-// options it sets every hashed value as it was (here all of them changed at once).
+// The hashed text is itself a --config file: read back onto fresh options it sets every hashed
+// value as it was (here all of them changed at once).
 TEST(RunOptions, TheHashedConfigurationReadsBackAsTheSameConfigFile) {
   CLI::App app;
   RunConfig config;
@@ -193,6 +197,9 @@ TEST(RunOptions, TheDefaultConfigurationTextNamesTheResultsLayoutAndFloat32Imfs)
             "taus = \"octave\"\n"
             "noise-id = \"calibrated\"\n"
             "model = \"\"\n");
+  // As the results files of the version before toml++ read --config hold it.
+  EXPECT_EQ(io::Sha256Hex(EffectiveConfigToml(RunConfig{})),
+            "d2dd956dfba40c240f927cadab150cd8e042f6cb34d399804ba7531ae6e3dfac");
 }
 
 // A quantity's --help line ends with its unit; a choice's lists its spellings.
@@ -391,6 +398,305 @@ TEST(RunConfig, ManifestAndModelFilesMustBeRegularFiles) {
     EXPECT_NE(error.find("needs a model file"), std::string::npos) << error;
   }
   unlink(fifo.c_str());
+}
+
+// ---- The --config file
+
+// `fogpipe run`'s options on a command named run, beside a sweep command that also reads
+// --config, as in the binary. Read() writes `text` to a file and applies it after the command
+// line `args`.
+class ConfigFile : public ::testing::Test {
+ protected:
+  ~ConfigFile() override { unlink(path.c_str()); }
+
+  bool Read(const std::string& text, std::vector<std::string> args = {}) {
+    {
+      std::ofstream file(path);
+      file << text;
+    }
+    config = RunConfig{};
+    CLI::App top;
+    CLI::App* run = top.add_subcommand("run");
+    AddRunOptions(run, &config);
+    CLI::App* sweep = top.add_subcommand("sweep");
+    sweep->add_option("--config", sweep_config);
+    args.insert(args.begin(), "run");
+    Parse(&top, args);
+    error.clear();
+    return ApplyConfigFile(run, path, &error);
+  }
+
+  const std::string path = "/tmp/fogpipe-config-file-test-" + std::to_string(getpid()) + ".toml";
+  RunConfig config;
+  std::string sweep_config;
+  std::string error;
+};
+
+TEST_F(ConfigFile, AFlatFileOfLongOptionNamesSetsTheOptions) {
+  ASSERT_TRUE(
+      Read("# campaign 7\nq-scale = 2.0 # doubled\n\nthreads = 3\nsmooth = true\n"
+           "taus = \"decade\"\n"))
+      << error;
+  EXPECT_EQ(config.q_scale, 2.0);
+  EXPECT_EQ(config.threads, 3);
+  EXPECT_TRUE(config.smooth);
+  EXPECT_EQ(config.taus, "decade");
+}
+
+// A config file written for the version before toml++ read it gives the same configuration text,
+// so the campaigns it ran are not redone: the hash is the one their results files hold.
+TEST_F(ConfigFile, AFileThatWorkedBeforeGivesTheSameConfigurationHash) {
+  ASSERT_TRUE(
+      Read("# a campaign config as users wrote it for CLI11\nq-scale = 2.0\n"
+           "r-scale = 0.5 # halved\ntaus = \"decade\"\nemd-sifts = 12\nsmooth = true\n"
+           "threads = 1\nmemory-budget = \"512M\"\nnoise-id = \"stable32\"\n"))
+      << error;
+  EXPECT_EQ(io::Sha256Hex(EffectiveConfigToml(config)),
+            "7fb67cf2400b327fcfaecaaeca5630c17a2b23fbfe3d356ae45db8be2f651ab9");
+}
+
+// [run] holds the options as the top level does; in TOML a dotted key run.q or an inline table
+// run = {...} is the same table.
+TEST_F(ConfigFile, TheRunSectionHoldsTheOptionsAsTheTopLevelDoes) {
+  ASSERT_TRUE(Read("threads = 2\n[run]\nq-scale = 2.0\nnoise-id = \"stable32\"\n")) << error;
+  EXPECT_EQ(config.threads, 2);
+  EXPECT_EQ(config.q_scale, 2.0);
+  EXPECT_EQ(config.noise_id, "stable32");
+  ASSERT_TRUE(Read("run.r-scale = 3.0\n")) << error;
+  EXPECT_EQ(config.r_scale, 3.0);
+  ASSERT_TRUE(Read("run = { max-imfs = 4, smooth = true }\n")) << error;
+  EXPECT_EQ(config.max_imfs, 4);
+  EXPECT_TRUE(config.smooth);
+}
+
+// One file can serve run and sweep: each reads its own section and skips the other's.
+TEST_F(ConfigFile, TheSweepSectionIsLeftToSweep) {
+  ASSERT_TRUE(Read("[run]\nq-scale = 2.0\n[sweep]\nar-order = [2, 4, 8]\n")) << error;
+  EXPECT_EQ(config.q_scale, 2.0);
+  EXPECT_EQ(config.ar_order, 0);
+}
+
+// Any other table would lose its keys silently: it is an error that names it and says where the
+// options go.
+TEST_F(ConfigFile, AnyOtherTableIsAnErrorNamingIt) {
+  EXPECT_FALSE(Read("[kalman]\nq-scale = 2.0\n"));
+  EXPECT_EQ(error, path +
+                       ":1:2: [kalman] is not a section of fogpipe run: its options go at the top "
+                       "of the file or under [run]");
+  EXPECT_FALSE(Read("[run.kalman]\nq-scale = 2.0\n"));
+  EXPECT_EQ(error, path +
+                       ":1:6: [run.kalman] is not a section of fogpipe run: its options go at the "
+                       "top of the file or under [run]");
+}
+
+TEST_F(ConfigFile, AKeyBothAtTheTopAndInTheSectionIsAnError) {
+  EXPECT_FALSE(Read("q-scale = 2.0\n[run]\nq-scale = 3.0\n"));
+  EXPECT_EQ(error, path + ":3:1: 'q-scale' is given twice: at the top of the file and in [run]");
+}
+
+TEST_F(ConfigFile, ListsAreTomlArraysAcrossLinesWithComments) {
+  ASSERT_TRUE(Read("inputs = [\n  \"a.h5\",\n  # the second day\n  'b \"day 2\".h5',\n]\n"))
+      << error;
+  EXPECT_EQ(config.inputs, (std::vector<std::string>{"a.h5", "b \"day 2\".h5"}));
+  ASSERT_TRUE(Read("inputs = \"one.h5\"\n")) << error;
+  EXPECT_EQ(config.inputs, (std::vector<std::string>{"one.h5"}));
+}
+
+// TOML's other spellings of numbers and strings mean what TOML says (the TOML subset read before
+// took 1_000 and 0o17 for text, and kept a literal string's quotes and a basic string's escapes).
+TEST_F(ConfigFile, NumbersAndStringsInEveryTomlSpellingAreReadAsTomlDefinesThem) {
+  ASSERT_TRUE(
+      Read("max-nan-gap = 1_000\nemd-sifts = 0x10\nmax-imfs = 0o17\nar-order = 0b101\n"
+           "q = 1e-9\nr = +2.5E-8\nq-scale = 1_000.5\nr-scale = 3\n"
+           "model = 'C:\\models\\thermal.json'\ntaus = \"\"\"\ndecade\"\"\"\n"
+           "noise-id = '''stable32'''\n"
+           "manifest = \"a\\\"b\\tc\\u00e9\"\n"))
+      << error;
+  EXPECT_EQ(config.max_nan_gap, 1000);
+  EXPECT_EQ(config.emd_sifts, 16);
+  EXPECT_EQ(config.max_imfs, 15);
+  EXPECT_EQ(config.ar_order, 5);
+  EXPECT_EQ(config.q, 1e-9);
+  EXPECT_EQ(config.r, 2.5e-8);
+  EXPECT_EQ(config.q_scale, 1000.5);
+  EXPECT_EQ(config.r_scale, 3.0);
+  EXPECT_EQ(config.model, "C:\\models\\thermal.json");
+  EXPECT_EQ(config.taus, "decade");
+  EXPECT_EQ(config.noise_id, "stable32");
+  EXPECT_EQ(config.manifest, "a\"b\tc\xc3\xa9");
+}
+
+// A syntax error, a key given twice included, is reported where it is, in the editors' form.
+TEST_F(ConfigFile, ASyntaxErrorNamesFileLineAndColumn) {
+  EXPECT_FALSE(Read("q-scale = = 2\n"));
+  EXPECT_EQ(error, path + ":1:11: Error while parsing value: could not determine value type");
+  EXPECT_FALSE(Read("q-scale = 2.0\nq-scale = 3.0\n"));
+  EXPECT_EQ(error, path +
+                       ":2:11: Error while parsing key-value pair: cannot redefine existing "
+                       "floating-point 'q-scale'");
+  EXPECT_FALSE(Read("\ntaus = \"decade\n"));
+  EXPECT_EQ(error.rfind(path + ":2:15: Error while parsing string: ", 0), 0u) << error;
+}
+
+TEST_F(ConfigFile, AnUnknownKeyIsAnErrorNamingFileLineAndKey) {
+  EXPECT_FALSE(Read("q-scale = 2.0\nqscale = 2.0\n"));
+  EXPECT_EQ(error, path + ":2:1: unknown configuration key 'qscale'");
+  EXPECT_FALSE(Read("config = \"other.toml\"\n"));
+  EXPECT_EQ(error, path + ":1:1: unknown configuration key 'config'");
+}
+
+// Values are typed: a number is not read from a string, nor an integer from a float, nor a flag
+// from a string. An integer is a valid number.
+TEST_F(ConfigFile, AValueOfTheWrongTypeIsAnErrorNamingTheKeyAndTheExpectedType) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"q = \"abc\"", ":1:5: q: expected a number, got a string"},
+      {"q = \"1e-9\"", ":1:5: q: expected a number, got a string"},
+      {"threads = 1.5", ":1:11: threads: expected an integer, got a float"},
+      {"smooth = \"yes\"", ":1:10: smooth: expected true or false, got a string"},
+      {"taus = 3", ":1:8: taus: expected a string, got an integer"},
+      {"q-scale = [2.0, 3.0]", ":1:11: q-scale: expected a number, got an array"},
+      {"q = 1979-05-27", ":1:5: q: expected a number, got a date or time"},
+      {"inputs = [\"a.h5\", 2]",
+       ":1:10: inputs: expected a string or an array of strings, got an array holding an "
+       "integer"},
+  };
+  for (const auto& [text, message] : cases) {
+    EXPECT_FALSE(Read(text + "\n")) << text;
+    EXPECT_EQ(error, path + message);
+  }
+}
+
+// The options' own checks (ranges, choices) hold for the file as for the command line.
+TEST_F(ConfigFile, AValueTheOptionRejectsIsAnErrorNamingTheOption) {
+  EXPECT_FALSE(Read("threads = 99999\n"));
+  EXPECT_EQ(error, path + ":1:11: --threads: Value 99999 not in range 0 to 4096");
+  EXPECT_FALSE(Read("noise-id = \"allantools\"\n"));
+  EXPECT_EQ(error, path + ":1:12: --noise-id: allantools not in {calibrated,stable32}");
+}
+
+TEST_F(ConfigFile, TheCommandLineWinsOverTheFile) {
+  ASSERT_TRUE(Read("q-scale = 2.0\nr-scale = 3.0\n[run]\ninputs = [\"file.h5\"]\n",
+                   {"--q-scale", "5", "cli.h5"}))
+      << error;
+  EXPECT_EQ(config.q_scale, 5.0);
+  EXPECT_EQ(config.r_scale, 3.0);
+  EXPECT_EQ(config.inputs, (std::vector<std::string>{"cli.h5"}));
+}
+
+// Sweep's grids are single texts ("2:12", "0.1,1,10"): a TOML array is joined with ','.
+TEST(ConfigFileGrids, AGridGivenAsATomlArrayIsTheCommaListItSpellsOnTheCommandLine) {
+  const std::string path = "/tmp/fogpipe-config-grid-test-" + std::to_string(getpid()) + ".toml";
+  {
+    std::ofstream file(path);
+    file << "ar-order = [2, 4, 8]\nq-scale = [0.5, 1, 10]\nr-scale = \"0.1:10:5\"\n";
+  }
+  CLI::App app;
+  std::string ar_order, q_scale, r_scale;
+  app.add_option("--ar-order", ar_order);
+  app.add_option("--q-scale", q_scale);
+  app.add_option("--r-scale", r_scale);
+  Parse(&app, {});
+  std::string error;
+  EXPECT_TRUE(ApplyConfigFile(&app, path, &error, {"ar-order", "q-scale", "r-scale"})) << error;
+  EXPECT_EQ(ar_order, "2,4,8");
+  EXPECT_EQ(q_scale, "0.5,1,10");
+  EXPECT_EQ(r_scale, "0.1:10:5");
+  unlink(path.c_str());
+}
+
+// ---- The configuration text, read by toml++
+
+// Values that a writer of TOML gets wrong most easily, each within its option's range.
+RunConfig AwkwardValues() {
+  RunConfig c;
+  c.inputs = {"a \"quoted\" name.h5", "C:\\data\\day 2.h5", "tab\there", "\xc3\xa9.h5"};
+  c.manifest = "line\nbreak";
+  c.output_dir = "\\\\server\\share";
+  c.drop_start_s = 1e-300;
+  c.band_limit_ratio = 0.1;
+  c.q = -2.5e-9;
+  c.r = 4.9406564584124654e-324;
+  c.q_scale = 1.7976931348623157e308;
+  c.r_scale = 0.1;
+  c.smooth = true;
+  c.taus = "";
+  c.model = "\x7f\x01 control \"\\";
+  return c;
+}
+
+// Whether TOML value `node` holds exactly the option's value in `config` (a double to the bit).
+bool HoldsExactly(const toml::node& node, const RunConfig& config,
+                  const RunOption::Member& member) {
+  return std::visit(
+      [&](auto pointer) {
+        const auto& value = config.*pointer;
+        using T = std::decay_t<decltype(value)>;
+        if constexpr (std::is_same_v<T, double>) {
+          const std::optional<double> read = node.value_exact<double>();
+          return read && std::memcmp(&*read, &value, sizeof(double)) == 0;
+        } else if constexpr (std::is_same_v<T, int>) {
+          return node.value_exact<std::int64_t>() == std::optional<std::int64_t>(value);
+        } else if constexpr (std::is_same_v<T, bool> || std::is_same_v<T, std::string>) {
+          return node.value_exact<T>() == std::optional<T>(value);
+        } else {
+          const toml::array* array = node.as_array();
+          if (array == nullptr || array->size() != value.size()) return false;
+          for (std::size_t i = 0; i < value.size(); ++i) {
+            if ((*array)[i].value_exact<std::string>() != std::optional<std::string>(value[i])) {
+              return false;
+            }
+          }
+          return true;
+        }
+      },
+      member);
+}
+
+// Every line the canonical writer produces, for every row (hashed or not), is TOML that toml++
+// reads back to exactly the value of the RunConfig: floats to the bit (1e-300, 0.1, -0.0, the
+// smallest subnormal, the largest double, negative ones), strings with quotes, backslashes,
+// control characters and UTF-8, negative integers, empty and non-empty lists.
+TEST(ConfigurationText, EveryLineParsesWithTomlPlusPlusToExactlyTheValueWritten) {
+  RunConfig negative = AwkwardValues();
+  negative.inputs = {};
+  negative.r_scale = -0.0;
+  negative.q_scale = -1e-300;
+  negative.max_ar_order = -2147483647 - 1;
+  negative.shard = -3;
+  for (const RunConfig& config : {RunConfig{}, AwkwardValues(), negative}) {
+    std::string text;
+    for (const RunOption& option : RunOptions()) text += ConfigTomlLine(config, option);
+    toml::table table;
+    ASSERT_NO_THROW(table = toml::parse(text)) << text;
+    for (const RunOption& option : RunOptions()) {
+      const toml::node* node = table.get(option.key);
+      ASSERT_NE(node, nullptr) << option.key;
+      EXPECT_TRUE(HoldsExactly(*node, config, option.member)) << ConfigTomlLine(config, option);
+    }
+    EXPECT_EQ(table.size(), RunOptions().size());
+  }
+  EXPECT_EQ(ConfigTomlLine(AwkwardValues(), RunOptions()[0]),
+            "inputs = [\"a \\\"quoted\\\" name.h5\", \"C:\\\\data\\\\day 2.h5\", "
+            "\"tab\\u0009here\", \"\xc3\xa9.h5\"]\n");
+}
+
+// Through fogpipe's own reader too: the hashed text of awkward floats and strings is a --config
+// file that gives the same text back.
+TEST(ConfigurationText, ReadAsAConfigFileItGivesTheSameTextBack) {
+  const std::string text = EffectiveConfigToml(AwkwardValues());
+  const std::string path = "/tmp/fogpipe-config-text-test-" + std::to_string(getpid()) + ".toml";
+  {
+    std::ofstream file(path);
+    file << text;
+  }
+  CLI::App app;
+  RunConfig reread;
+  AddRunOptions(&app, &reread);
+  Parse(&app, {});
+  std::string error;
+  EXPECT_TRUE(ApplyConfigFile(&app, path, &error)) << error;
+  EXPECT_EQ(EffectiveConfigToml(reread), text);
+  unlink(path.c_str());
 }
 
 }  // namespace
