@@ -286,11 +286,22 @@ def table5_html(axis_group, order):
 
 
 def recording_page(outdir, results_file, report_dir):
+    """The page of one recording of the campaign, linked back to the overview."""
     name = stem(results_file)
-    folder = os.path.join(report_dir, "recordings", name)
+    write_recording_page(os.path.join(outdir, results_file),
+                         os.path.join(report_dir, "recordings", name), "../../index.html")
+    return f"recordings/{name}/index.html"
+
+
+def write_recording_page(results_path, folder, overview_link=None):
+    """FOLDER/index.html and its pictures for one results file of `fogpipe run` (also used by
+    scripts/report.py for a single results file)."""
+    name = stem(os.path.basename(results_path))
     os.makedirs(folder, exist_ok=True)
-    parts = [f"<p><a href=\"../../index.html\">campaign overview</a></p><h1>{html.escape(name)}</h1>"]
-    with h5py.File(os.path.join(outdir, results_file), "r") as f:
+    parts = [f"<h1>{html.escape(name)}</h1>"]
+    if overview_link:
+        parts.insert(0, f'<p><a href="{overview_link}">campaign overview</a></p>')
+    with h5py.File(results_path, "r") as f:
         prov = f["provenance"].attrs
         parts.append(f"<p>input {html.escape(text(prov.get('input_path', '')))}, fogpipe "
                      f"{html.escape(text(prov.get('fogpipe_version', '')))}</p>")
@@ -323,7 +334,6 @@ def recording_page(outdir, results_file, report_dir):
                 parts.append(f'<figure><img src="{file}" alt="{html.escape(caption)}">'
                              f"<figcaption>{html.escape(caption)}</figcaption></figure>")
     write_text_atomic(os.path.join(folder, "index.html"), page(name, "\n".join(parts)))
-    return f"recordings/{name}/index.html"
 
 
 def overview_table(columns, units, links):

@@ -1,15 +1,22 @@
 #!/usr/bin/python3
-"""Picture report of `fogpipe compare`, from a RESULTS file's /compare history.
+"""Pictures of one results file: of `fogpipe compare`'s history, or of `fogpipe run`'s results.
 
     /usr/bin/python3 scripts/report.py RESULTS.h5 -o DIR [--step N]
 
-Writes DIR/allan.png, psd.png, time.png, aux.png, imf.png and history.png (Debian python3-matplotlib,
-python3-h5py, numpy only). Each picture shows where the model fails: failing tau ranges, lines,
-time windows and aux channels are shaded or marked in red. Layout: schemas/model-history.md.
+A file with a /compare history (`fogpipe compare -o`): DIR/allan.png, psd.png, time.png, aux.png,
+imf.png and history.png. Each picture shows where the model fails: failing tau ranges, lines, time
+windows and aux channels are shaded or marked in red. Layout: schemas/model-history.md.
+
+A results file of `fogpipe run` without that history: DIR/index.html with Table 5 and, per axis,
+the Allan deviations of raw, method 1, method 2 and the reference filters with intervals and noise
+types, the signals, their spectra and the IMFs (the recording page of scripts/campaign_report.py).
+
+Needs Debian's python3-matplotlib, python3-h5py and numpy only. Any other file: exit 2, naming it.
 """
 import argparse
 import json
 import os
+import sys
 
 import h5py
 import matplotlib
@@ -251,13 +258,47 @@ def history_view(f, out):
     plt.close(fig)
 
 
+def kind_of(path):
+    """'compare', 'run' or an explanation of why the file has no pictures here."""
+    try:
+        with h5py.File(path, "r") as f:
+            if "compare" in f:
+                return "compare"
+            tag = f.attrs.get("fogpipe_format", b"")
+            tag = tag.decode() if isinstance(tag, bytes) else str(tag)
+            if tag == "fogpipe-results-v2":
+                return "run"
+            if tag == "fogpipe-results-v1":
+                return ("a results file of the previous layout (fogpipe-results-v1); rerun "
+                        "`fogpipe run` on its recording to rewrite it")
+            return (f"neither a results file of `fogpipe run` nor one with a `fogpipe compare` "
+                    f"history (fogpipe_format '{tag}')")
+    except OSError as e:
+        return f"cannot be read as HDF5 ({e})"
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("results")
     p.add_argument("-o", "--output", required=True)
-    p.add_argument("--step", type=int, default=None, help="history step (default: the last)")
+    p.add_argument("--step", type=int, default=None,
+                   help="history step of a compare file (default: the last)")
     a = p.parse_args()
+    kind = kind_of(a.results)
+    if kind not in ("compare", "run"):
+        print(f"report.py: {a.results}: {kind}", file=sys.stderr)
+        return 2
     os.makedirs(a.output, exist_ok=True)
+    if kind == "run":
+        if a.step is not None:
+            print(f"report.py: {a.results}: --step needs a `fogpipe compare` history; this "
+                  "file has none", file=sys.stderr)
+            return 2
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        import campaign_report  # noqa: E402  (beside this script, in the source tree and installed)
+        campaign_report.write_recording_page(a.results, a.output)
+        print(f"report.py: {os.path.join(a.output, 'index.html')}")
+        return 0
     with h5py.File(a.results, "r") as f:
         _, s, cj = load_step(f, a.step)
         allan_view(s, cj, a.output)
@@ -266,7 +307,8 @@ def main():
         aux_view(s, cj, a.output)
         imf_view(s, cj, a.output)
         history_view(f, a.output)
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
