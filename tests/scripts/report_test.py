@@ -41,6 +41,15 @@ def is_png(path):
         return f.read(8) == b"\x89PNG\r\n\x1a\n" and os.path.getsize(path) > 5000
 
 
+def check_pictures(script, path, out, what, pictures):
+    """report.py on PATH exits 0 and writes each of PICTURES into OUT as a PNG."""
+    r = report(script, path, out)
+    check(r.returncode == 0, f"{what} gives pictures (exit {r.returncode}: {r.stderr[-500:]})")
+    for name in pictures:
+        picture = os.path.join(out, name)
+        check(os.path.isfile(picture) and is_png(picture), f"{what}: {name} is a picture")
+
+
 def main():
     binary, source = sys.argv[1], sys.argv[2]
     script = os.path.join(source, "scripts", "report.py")
@@ -52,23 +61,16 @@ def main():
         results = os.path.join(tmp, "res", "rec.fogpipe.h5")
 
         out = os.path.join(tmp, "run_pictures")
-        r = report(script, results, out)
-        check(r.returncode == 0, f"a run results file gives pictures (exit {r.returncode}: {r.stderr[-500:]})")
-        for name in ("allan_axis0.png", "signals_axis0.png", "psd_axis0.png", "imfs_axis0.png"):
-            path = os.path.join(out, name)
-            check(os.path.isfile(path) and is_png(path), f"{name} is a picture")
+        check_pictures(script, results, out, "a run results file",
+                       ("allan_axis0.png", "signals_axis0.png", "psd_axis0.png", "imfs_axis0.png"))
         page = open(os.path.join(out, "index.html")).read() if os.path.isfile(
             os.path.join(out, "index.html")) else ""
         check("Table 5" in page and "allan_axis0.png" in page, "index.html holds Table 5 and the Allan picture")
 
         compared = os.path.join(tmp, "compared.h5")
         fogpipe(binary, "compare", rec, "-o", compared)
-        out = os.path.join(tmp, "compare_pictures")
-        r = report(script, compared, out)
-        check(r.returncode == 0, f"a compare history gives pictures (exit {r.returncode}: {r.stderr[-500:]})")
-        for name in ("allan.png", "psd.png", "time.png", "history.png"):
-            path = os.path.join(out, name)
-            check(os.path.isfile(path) and is_png(path), f"compare: {name} is a picture")
+        check_pictures(script, compared, os.path.join(tmp, "compare_pictures"), "a compare history",
+                       ("allan.png", "psd.png", "time.png", "history.png"))
 
         r = report(script, rec, os.path.join(tmp, "none"))
         check(r.returncode == 2 and rec in r.stderr, f"a recording is refused, named (exit {r.returncode}: {r.stderr.strip()})")
