@@ -643,6 +643,18 @@ double EngineeringValue(const NoiseTerms& terms, int term) {
   return v[term];
 }
 
+double EngineeringStandardError(const NoiseTerms& terms, int term) {
+  const NoiseTermsEngineering e = ToEngineeringUnits(terms);
+  const double se[kTerms] = {e.q_se, e.n_se, e.b_se, e.k_se, e.r_se};
+  return se[term];
+}
+
+double EngineeringAmplitude(int term, double amplitude_si) {
+  NoiseTerms t;
+  *Amplitude(&t, term) = amplitude_si;
+  return EngineeringValue(t, term);
+}
+
 const char* EngineeringUnit(int term) {
   static const char* kUnits[kTerms] = {units::kQuantizationUnit, units::kArwUnit, units::kBiasUnit,
                                        units::kRrwUnit, units::kRampUnit};

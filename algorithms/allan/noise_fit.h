@@ -120,6 +120,11 @@ const char* TermSymbol(int term);
 /// Amplitude of term j of `terms` in its engineer's unit (ToEngineeringUnits), and that unit
 /// (units.h: arcsec, deg/sqrt(h), deg/h, deg/h/sqrt(h), deg/h^2).
 double EngineeringValue(const NoiseTerms& terms, int term);
+/// The standard error of term j of `terms` in the term's engineer's unit.
+double EngineeringStandardError(const NoiseTerms& terms, int term);
+/// An amplitude of term j in its SI unit (a term's value or its upper limit) in the engineer's
+/// unit.
+double EngineeringAmplitude(int term, double amplitude_si);
 const char* EngineeringUnit(int term);
 
 /// Reliability of one fitted term.

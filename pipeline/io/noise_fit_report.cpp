@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <iomanip>
 
-
 namespace fogpipe::io {
 namespace {
 
@@ -17,21 +16,6 @@ std::string Format(double value, const char* format) {
 }
 
 nlohmann::json Number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
-
-double StandardErrorValue(const allan::NoiseTerms& terms, int term) {
-  const allan::NoiseTermsEngineering e = allan::ToEngineeringUnits(terms);
-  const double se[allan::kNoiseTermCount] = {e.q_se, e.n_se, e.b_se, e.k_se, e.r_se};
-  return se[term];
-}
-
-// The SI amplitude in the term's engineer's unit (upper limits are amplitudes too).
-double ToEngineering(int term, double si) {
-  allan::NoiseTerms t;
-  double* a[allan::kNoiseTermCount] = {&t.q_rad, &t.n_rad_sqrt_s, &t.b_rad_s, &t.k_rad_s_sqrt_s,
-                                       &t.r_rad_s2};
-  *a[term] = si;
-  return allan::EngineeringValue(t, term);
-}
 
 }  // namespace
 
@@ -84,14 +68,14 @@ void PrintNoiseFitText(std::ostream& out, const allan::NoiseFitResult& fit) {
     const double value = allan::EngineeringValue(fit.terms, j);
     std::string verdict =
         !std::isfinite(a.z) ? ""
-        : a.significant
-            ? "significant"
-            : "not significant (< " + Format(ToEngineering(j, a.upper_limit), "%.2g") + ")";
+        : a.significant     ? "significant"
+                            : "not significant (< " +
+                              Format(allan::EngineeringAmplitude(j, a.upper_limit), "%.2g") + ")";
     if (!a.reliable) verdict += (verdict.empty() ? "" : ", ") + std::string("UNRELIABLE");
     out << "  " << allan::TermSymbol(j) << "  " << std::left << std::setw(18) << kNames[j]
         << std::right << std::setw(13) << Format(value, "%.4e") << " +- " << std::left
-        << std::setw(10) << Format(StandardErrorValue(fit.terms, j), "%.2e") << std::setw(15)
-        << allan::EngineeringUnit(j) << std::right << std::setw(10)
+        << std::setw(10) << Format(allan::EngineeringStandardError(fit.terms, j), "%.2e")
+        << std::setw(15) << allan::EngineeringUnit(j) << std::right << std::setw(10)
         << Format(allan::EngineeringValue(fit.slope_readoff, j), "%.3e") << std::setw(7)
         << Format(a.z, "%.1f") << "  " << verdict << "\n";
     if (!a.reliable) out << "       " << allan::TermSymbol(j) << ": " << a.reason << "\n";
@@ -115,7 +99,7 @@ nlohmann::json NoiseFitAssessmentJson(const allan::NoiseFitResult& fit) {
                      {"unit", allan::EngineeringUnit(j)},
                      {"z", Number(a.z)},
                      {"significant", a.significant},
-                     {"upper_limit", Number(ToEngineering(j, a.upper_limit))},
+                     {"upper_limit", Number(allan::EngineeringAmplitude(j, a.upper_limit))},
                      {"readoff", Number(allan::EngineeringValue(fit.slope_readoff, j))},
                      {"reliable", a.reliable},
                      {"reason", a.reason}});

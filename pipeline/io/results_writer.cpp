@@ -155,25 +155,17 @@ void WriteReferenceFilters(Group signals, Group allan,
 }  // namespace
 
 void WriteNoiseTable(Group& noise, const allan::NoiseFitResult& fit) {
-  const allan::NoiseTermsEngineering e = allan::ToEngineeringUnits(fit.terms);
-  const double value[allan::kNoiseTermCount] = {e.q_arcsec, e.n_deg_sqrt_h, e.b_deg_h,
-                                                e.k_deg_h_sqrt_h, e.r_deg_h2};
-  const double se[allan::kNoiseTermCount] = {e.q_se, e.n_se, e.b_se, e.k_se, e.r_se};
   std::vector<std::string> names, units, reasons;
   std::vector<double> values, std_errors, z, upper_limits, readoffs;
   std::vector<long long> significant, reliable;
   for (int j = 0; j < allan::kNoiseTermCount; ++j) {
     const allan::TermAssessment& a = fit.assessment[j];
-    allan::NoiseTerms limit;
-    double* amp[allan::kNoiseTermCount] = {&limit.q_rad, &limit.n_rad_sqrt_s, &limit.b_rad_s,
-                                           &limit.k_rad_s_sqrt_s, &limit.r_rad_s2};
-    *amp[j] = a.upper_limit;
     names.push_back(allan::TermSymbol(j));
-    values.push_back(value[j]);
-    std_errors.push_back(se[j]);
+    values.push_back(allan::EngineeringValue(fit.terms, j));
+    std_errors.push_back(allan::EngineeringStandardError(fit.terms, j));
     z.push_back(a.z);
     significant.push_back(a.significant ? 1 : 0);
-    upper_limits.push_back(allan::EngineeringValue(limit, j));
+    upper_limits.push_back(allan::EngineeringAmplitude(j, a.upper_limit));
     readoffs.push_back(allan::EngineeringValue(fit.slope_readoff, j));
     reliable.push_back(a.reliable ? 1 : 0);
     units.push_back(allan::EngineeringUnit(j));
@@ -219,13 +211,9 @@ void WriteNoiseTermDatasets(Group& noise, const allan::NoiseFitResult& fit) {
     const allan::TermAssessment& a = fit.assessment[j];
     const std::string t = allan::TermSymbol(j);
     const char* unit = allan::EngineeringUnit(j);
-    allan::NoiseTerms limit;
-    double* amp[allan::kNoiseTermCount] = {&limit.q_rad, &limit.n_rad_sqrt_s, &limit.b_rad_s,
-                                           &limit.k_rad_s_sqrt_s, &limit.r_rad_s2};
-    *amp[j] = a.upper_limit;
     WriteScalar(noise, t + "_z", a.z, "1");
     WriteCount(noise, t + "_significant", a.significant ? 1 : 0, "1");
-    WriteScalar(noise, t + "_upper_limit", allan::EngineeringValue(limit, j), unit);
+    WriteScalar(noise, t + "_upper_limit", allan::EngineeringAmplitude(j, a.upper_limit), unit);
     WriteScalar(noise, t + "_readoff", allan::EngineeringValue(fit.slope_readoff, j), unit);
     WriteCount(noise, t + "_reliable", a.reliable ? 1 : 0, "1");
     noise.WriteStringAttribute(t + "_reason", a.reason);
