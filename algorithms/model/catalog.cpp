@@ -3,25 +3,89 @@
 #include <sstream>
 
 namespace fogpipe::model {
+namespace {
 
-bool IsFittedOnRate(Term term) {
-  return term == Term::kSinusoid || term == Term::kTemperature || term == Term::kTemperatureRate ||
-         term == Term::kBiasStep || term == Term::kWarmup;
+constexpr std::string_view kAuxPrefix = "aux:";
+constexpr std::string_view kAuxRatePrefix = "aux_rate:";
+
+// A channel name as input contract v1 allows it under /aux: non-empty, no '/' and no ','
+// (the term list separator).
+bool ValidChannel(std::string_view name) {
+  return !name.empty() && name.find_first_of("/,") == std::string_view::npos;
 }
 
-std::vector<Term> DefaultTerms() {
+}  // namespace
+
+ModelTerm ModelTerm::Aux(AuxForm form, std::string channel_name) {
+  ModelTerm term;
+  term.aux = form;
+  term.channel = std::move(channel_name);
+  return term;
+}
+
+bool operator==(const ModelTerm& lhs, const ModelTerm& rhs) {
+  if (lhs.aux != rhs.aux) return false;
+  return lhs.IsAux() ? lhs.channel == rhs.channel : lhs.term == rhs.term;
+}
+
+std::string ToString(const ModelTerm& term) {
+  switch (term.aux) {
+    case AuxForm::kValue:
+      return std::string(kAuxPrefix) + term.channel;
+    case AuxForm::kRate:
+      return std::string(kAuxRatePrefix) + term.channel;
+    case AuxForm::kNone:
+      break;
+  }
+  return ToString(term.term);
+}
+
+std::optional<ModelTerm> ParseModelTerm(std::string_view name) {
+  for (auto [prefix, form] : {std::make_pair(kAuxPrefix, AuxForm::kValue),
+                              std::make_pair(kAuxRatePrefix, AuxForm::kRate)}) {
+    if (name.substr(0, prefix.size()) != prefix) continue;
+    const std::string_view channel = name.substr(prefix.size());
+    if (!ValidChannel(channel)) return std::nullopt;
+    return ModelTerm::Aux(form, std::string(channel));
+  }
+  const auto term = ParseTerm(name);
+  if (!term) return std::nullopt;
+  return ModelTerm(*term);
+}
+
+bool IsFittedOnRate(const ModelTerm& term) {
+  if (term.IsAux()) return true;
+  return term.term == Term::kSinusoid || term.term == Term::kTemperature ||
+         term.term == Term::kTemperatureRate || term.term == Term::kBiasStep ||
+         term.term == Term::kWarmup;
+}
+
+std::string AuxChannelOf(const ModelTerm& term) {
+  if (term.IsAux()) return term.channel;
+  return NeedsTemperature(term.term) ? "temperature" : "";
+}
+
+bool UsesDerivative(const ModelTerm& term) {
+  return term.IsAux() ? term.aux == AuxForm::kRate : term.term == Term::kTemperatureRate;
+}
+
+std::vector<ModelTerm> DefaultTerms() {
   return {Term::kWhite, Term::kQuantization, Term::kBiasInstability, Term::kRateRandomWalk,
           Term::kRateRamp};
 }
 
-bool ParseTermList(const std::string& text, std::vector<Term>* terms, std::string* error) {
+bool ParseTermList(const std::string& text, std::vector<ModelTerm>* terms, std::string* error) {
   std::stringstream stream(text);
   std::string item;
   while (std::getline(stream, item, ',')) {
     if (item.empty() || item == "bias") continue;  // bias is always in the model
-    auto term = ParseTerm(item);
+    auto term = ParseModelTerm(item);
     if (!term) {
-      if (error) *error = "unknown term '" + item + "'";
+      if (error) {
+        *error = "unknown term '" + item + "'";
+        if (item == "aux" || item == "aux_rate")
+          *error += " (aux terms name their channel: " + item + ":<channel>)";
+      }
       return false;
     }
     terms->push_back(*term);

@@ -24,7 +24,7 @@ double DegH(double rad_s) { return units::RadPerSecondToDegPerHour(rad_s); }
 
 // Rate-fitted terms with a nonlinear parameter found by a search (frequency, step time, time
 // constant).
-bool HasNonlinearParameter(Term term) {
+bool HasNonlinearParameter(const ModelTerm& term) {
   return term == Term::kSinusoid || term == Term::kBiasStep || term == Term::kWarmup;
 }
 
@@ -35,16 +35,41 @@ std::string Format(const char* fmt, double a, double b = 0, double c = 0, double
   return buf;
 }
 
-const DeterministicComponent* LastComponent(const Evaluation& evaluation, Term term) {
+const DeterministicComponent* LastComponent(const Evaluation& evaluation, const ModelTerm& term) {
   const DeterministicComponent* found = nullptr;
   for (const auto& component : evaluation.deterministic.model.components)
     if (component.term == term) found = &component;
   return found;
 }
 
+// Engineer's units per unit of an aux channel: "deg/h/V", "deg/h/V^2", "deg/h/(V/s)"; a channel
+// without units is per unit of its value ("1").
+std::string PerAuxUnit(const std::string& units, int power, bool rate) {
+  const std::string unit = units.empty() ? "1" : units;
+  if (rate) return "deg/h/(" + unit + "/s)";
+  const bool compound = unit.find_first_of("/^* ") != std::string::npos;
+  const std::string base = compound ? "(" + unit + ")" : unit;
+  return "deg/h/" + base + (power > 1 ? "^" + std::to_string(power) : "");
+}
+
+std::vector<Parameter> AuxParameters(const DeterministicComponent& component) {
+  if (component.term.aux == AuxForm::kRate)
+    return {{"coefficient", DegH(component.coefficients[0]), DegH(component.coefficients_se[0]),
+             PerAuxUnit(component.units, 1, true)}};
+  const int order = static_cast<int>(component.coefficients.size());
+  std::vector<Parameter> parameters = {{"order", static_cast<double>(order), 0.0, ""}};
+  for (int k = 0; k < order; ++k)
+    parameters.push_back({k == 0 ? "coefficient" : "coefficient_" + std::to_string(k + 1),
+                          DegH(component.coefficients[k]), DegH(component.coefficients_se[k]),
+                          PerAuxUnit(component.units, k + 1, false)});
+  parameters.push_back({"reference", component.reference, 0.0, component.units});
+  return parameters;
+}
+
 std::vector<Parameter> ParametersOfComponent(const DeterministicComponent& component) {
+  if (component.term.IsAux()) return AuxParameters(component);
   std::vector<Parameter> parameters;
-  switch (component.term) {
+  switch (component.term.term) {
     case Term::kTemperature:
       parameters.push_back({"coefficient", DegH(component.coefficients[0]),
                             DegH(component.coefficients_se[0]), "deg/h/degC"});
@@ -141,7 +166,31 @@ const AuxChannelView* AuxOf(const Evaluation& evaluation, const std::string& nam
   return nullptr;
 }
 
-std::string Evidence(const Evaluation& base, const Evaluation& trial, Term term) {
+std::string AuxEvidence(const Evaluation& base, const Evaluation& trial, const ModelTerm& term) {
+  const auto* channel = AuxOf(base, term.channel);
+  const auto parameters = ParametersOf(trial, term);
+  const Parameter* coefficient = nullptr;
+  for (const auto& parameter : parameters)
+    if (parameter.name == "coefficient") coefficient = &parameter;
+  const double error_before = base.views.error, error_after = trial.views.error;
+  if (term.aux == AuxForm::kRate)
+    return "the residual follows d(" + term.channel + ")/dt" +
+           Format(", r = %.2f: ", channel ? channel->r_derivative : 0.0) +
+           Format("%.3g ", coefficient ? coefficient->value : 0.0) +
+           (coefficient ? coefficient->units : "") +
+           Format(" (error %.3g -> %.3g)", error_before, error_after);
+  const int order = static_cast<int>(parameters.empty() ? 1 : parameters.front().value);
+  return "the low-frequency residual follows aux " + term.channel +
+         Format(", r = %.2f: a bias polynomial of order %.0f in it (BIC), linear coefficient ",
+                channel ? channel->r : 0.0, order) +
+         Format("%.3g ", coefficient ? coefficient->value : 0.0) +
+         (coefficient ? coefficient->units : "") +
+         Format(" (error %.3g -> %.3g)", error_before, error_after);
+}
+
+std::string Evidence(const Evaluation& base, const Evaluation& trial, const ModelTerm& model_term) {
+  if (model_term.IsAux()) return AuxEvidence(base, trial, model_term);
+  const Term term = model_term.term;
   const auto parameters = ParametersOf(trial, term);
   auto val = [&](const char* name) {
     for (const auto& parameter : parameters)
@@ -220,15 +269,15 @@ bool CompareOptions::IsValid(std::string* error) const {
   return true;
 }
 
-std::vector<Parameter> ParametersOf(const Evaluation& evaluation, Term term) {
+std::vector<Parameter> ParametersOf(const Evaluation& evaluation, const ModelTerm& term) {
   if (IsFittedOnRate(term)) {
     const auto* component = LastComponent(evaluation, term);
     return component ? ParametersOfComponent(*component) : std::vector<Parameter>{};
   }
-  return StochasticParameters(evaluation.stochastic.model, term);
+  return StochasticParameters(evaluation.stochastic.model, term.term);
 }
 
-Evaluation EvaluateModel(const CompareInput& input, const std::vector<Term>& terms,
+Evaluation EvaluateModel(const CompareInput& input, const std::vector<ModelTerm>& terms,
                          const CompareOptions& options, const std::vector<PreparedAux>* prepared) {
   Evaluation evaluation;
   evaluation.terms = terms;
@@ -245,7 +294,6 @@ Evaluation EvaluateModel(const CompareInput& input, const std::vector<Term>& ter
   }
   const Eigen::VectorXd& rate = *input.rate_rad_s;
   const double fs = input.sample_rate_hz;
-  const AuxChannel* temperature = FindAux(input, "temperature");
   // Coordinate descent re-searches each nonlinear parameter with the others fixed; with at most
   // one nonlinear term (every trial of the default model) a pass repeats the first search against
   // the same fixed design (deterministic_fit.cpp): the warm-up and step searches return the same
@@ -253,21 +301,29 @@ Evaluation EvaluateModel(const CompareInput& input, const std::vector<Term>& ter
   DeterministicOptions deterministic_options = options.deterministic;
   if (std::count_if(terms.begin(), terms.end(), HasNonlinearParameter) <= 1)
     deterministic_options.refinement_passes = 0;
-  // The temperature goes to the fit only when a term uses it: FitDeterministic otherwise still
-  // centres it and computes its smoothed derivative (two passes over n samples per trial).
-  const bool thermal = std::any_of(terms.begin(), terms.end(), NeedsTemperature);
-  evaluation.deterministic =
-      FitDeterministic(rate, fs, temperature && thermal ? &temperature->values : nullptr, terms,
-                       deterministic_options);
+  // A channel goes to the fit only when a term reads it: FitDeterministic otherwise still
+  // centres the temperature (a pass over n samples per trial).
+  std::vector<AuxSeries> aux;
+  for (const ModelTerm& term : terms) {
+    const std::string name = AuxChannelOf(term);
+    const AuxChannel* channel = name.empty() ? nullptr : FindAux(input, name);
+    if (channel && std::none_of(aux.begin(), aux.end(),
+                                [&](const AuxSeries& series) { return series.name == name; }))
+      aux.push_back({channel->name, channel->units, &channel->values});
+  }
+  evaluation.deterministic = FitDeterministic(rate, fs, aux, terms, deterministic_options);
   if (!HasResult(evaluation.deterministic.summary.termination)) {
     evaluation.termination = evaluation.deterministic.summary.termination;
     evaluation.message = evaluation.deterministic.summary.message;
     return evaluation;
   }
   evaluation.allan = ResidualAllan(evaluation.deterministic.residual, fs, options.views);
+  std::vector<Term> catalog_terms;
+  for (const ModelTerm& term : terms)
+    if (!term.IsAux()) catalog_terms.push_back(term.term);
   evaluation.stochastic =
       FitStochastic(evaluation.allan.tau_s, evaluation.allan.avar, evaluation.allan.edf, fs,
-                    rate.size() / fs, terms, options.stochastic);
+                    rate.size() / fs, catalog_terms, options.stochastic);
   if (!HasResult(evaluation.stochastic.summary.termination)) {
     evaluation.termination = evaluation.stochastic.summary.termination;
     evaluation.message = evaluation.stochastic.summary.message;
@@ -293,8 +349,8 @@ Evaluation EvaluateModel(const CompareInput& input, const std::vector<Term>& ter
                                bias.parameters[0].standard_error, "deg/h"});
   }
   evaluation.fitted.push_back(bias);
-  std::vector<Term> seen;
-  for (Term term : terms) {
+  std::vector<ModelTerm> seen;
+  for (const ModelTerm& term : terms) {
     if (term == Term::kSinusoid) continue;
     if (std::find(seen.begin(), seen.end(), term) != seen.end()) continue;
     seen.push_back(term);
@@ -307,27 +363,59 @@ Evaluation EvaluateModel(const CompareInput& input, const std::vector<Term>& ter
   return evaluation;
 }
 
-std::vector<Term> TrialTerms(const CompareInput& input, const std::vector<Term>& terms) {
-  std::vector<Term> trial_terms;
+std::vector<ModelTerm> TrialTerms(const CompareInput& input, const std::vector<ModelTerm>& terms) {
+  std::vector<ModelTerm> trial_terms;
+  const auto present = [&](const ModelTerm& term) {
+    return std::find(terms.begin(), terms.end(), term) != terms.end();
+  };
   const bool has_temp = FindAux(input, "temperature") != nullptr;
   for (Term term : CatalogTerms()) {
-    const bool present = std::find(terms.begin(), terms.end(), term) != terms.end();
-    if (present && term != Term::kSinusoid) continue;
+    if (present(term) && term != Term::kSinusoid) continue;
     if (NeedsTemperature(term) && !has_temp) continue;
     trial_terms.push_back(term);
+  }
+  for (const AuxChannel& channel : input.aux) {
+    if (FindAux(input, channel.name) != &channel) continue;  // other length, or a repeated name
+    const bool thermal = channel.name == "temperature";
+    const ModelTerm value = ModelTerm::Aux(AuxForm::kValue, channel.name);
+    const ModelTerm rate = ModelTerm::Aux(AuxForm::kRate, channel.name);
+    if (!present(value) && !(thermal && present(Term::kTemperature))) trial_terms.push_back(value);
+    if (!present(rate) && !thermal) trial_terms.push_back(rate);
   }
   return trial_terms;
 }
 
+bool AuxViewSupports(const Evaluation& evaluation, const ModelTerm& term) {
+  const std::string channel = AuxChannelOf(term);
+  if (channel.empty()) return true;
+  const auto* view = AuxOf(evaluation, channel);
+  if (view == nullptr) return false;
+  return std::abs(UsesDerivative(term) ? view->z_derivative : view->z) >
+         evaluation.views.aux.critical;
+}
+
 std::vector<Suggestion> RankSuggestions(const Evaluation& base,
-                                        const std::vector<Term>& trial_terms,
+                                        const std::vector<ModelTerm>& trial_terms,
                                         const std::vector<Evaluation>& trials,
                                         const CompareOptions& options) {
   std::vector<Suggestion> suggestions;
   if (!HasResult(base.termination) || base.views.consistent) return suggestions;
   const double base_error = base.views.error;
-  const auto* base_temperature = AuxOf(base, "temperature");
-  const double base_aux_critical = base.views.aux.critical;
+  // temperature and aux:temperature are one nested family (catalog.h): the polynomial fit's BIC
+  // (deterministic_fit.h) chooses between them, with the long-run variance of the residual once
+  // the thermal effect is modelled, so exactly one of them is listed: temperature when the order
+  // is 1, aux:temperature otherwise.
+  const ModelTerm thermal_polynomial = ModelTerm::Aux(AuxForm::kValue, "temperature");
+  const auto polynomial_order = [&]() -> size_t {
+    const size_t index =
+        static_cast<size_t>(std::find(trial_terms.begin(), trial_terms.end(), thermal_polynomial) -
+                            trial_terms.begin());
+    if (index >= trials.size() || !HasResult(trials[index].termination)) return 0;
+    const auto* component = LastComponent(trials[index], thermal_polynomial);
+    return component ? component->coefficients.size() : 0;
+  }();
+  const bool temperature_trialled = std::find(trial_terms.begin(), trial_terms.end(),
+                                              ModelTerm(Term::kTemperature)) != trial_terms.end();
   const double num_samples = static_cast<double>(base.deterministic.residual.size());
   const double lambda = std::max(1.0, base.deterministic.long_run_variance_ratio);
   const double n_eff = num_samples / lambda;
@@ -335,18 +423,15 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
   const std::vector<ViewDomain> failing = FailingViews(base.views);
   for (size_t i = 0; i < trial_terms.size() && i < trials.size(); ++i) {
     const Evaluation& trial = trials[i];
-    const Term term = trial_terms[i];
+    const ModelTerm& term = trial_terms[i];
     if (!HasResult(trial.termination)) continue;
     std::vector<ViewDomain> fixes;
     for (ViewDomain domain : failing)
       if (ViewErrorOf(trial.views, domain) <= 1.0) fixes.push_back(domain);
     if (!(trial.views.error <= options.min_improvement * base_error) && fixes.empty()) continue;
-    if (term == Term::kTemperature &&
-        !(base_temperature && std::abs(base_temperature->z) > base_aux_critical))
-      continue;
-    if (term == Term::kTemperatureRate &&
-        !(base_temperature && std::abs(base_temperature->z_derivative) > base_aux_critical))
-      continue;
+    if (!AuxViewSupports(base, term)) continue;
+    if (term == thermal_polynomial && temperature_trialled && polynomial_order <= 1) continue;
+    if (term == Term::kTemperature && polynomial_order >= 2) continue;
     Suggestion suggestion;
     suggestion.term = term;
     suggestion.error_after = trial.views.error;
@@ -397,28 +482,26 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
     });
     first = last;
   }
-  // A thermal term behind a non-thermal leader must still be supported once the leader is in the
-  // model: a large step or warm-up leaves low-frequency residual that the aux score test, run
-  // under a model that lacks it, can attribute to a slow temperature cycle. If the leader's trial
-  // explains the aux failure away, the temperature was innocent.
-  if (!suggestions.empty() && !NeedsTemperature(suggestions.front().term)) {
+  // A term that reads an aux channel, behind a leader that reads another channel or none, must
+  // still be supported once the leader is in the model: a large step or warm-up leaves
+  // low-frequency residual that the aux score test, run under a model that lacks it, can attribute
+  // to a slow temperature cycle (or any slow channel). If the leader's trial explains the aux
+  // failure away, the channel was innocent.
+  if (!suggestions.empty()) {
+    const std::string leader_channel = AuxChannelOf(suggestions.front().term);
     const size_t lead = static_cast<size_t>(
         std::find(trial_terms.begin(), trial_terms.end(), suggestions.front().term) -
         trial_terms.begin());
     const Evaluation* leader = lead < trials.size() ? &trials[lead] : nullptr;
-    const auto* leader_temperature = leader ? AuxOf(*leader, "temperature") : nullptr;
-    const double leader_aux_critical = leader ? leader->views.aux.critical : 0.0;
-    suggestions.erase(std::remove_if(suggestions.begin() + 1, suggestions.end(),
-                                     [&](const Suggestion& suggestion) {
-                                       if (!NeedsTemperature(suggestion.term) || leader == nullptr)
-                                         return false;
-                                       if (leader_temperature == nullptr) return true;
-                                       const double z = suggestion.term == Term::kTemperature
-                                                            ? leader_temperature->z
-                                                            : leader_temperature->z_derivative;
-                                       return !(std::abs(z) > leader_aux_critical);
-                                     }),
-                      suggestions.end());
+    suggestions.erase(
+        std::remove_if(suggestions.begin() + 1, suggestions.end(),
+                       [&](const Suggestion& suggestion) {
+                         const std::string channel = AuxChannelOf(suggestion.term);
+                         if (channel.empty() || channel == leader_channel || leader == nullptr)
+                           return false;
+                         return !AuxViewSupports(*leader, suggestion.term);
+                       }),
+        suggestions.end());
   }
   return suggestions;
 }
@@ -456,7 +539,7 @@ std::string Join(const std::vector<ViewDomain>& domains) {
 
 }  // namespace
 
-Verdict MakeVerdict(const Evaluation& base, const std::vector<Term>& trial_terms,
+Verdict MakeVerdict(const Evaluation& base, const std::vector<ModelTerm>& trial_terms,
                     const std::vector<Evaluation>& trials,
                     const std::vector<Suggestion>& suggestions) {
   Verdict verdict;
@@ -507,7 +590,7 @@ Verdict MakeVerdict(const Evaluation& base, const std::vector<Term>& trial_terms
   return verdict;
 }
 
-CompareResult Compare(const CompareInput& input, const std::vector<Term>& terms,
+CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& terms,
                       const CompareOptions& options, const ForEach& for_each) {
   CompareResult result;
   if (input.rate_rad_s == nullptr) {
@@ -524,8 +607,11 @@ CompareResult Compare(const CompareInput& input, const std::vector<Term>& terms,
   // Tasks: the trials, those with a nonlinear search (the longest) first so that a parallel
   // ForEach finishes together, then the base model's IMF view (one EMD per compare). Trials are
   // needed only when the base model is not consistent. Each task writes only its own slot.
-  const std::vector<Term> trial_terms =
-      result.base.views.consistent ? std::vector<Term>{} : TrialTerms(input, terms);
+  std::vector<ModelTerm> trial_terms;
+  if (!result.base.views.consistent) {
+    for (const ModelTerm& term : TrialTerms(input, terms))
+      if (!term.IsAux() || AuxViewSupports(result.base, term)) trial_terms.push_back(term);
+  }
   result.trials.resize(trial_terms.size());
   std::vector<int> order(trial_terms.size());
   std::iota(order.begin(), order.end(), 0);
@@ -543,7 +629,7 @@ CompareResult Compare(const CompareInput& input, const std::vector<Term>& terms,
       return;
     }
     const int i = order[task_index];
-    std::vector<Term> with_term = terms;
+    std::vector<ModelTerm> with_term = terms;
     with_term.push_back(trial_terms[i]);
     result.trials[i] = EvaluateModel(input, with_term, trial_options, &prepared);
   };

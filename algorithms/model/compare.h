@@ -9,15 +9,22 @@
 //   (serial by default; the pipeline passes a oneTBB loop); each writes only its own slot, so the
 //   numbers do not depend on the thread count.
 //
+// Aux terms (catalog.h) are trialled for every aux channel the aux view flags, and gated like the
+// thermal terms (below): aux:<x> needs the residual to follow x, aux_rate:<x> its derivative. The
+// polynomial's order is part of its fit (deterministic_fit.h), so its trial costs one evaluation.
+//
 // Ranking. A trial is a candidate when the model is not consistent and the trial lowers the error
 // by at least 10 % (`min_improvement`) or makes a failing view pass (`fixes`: a view with error
 // above 1 in the base model and at most 1 in the trial; Views::view_errors). The error is the
 // largest view error, so a correct term that fixes one view while another view dominates would
-// otherwise be neither suggested nor credited. Thermal terms must in addition be supported by the
-// aux view (|z| of the residual against T, resp. dT/dt, above the aux view's critical value): a
-// temperature explanation is only offered when the residual actually follows the temperature,
-// and, behind a non-thermal first suggestion, only if it still does once that suggestion is in
-// the model (its trial's aux view): a large step or warm-up otherwise leaks into the aux score.
+// otherwise be neither suggested nor credited. Terms that read an aux channel (thermal and aux
+// terms) must in addition be supported by the aux view (|z| of the residual against the channel,
+// resp. its derivative, above the aux view's critical value): such an explanation is only offered
+// when the residual actually follows the channel, and, behind a first suggestion that reads
+// another channel or none, only if it still does once that suggestion is in the model (its
+// trial's aux view): a large step or warm-up otherwise leaks into the aux score. temperature and
+// aux:temperature are nested (catalog.h): only the one whose order the polynomial fit's BIC
+// chooses is listed (temperature for order 1).
 // Candidates are ranked in three groups: those that make a failing view pass, then those that
 // only lower the error, then those whose delta_bic is positive (`bic_rejects`: BIC prefers the
 // model without the term, so it is never ranked first, whatever it does to the error). Within a
@@ -68,7 +75,8 @@ namespace fogpipe::model {
 struct CompareInput {
   const Eigen::VectorXd* rate_rad_s = nullptr;
   double sample_rate_hz = 0;
-  std::vector<AuxChannel> aux;         ///< "temperature" (degC) feeds the thermal terms
+  std::vector<AuxChannel> aux;  ///< "temperature" (degC) feeds the thermal terms; every channel
+                                ///< its aux terms (catalog.h)
   std::optional<double> latitude_deg;  ///< root attribute latitude_deg, for the Earth-rate bias
 };
 
@@ -98,7 +106,7 @@ struct FittedTerm {
 
 /// One evaluated model.
 struct Evaluation {
-  std::vector<Term> terms;
+  std::vector<ModelTerm> terms;
   DeterministicFit deterministic;
   StochasticFit stochastic;
   AllanData allan;
@@ -114,7 +122,7 @@ struct Evaluation {
 };
 
 struct Suggestion {
-  Term term = Term::kWhite;
+  ModelTerm term = Term::kWhite;
   double error_after = 0;
   double delta_bic = 0;
   std::vector<Parameter> parameters;
@@ -127,7 +135,7 @@ struct Suggestion {
 /// What compare concludes (see the header comment).
 struct Verdict {
   std::string status = "consistent";        ///< "consistent" | "inconsistent" | "unexplained"
-  std::optional<Term> suggestion;           ///< "inconsistent": the term to add
+  std::optional<ModelTerm> suggestion;      ///< "inconsistent": the term to add
   std::vector<ViewDomain> fixes;            ///< the views the suggestion makes pass
   bool consistent_with_suggestion = false;  ///< the suggestion's trial passes every view
   /// "inconsistent": the failures left with the suggestion in the model (empty when it makes the
@@ -155,23 +163,30 @@ struct CompareResult {
 
 /// Fits `terms` (bias implicit) and computes the views. `prepared` (from PrepareAux on the
 /// input's aux channels) may be shared between evaluations of one input; null: prepared here.
-Evaluation EvaluateModel(const CompareInput& input, const std::vector<Term>& terms,
+Evaluation EvaluateModel(const CompareInput& input, const std::vector<ModelTerm>& terms,
                          const CompareOptions& options,
                          const std::vector<PreparedAux>* prepared = nullptr);
 
-/// The catalog terms to trial-fit: every term not in `terms` (sinusoid always: there may be
-/// several), thermal terms only with an aux "temperature".
-std::vector<Term> TrialTerms(const CompareInput& input, const std::vector<Term>& terms);
+/// The terms to trial-fit: every catalog term not in `terms` (sinusoid always: there may be
+/// several), thermal terms only with an aux "temperature"; then, per aux channel of the rate's
+/// length, aux:<channel> and aux_rate:<channel> unless in `terms` (not aux_rate:temperature, which
+/// is temperature_rate, nor aux:temperature beside temperature, whose linear part it repeats).
+std::vector<ModelTerm> TrialTerms(const CompareInput& input, const std::vector<ModelTerm>& terms);
+
+/// True when the base model's aux view supports a term that reads an aux channel: |z| of the
+/// residual against the channel (its derivative for temperature_rate and aux_rate) above the aux
+/// view's critical value. Terms that read no channel: always true.
+bool AuxViewSupports(const Evaluation& evaluation, const ModelTerm& term);
 
 /// Builds the ranked suggestions from the base evaluation and the trials (trial i adds
 /// TrialTerms()[i]).
 std::vector<Suggestion> RankSuggestions(const Evaluation& base,
-                                        const std::vector<Term>& trial_terms,
+                                        const std::vector<ModelTerm>& trial_terms,
                                         const std::vector<Evaluation>& trials,
                                         const CompareOptions& options);
 
 /// The verdict from the base evaluation, the trials and the ranked suggestions.
-Verdict MakeVerdict(const Evaluation& base, const std::vector<Term>& trial_terms,
+Verdict MakeVerdict(const Evaluation& base, const std::vector<ModelTerm>& trial_terms,
                     const std::vector<Evaluation>& trials,
                     const std::vector<Suggestion>& suggestions);
 
@@ -184,11 +199,14 @@ using fogpipe::ForEach;
 
 /// EvaluateModel of the base model, then (through for_each, null: in order) the base model's IMF
 /// view and every trial, then RankSuggestions. Trials are run only when the base model is not
-/// consistent.
-CompareResult Compare(const CompareInput& input, const std::vector<Term>& terms,
+/// consistent, and aux terms only where AuxViewSupports them (RankSuggestions would drop the
+/// others unread).
+CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& terms,
                       const CompareOptions& options, const ForEach& for_each = nullptr);
 
 /// The parameters of `term` in an evaluation (the last sinusoid for kSinusoid), engineer's units.
-std::vector<Parameter> ParametersOf(const Evaluation& e, Term term);
+/// aux:<x>: "order" (chosen by BIC), "coefficient", "coefficient_2", ... in deg/h per unit^k of x,
+/// and "reference" (x_ref, the unit of x); aux_rate:<x>: "coefficient" in deg/h/(unit/s).
+std::vector<Parameter> ParametersOf(const Evaluation& e, const ModelTerm& term);
 
 }  // namespace fogpipe::model

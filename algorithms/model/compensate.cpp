@@ -11,7 +11,14 @@ Compensation Compensate(const Eigen::VectorXd& rate, double fs, const Eigen::Vec
     return compensation;
   }
   for (const auto& component : model.components) {
-    if (NeedsTemperature(component.term) &&
+    if (!AuxChannelOf(component.term).empty() && AuxChannelOf(component.term) != "temperature") {
+      compensation.summary.termination = Termination::kInsufficientData;
+      compensation.summary.message = "the model's '" + ToString(component.term) +
+                                     "' term needs its aux channel, and only the temperature "
+                                     "is passed here";
+      return compensation;
+    }
+    if (AuxChannelOf(component.term) == "temperature" &&
         (temperature == nullptr || temperature->size() != rate.size())) {
       compensation.summary.termination = Termination::kInsufficientData;
       compensation.summary.message = std::string("the model's '") + ToString(component.term) +

@@ -23,7 +23,51 @@ struct Context {
   Eigen::VectorXd t;  // s
   Eigen::VectorXd temperature_centered;
   Eigen::VectorXd temperature_rate;
+  // Aux terms: the channels (name -> values) and the smoothed derivatives of those an aux_rate
+  // term reads.
+  std::vector<AuxSeries> aux;
+  std::vector<std::pair<std::string, Eigen::VectorXd>> aux_rate;
+  double smoothing_s = 120.0;
 };
+
+const Eigen::VectorXd* AuxValues(const Context& ctx, const std::string& name) {
+  for (const auto& series : ctx.aux)
+    if (series.name == name && series.values && series.values->size() == ctx.n)
+      return series.values;
+  return nullptr;
+}
+
+// The smoothed derivative of a channel, computed once per context.
+const Eigen::VectorXd& AuxRate(Context* ctx, const std::string& name) {
+  for (const auto& [channel, derivative] : ctx->aux_rate)
+    if (channel == name) return derivative;
+  ctx->aux_rate.emplace_back(name,
+                             SmoothedDerivative(*AuxValues(*ctx, name), ctx->fs, ctx->smoothing_s));
+  return ctx->aux_rate.back().second;
+}
+
+Eigen::MatrixXd Columns(const Context& ctx, Term term, double nonlinear);
+
+// Columns of one component: (x - x_ref)^k, k = 1..order for aux:<x>; dx/dt for aux_rate:<x>.
+Eigen::MatrixXd ComponentColumns(const Context& ctx, const DeterministicComponent& component,
+                                 int order) {
+  if (!component.term.IsAux()) return Columns(ctx, component.term.term, component.nonlinear);
+  if (component.term.aux == AuxForm::kRate) {
+    for (const auto& [channel, derivative] : ctx.aux_rate)
+      if (channel == component.term.channel) return derivative;
+    return Eigen::MatrixXd(ctx.n, 0);
+  }
+  const Eigen::VectorXd* values = AuxValues(ctx, component.term.channel);
+  if (values == nullptr) return Eigen::MatrixXd(ctx.n, 0);
+  Eigen::MatrixXd columns(ctx.n, order);
+  const Eigen::ArrayXd centered = values->array() - component.reference;
+  Eigen::ArrayXd power = centered;
+  for (int k = 0; k < order; ++k) {
+    columns.col(k) = power.matrix();
+    power *= centered;
+  }
+  return columns;
+}
 
 // Columns of one component at its current nonlinear parameter.
 Eigen::MatrixXd Columns(const Context& ctx, Term term, double nonlinear) {
@@ -67,8 +111,16 @@ Eigen::MatrixXd Columns(const Context& ctx, Term term, double nonlinear) {
   }
 }
 
-bool HasNonlinear(Term term) {
+bool HasNonlinear(const ModelTerm& term) {
   return term == Term::kSinusoid || term == Term::kBiasStep || term == Term::kWarmup;
+}
+
+// The number of linear coefficients of a component.
+long Width(const DeterministicComponent& component) {
+  if (component.term == Term::kSinusoid) return 2;
+  if (component.term.aux == AuxForm::kValue)
+    return std::max<long>(1, static_cast<long>(component.coefficients.size()));
+  return 1;
 }
 
 // Solves the normal equations with Jacobi scaling (columns of very different magnitude: degC,
@@ -153,7 +205,7 @@ Eigen::MatrixXd Design(const Context& ctx, const std::vector<DeterministicCompon
   std::vector<Eigen::MatrixXd> parts;
   for (int i = 0; i < static_cast<int>(components.size()); ++i) {
     if (i == skip) continue;
-    parts.push_back(Columns(ctx, components[i].term, components[i].nonlinear));
+    parts.push_back(ComponentColumns(ctx, components[i], static_cast<int>(Width(components[i]))));
     cols += parts.back().cols();
   }
   Eigen::MatrixXd design(ctx.n, cols);
@@ -253,7 +305,8 @@ double RefineSinusoid(const Context& ctx, const Profiler& profiler, double frequ
 double SearchNonlinear(const Context& ctx, const Profiler& profiler,
                        const DeterministicOptions& options, const DeterministicComponent& component,
                        bool refine, const std::vector<double>& taken_hz) {
-  switch (component.term) {
+  if (component.term.IsAux()) return 0.0;
+  switch (component.term.term) {
     case Term::kWarmup:
       return SearchWarmup(ctx, profiler, options);  // cheap: always the full search
     case Term::kBiasStep:
@@ -268,8 +321,9 @@ double SearchNonlinear(const Context& ctx, const Profiler& profiler,
 
 // Order of initialisation: the largest, slowest effects first, so that later searches see a
 // residual already cleared of them.
-int InitOrder(Term term) {
-  switch (term) {
+int InitOrder(const ModelTerm& term) {
+  if (term.IsAux()) return 0;
+  switch (term.term) {
     case Term::kTemperature:
       return 0;
     case Term::kTemperatureRate:
@@ -331,9 +385,109 @@ Eigen::VectorXd SmoothedDerivative(const Eigen::VectorXd& temp, double fs, doubl
   return derivative;
 }
 
+namespace {
+
+// Long-run to short-run variance ratio of a residual by batch means over kSandwichBlocks blocks,
+// at least 1; sigma2 is the short-run (per-sample) variance.
+double LongRunVarianceRatio(const Eigen::VectorXd& residual, double sigma2) {
+  const long n = residual.size(), block = n / kSandwichBlocks;
+  Eigen::VectorXd block_means(kSandwichBlocks);
+  for (int block_index = 0; block_index < kSandwichBlocks; ++block_index) {
+    const long start = block_index * block,
+               length = (block_index == kSandwichBlocks - 1) ? n - start : block;
+    block_means[block_index] = residual.segment(start, length).mean();
+  }
+  const double block_mean_variance =
+      (block_means.array() - block_means.mean()).square().sum() / (kSandwichBlocks - 1);
+  return std::max(1.0, block * block_mean_variance / std::max(sigma2, 1e-300));
+}
+
+// The components of `terms` that are fitted on the rate, or an error message.
+std::string MakeComponents(const Context& ctx, const std::vector<ModelTerm>& terms,
+                           std::vector<DeterministicComponent>* components) {
+  const auto has = [&](const ModelTerm& term) {
+    return std::find(terms.begin(), terms.end(), term) != terms.end();
+  };
+  for (const ModelTerm& term : terms) {
+    if (!IsFittedOnRate(term)) continue;
+    const std::string channel = AuxChannelOf(term);
+    if (!channel.empty() && AuxValues(ctx, channel) == nullptr)
+      return "term '" + ToString(term) + "' needs an aux " + channel +
+             " channel of the rate's length";
+    // aux:temperature's linear coefficient is the temperature term's: both in one model would
+    // make the design singular.
+    if (term.aux == AuxForm::kValue && channel == "temperature" && has(Term::kTemperature))
+      return "aux:temperature contains the temperature term; the model may have one of them";
+    if (term.IsAux() && std::count(terms.begin(), terms.end(), term) > 1)
+      return "term '" + ToString(term) + "' is in the model twice";
+    DeterministicComponent component;
+    component.term = term;
+    if (term.IsAux()) {
+      const Eigen::VectorXd& values = *AuxValues(ctx, channel);
+      component.reference = values.mean();
+      for (const auto& series : ctx.aux)
+        if (series.name == channel) component.units = series.units;
+      component.coefficients.assign(1, 0.0);
+    }
+    components->push_back(component);
+  }
+  std::stable_sort(components->begin(), components->end(), [](const auto& lhs, const auto& rhs) {
+    return InitOrder(lhs.term) < InitOrder(rhs.term);
+  });
+  return "";
+}
+
+// Chooses the order of each aux:<channel> polynomial by BIC (deterministic_fit.h), the other
+// components at their current parameters, one polynomial after the other.
+void ChooseAuxOrders(const Context& ctx, const Eigen::VectorXd& rate, int max_order,
+                     std::vector<DeterministicComponent>* components) {
+  const double n = static_cast<double>(ctx.n);
+  for (auto& component : *components) {
+    if (component.term.aux != AuxForm::kValue) continue;
+    std::vector<double> rss(max_order + 1, 0.0);
+    double n_eff = n;
+    long base_parameters = 0;
+    for (int order = 1; order <= max_order; ++order) {
+      component.coefficients.assign(order, 0.0);
+      const Eigen::MatrixXd design = Design(ctx, *components, -1);
+      const Eigen::VectorXd beta =
+          SolveScaled(design.transpose() * design, design.transpose() * rate);
+      const Eigen::VectorXd residual = rate - design * beta;
+      rss[order] = residual.squaredNorm();
+      if (order == 1) {
+        base_parameters = design.cols();
+        const double sigma2 = rss[1] / std::max(1.0, n - static_cast<double>(design.cols()));
+        n_eff = n / LongRunVarianceRatio(residual, sigma2);
+      }
+    }
+    int best = 1;
+    double best_bic = std::numeric_limits<double>::infinity();
+    for (int order = 1; order <= max_order; ++order) {
+      const double bic = n_eff * std::log(std::max(rss[order], 1e-300)) +
+                         static_cast<double>(base_parameters + order - 1) * std::log(n_eff);
+      if (bic < best_bic) {
+        best_bic = bic;
+        best = order;
+      }
+    }
+    component.coefficients.assign(best, 0.0);
+  }
+}
+
+}  // namespace
+
 DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
                                   const Eigen::VectorXd* temperature,
-                                  const std::vector<Term>& terms,
+                                  const std::vector<ModelTerm>& terms,
+                                  const DeterministicOptions& options) {
+  std::vector<AuxSeries> aux;
+  if (temperature != nullptr) aux.push_back({"temperature", "degC", temperature});
+  return FitDeterministic(rate, fs, aux, terms, options);
+}
+
+DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
+                                  const std::vector<AuxSeries>& aux,
+                                  const std::vector<ModelTerm>& terms,
                                   const DeterministicOptions& options) {
   DeterministicFit fit;
   fit.summary.num_samples = rate.size();
@@ -346,6 +500,8 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
   Context ctx;
   ctx.n = rate.size();
   ctx.fs = fs;
+  ctx.aux = aux;
+  ctx.smoothing_s = options.temperature_smoothing_s;
   if (ctx.n < 64) {
     fit.summary.termination = Termination::kInsufficientData;
     fit.summary.message = "fewer than 64 samples";
@@ -355,25 +511,19 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
   fit.model.temperature_smoothing_s = options.temperature_smoothing_s;
 
   std::vector<DeterministicComponent> components;
-  for (Term term : terms) {
-    if (!IsFittedOnRate(term)) continue;
-    if (NeedsTemperature(term) && (temperature == nullptr || temperature->size() != ctx.n)) {
-      fit.summary.termination = Termination::kInsufficientData;
-      fit.summary.message = std::string("term '") + ToString(term) +
-                            "' needs an aux temperature channel of the rate's length";
-      return fit;
-    }
-    DeterministicComponent component;
-    component.term = term;
-    components.push_back(component);
+  if (const std::string problem = MakeComponents(ctx, terms, &components); !problem.empty()) {
+    fit.summary.termination = Termination::kInsufficientData;
+    fit.summary.message = problem;
+    return fit;
   }
-  std::stable_sort(components.begin(), components.end(), [](const auto& lhs, const auto& rhs) {
-    return InitOrder(lhs.term) < InitOrder(rhs.term);
-  });
-  if (temperature != nullptr && temperature->size() == ctx.n) {
+  for (const auto& component : components)
+    if (component.term.aux == AuxForm::kRate) AuxRate(&ctx, component.term.channel);
+  if (const Eigen::VectorXd* temperature = AuxValues(ctx, "temperature")) {
     fit.model.temperature_ref_degc = temperature->mean();
     ctx.temperature_centered = temperature->array() - fit.model.temperature_ref_degc;
-    ctx.temperature_rate = SmoothedDerivative(*temperature, fs, options.temperature_smoothing_s);
+    if (std::any_of(terms.begin(), terms.end(),
+                    [](const ModelTerm& term) { return term == Term::kTemperatureRate; }))
+      ctx.temperature_rate = SmoothedDerivative(*temperature, fs, options.temperature_smoothing_s);
   }
 
   // Initialise the nonlinear parameters one at a time, then coordinate descent.
@@ -397,6 +547,8 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
     }
   }
 
+  ChooseAuxOrders(ctx, rate, options.max_aux_order, &components);
+
   // Final joint linear solve.
   const Eigen::MatrixXd design = Design(ctx, components, -1);
   const Eigen::MatrixXd gram = design.transpose() * design;
@@ -414,7 +566,7 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
   {
     long column = 1;
     for (auto& component : components) {
-      const long width = component.term == Term::kSinusoid ? 2 : 1;
+      const long width = Width(component);
       if (component.term == Term::kSinusoid) {
         const double angular_frequency = 2 * units::kPi * component.nonlinear;
         const double cos_coefficient = beta[column], sin_coefficient = beta[column + 1];
@@ -442,7 +594,6 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
   Eigen::MatrixXd meat =
       Eigen::MatrixXd::Zero(num_linear + num_jacobian, num_linear + num_jacobian);
   const long block = ctx.n / kSandwichBlocks;
-  Eigen::VectorXd block_means(kSandwichBlocks);
   for (int block_index = 0; block_index < kSandwichBlocks; ++block_index) {
     const long block_start = block_index * block,
                block_length = (block_index == kSandwichBlocks - 1) ? ctx.n - block_start : block;
@@ -450,22 +601,18 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
         augmented.middleRows(block_start, block_length).transpose() *
         fit.residual.segment(block_start, block_length);
     meat += block_score * block_score.transpose();
-    block_means[block_index] = fit.residual.segment(block_start, block_length).mean();
   }
   const Eigen::MatrixXd cov_hac = bread * meat * bread;
   Eigen::VectorXd se(num_linear + num_jacobian);
   for (long j = 0; j < num_linear + num_jacobian; ++j)
     se[j] = std::sqrt(std::max(cov_hac(j, j), sigma2 * bread(j, j)));
-  const double block_mean_variance =
-      (block_means.array() - block_means.mean()).square().sum() / (kSandwichBlocks - 1);
-  fit.long_run_variance_ratio =
-      std::max(1.0, block * block_mean_variance / std::max(sigma2, 1e-300));
+  fit.long_run_variance_ratio = LongRunVarianceRatio(fit.residual, sigma2);
 
   fit.model.bias_rad_s = beta[0];
   fit.model.bias_se_rad_s = se[0];
   long column = 1, jacobian_column = num_linear;
   for (auto& component : components) {
-    const long width = component.term == Term::kSinusoid ? 2 : 1;
+    const long width = Width(component);
     component.coefficients.assign(beta.data() + column, beta.data() + column + width);
     component.coefficients_se.assign(se.data() + column, se.data() + column + width);
     if (component.term == Term::kSinusoid || component.term == Term::kWarmup) {
@@ -489,18 +636,30 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
 
 Eigen::VectorXd EvaluateDeterministic(const DeterministicModel& model, long n, double fs,
                                       const Eigen::VectorXd* temperature, bool include_bias) {
+  std::vector<AuxSeries> aux;
+  if (temperature != nullptr) aux.push_back({"temperature", "degC", temperature});
+  return EvaluateDeterministic(model, n, fs, aux, include_bias);
+}
+
+Eigen::VectorXd EvaluateDeterministic(const DeterministicModel& model, long n, double fs,
+                                      const std::vector<AuxSeries>& aux, bool include_bias) {
   Context ctx;
   ctx.n = n;
   ctx.fs = fs;
+  ctx.aux = aux;
+  ctx.smoothing_s = model.temperature_smoothing_s;
   ctx.t = Eigen::VectorXd::LinSpaced(n, 0.0, (n - 1) / fs);
-  if (temperature != nullptr && temperature->size() == n) {
+  if (const Eigen::VectorXd* temperature = AuxValues(ctx, "temperature")) {
     ctx.temperature_centered = temperature->array() - model.temperature_ref_degc;
     ctx.temperature_rate = SmoothedDerivative(*temperature, fs, model.temperature_smoothing_s);
   }
   Eigen::VectorXd rate = Eigen::VectorXd::Constant(n, include_bias ? model.bias_rad_s : 0.0);
   for (const auto& component : model.components) {
-    if (NeedsTemperature(component.term) && ctx.temperature_centered.size() != n) continue;
-    const Eigen::MatrixXd columns = Columns(ctx, component.term, component.nonlinear);
+    const std::string channel = AuxChannelOf(component.term);
+    if (!channel.empty() && AuxValues(ctx, channel) == nullptr) continue;
+    if (component.term.aux == AuxForm::kRate) AuxRate(&ctx, channel);
+    const Eigen::MatrixXd columns =
+        ComponentColumns(ctx, component, static_cast<int>(Width(component)));
     for (long j = 0; j < columns.cols() && j < static_cast<long>(component.coefficients.size());
          ++j)
       rate += component.coefficients[j] * columns.col(j);

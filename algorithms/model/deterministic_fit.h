@@ -19,6 +19,14 @@
 // least-squares line over a centred window of temperature_smoothing_s (Savitzky & Golay 1964),
 // because differencing a sampled, noisy temperature amplifies its noise by fs.
 //
+// Aux terms (catalog.h) on any channel x: aux:<x> is sum_{k=1..p} c_k (x - x_ref)^k with x_ref
+// the record's mean of x, aux_rate:<x> is c dx/dt with the same smoothed derivative as dT/dt.
+// The order p of aux:<x> is chosen among 1..max_aux_order by the Gaussian BIC
+// n_eff ln RSS_p + p ln n_eff (Schwarz 1978) with the other components in the design and
+// n_eff = n / lambda, lambda the long-run variance ratio of the order-1 residual (below): the
+// residual of a gyro is coloured, and with n in place of n_eff a slow wander of the bias that the
+// channel happens to share would buy every extra power.
+//
 // Standard errors: the residual of a gyro is coloured (bias instability, rate random walk), so the
 // ordinary least-squares covariance is too optimistic for slowly varying regressors. We use the
 // batch-means sandwich covariance (X'X)^-1 [sum_b s_b s_b'] (X'X)^-1 with s_b = X_b' r_b over 32
@@ -47,19 +55,33 @@ struct DeterministicOptions {
   double min_sinusoid_cycles = 3.0;
   /// Coordinate-descent passes over the nonlinear parameters after initialisation.
   int refinement_passes = 2;
+  /// Highest power of an aux:<channel> polynomial (its order is chosen by BIC in 1..this).
+  int max_aux_order = 3;
   bool IsValid(std::string* error) const;
 };
 
 /// One fitted deterministic component. Values in SI: rate coefficients in rad/s per unit of the
 /// regressor; the nonlinear parameter in Hz (sinusoid) or s (bias_step time, warmup constant).
 struct DeterministicComponent {
-  Term term = Term::kTemperature;
+  ModelTerm term = Term::kTemperature;
   double nonlinear = 0.0;     ///< frequency_hz | step_time_s | time_constant_s; 0 if none
   double nonlinear_se = 0.0;  ///< its standard error (same units)
   /// Linear coefficients: temperature rad/s/degC; temperature_rate rad/s/(degC/s); sinusoid
-  /// (cosine, sine) rad/s; bias_step size rad/s; warmup amplitude rad/s at t = 0.
+  /// (cosine, sine) rad/s; bias_step size rad/s; warmup amplitude rad/s at t = 0; aux c_1..c_p
+  /// in rad/s per unit^k of the channel; aux_rate rad/s per (unit/s).
   std::vector<double> coefficients;
   std::vector<double> coefficients_se;
+  /// Aux terms: the channel's mean over the fitted record (x_ref) and its units ("" if the
+  /// recording gives none).
+  double reference = 0.0;
+  std::string units;
+};
+
+/// An aux channel as the deterministic fit reads it (non-owning; values of the rate's length).
+struct AuxSeries {
+  std::string name;
+  std::string units;
+  const Eigen::VectorXd* values = nullptr;
 };
 
 /// Everything needed to evaluate (and so compensate) the deterministic part on a recording.
@@ -87,11 +109,17 @@ struct DeterministicFit {
   DeterministicSummary summary;
 };
 
-/// Fits bias + the rate-fitted terms of `terms` (others are ignored). `temperature_degc` may be
-/// null; terms that need it then make the fit fail with kInsufficientData.
+/// Fits bias + the rate-fitted terms of `terms` (others are ignored). A term whose aux channel
+/// (AuxChannelOf; "temperature" for the thermal terms) is not in `aux` with the rate's length
+/// makes the fit fail with kInsufficientData.
+DeterministicFit FitDeterministic(const Eigen::VectorXd& rate_rad_s, double sample_rate_hz,
+                                  const std::vector<AuxSeries>& aux,
+                                  const std::vector<ModelTerm>& terms,
+                                  const DeterministicOptions& options);
+/// The same with at most the aux channel "temperature" (degC; may be null).
 DeterministicFit FitDeterministic(const Eigen::VectorXd& rate_rad_s, double sample_rate_hz,
                                   const Eigen::VectorXd* temperature_degc,
-                                  const std::vector<Term>& terms,
+                                  const std::vector<ModelTerm>& terms,
                                   const DeterministicOptions& options);
 
 /// The smoothed temperature derivative used by temperature_rate, degC/s.
@@ -99,6 +127,11 @@ Eigen::VectorXd SmoothedDerivative(const Eigen::VectorXd& temperature_degc, doub
                                    double smoothing_s);
 
 /// Evaluates the effects (without the bias when include_bias is false), rad/s, on n samples.
+/// Components whose channel is not in `aux` with n samples are left out.
+Eigen::VectorXd EvaluateDeterministic(const DeterministicModel& model, long n,
+                                      double sample_rate_hz, const std::vector<AuxSeries>& aux,
+                                      bool include_bias);
+/// The same with at most the aux channel "temperature" (degC; may be null).
 Eigen::VectorXd EvaluateDeterministic(const DeterministicModel& model, long n,
                                       double sample_rate_hz,
                                       const Eigen::VectorXd* temperature_degc, bool include_bias);

@@ -2,6 +2,7 @@
 // effect the comparison suggests, repeat).
 //
 //   fogpipe compare RECORDING [--model FILE | --terms a,b,c] [--add TERM ...] [--axis A|all]
+//   (TERM: a catalog name, aux:<channel> or aux_rate:<channel>; algorithms/model/catalog.h)
 //                   [--json] [-o RESULTS] [--save-model FILE] [--progress]
 //   fogpipe compare --history RESULTS
 //
@@ -101,7 +102,7 @@ void PrintText(const model::CompareResult& r) {
       fixes += (fixes.empty() ? "" : ", ") + std::string(model::ToString(domain));
     const bool add = i == 0 && r.verdict.suggestion && *r.verdict.suggestion == s.term;
     std::printf("%s %s: error after %.3g, delta BIC %.3g%s%s%s\n  %s\n", add ? "ADD" : "   ",
-                model::ToString(s.term), s.error_after, s.delta_bic,
+                model::ToString(s.term).c_str(), s.error_after, s.delta_bic,
                 s.bic_rejects ? " (BIC rejects it)" : "", fixes.empty() ? "" : ", fixes ",
                 fixes.c_str(), s.evidence.c_str());
     for (const auto& p : s.parameters)
@@ -137,7 +138,7 @@ int PrintHistory(const std::string& results) {
 
 // The model's terms: the model file's, --terms or the default ones, then each --add. False (a
 // usage error, stderr says which) for an unknown term.
-bool ChooseTerms(const CompareArguments& a, std::vector<model::Term>* terms) {
+bool ChooseTerms(const CompareArguments& a, std::vector<model::ModelTerm>* terms) {
   if (!a.model_file.empty()) {
     *terms = io::ReadModelFile(a.model_file).terms;
   } else if (!a.terms.empty()) {
@@ -197,7 +198,7 @@ int Run(const CompareArguments& a) {
     std::cerr << "fogpipe compare: RECORDING is required (or --history RESULTS)\n";
     return 2;
   }
-  std::vector<model::Term> terms;
+  std::vector<model::ModelTerm> terms;
   if (!ChooseTerms(a, &terms)) return 2;
   const io::RecordingInfo info = io::InspectRecordingIsolated(a.recording);
   const std::vector<int> axes = io::SelectAxes(info, a.axis);
@@ -247,9 +248,13 @@ void AddCompareCommand(CLI::App& app, int* exit_code) {
                                  "Compare a gyro model with a recording; name the missing effect");
   cmd->add_option("recording", args->recording, "Contract-v1 recording (HDF5)");
   auto* model = cmd->add_option("--model", args->model_file, "Model file (JSON) to start from");
-  cmd->add_option("--terms", args->terms, "Comma-separated catalog terms (bias is implicit)")
+  cmd->add_option("--terms", args->terms,
+                  "Comma-separated terms: catalog names, aux:<channel> (bias polynomial in an "
+                  "/aux channel, order by BIC), aux_rate:<channel> (in its derivative); bias is "
+                  "implicit")
       ->excludes(model);
-  cmd->add_option("--add", args->add, "Add a catalog term (repeatable)");
+  cmd->add_option("--add", args->add,
+                  "Add a term: a catalog name, aux:<channel> or aux_rate:<channel> (repeatable)");
   cmd->add_option("--axis", args->axis,
                   "Axis name, index, or all (every axis: one section, JSON object and history "
                   "step per axis)")

@@ -511,8 +511,16 @@ bool ReadModelCompensation(ModelCompensationOptions* m, std::string* error) {
   }
   m->sha256 = *sha;
   for (const auto& comp : m->deterministic.components) {
-    m->terms += (m->terms.empty() ? "" : ",") + std::string(model::ToString(comp.term));
-    m->needs_temperature = m->needs_temperature || model::NeedsTemperature(comp.term);
+    const std::string channel = model::AuxChannelOf(comp.term);
+    if (!channel.empty() && channel != "temperature") {
+      // The run compensates with the recording's aux temperature only (model::Compensate).
+      *error = "--model " + path + ": term '" + model::ToString(comp.term) +
+               "' reads the aux channel '" + channel +
+               "'; run --model applies the temperature terms only (use compare)";
+      return false;
+    }
+    m->terms += (m->terms.empty() ? "" : ",") + model::ToString(comp.term);
+    m->needs_temperature = m->needs_temperature || channel == "temperature";
   }
   return true;
 }

@@ -217,7 +217,7 @@ json ImfJson(const model::ImfView& v) {
 
 json ModelJson(const model::Evaluation& e) {
   json terms = json::array();
-  for (model::Term t : e.terms) terms.push_back(model::ToString(t));
+  for (const model::ModelTerm& t : e.terms) terms.push_back(model::ToString(t));
   json fitted = json::array();
   for (const auto& ft : e.fitted)
     fitted.push_back({{"term", ft.term}, {"parameters", ParametersJson(ft.parameters)}});
@@ -305,10 +305,17 @@ json CompareJson(const model::CompareResult& r) {
 void WriteModelFile(const std::string& path, const model::Evaluation& e) {
   const auto& d = e.deterministic.model;
   json comps = json::array();
-  for (const auto& c : d.components)
-    comps.push_back({{"term", model::ToString(c.term)},
-                     {"nonlinear", c.nonlinear},
-                     {"coefficients", c.coefficients}});
+  for (const auto& c : d.components) {
+    json comp = {{"term", model::ToString(c.term)},
+                 {"nonlinear", c.nonlinear},
+                 {"coefficients", c.coefficients}};
+    // Aux terms: the channel's reference x_ref and its units (schemas/model-file.md).
+    if (c.term.IsAux()) {
+      comp["reference"] = c.reference;
+      comp["units"] = c.units;
+    }
+    comps.push_back(comp);
+  }
   json out = {{"format", "fogpipe-model-1"},
               {"terms", ModelJson(e)["terms"]},
               {"deterministic",
@@ -337,7 +344,7 @@ ModelFile ReadModelFile(const std::string& path) {
   ModelFile m;
   try {
     for (const auto& t : j.at("terms")) {
-      auto term = model::ParseTerm(t.get<std::string>());
+      auto term = model::ParseModelTerm(t.get<std::string>());
       if (!term) throw std::runtime_error("unknown term '" + t.get<std::string>() + "'");
       m.terms.push_back(*term);
     }
@@ -347,12 +354,17 @@ ModelFile ReadModelFile(const std::string& path) {
     m.deterministic.temperature_smoothing_s = d.at("temperature_smoothing_s").get<double>();
     for (const auto& c : d.at("components")) {
       model::DeterministicComponent comp;
-      auto term = model::ParseTerm(c.at("term").get<std::string>());
+      auto term = model::ParseModelTerm(c.at("term").get<std::string>());
       if (!term || !model::IsFittedOnRate(*term))
         throw std::runtime_error("bad deterministic term");
       comp.term = *term;
       comp.nonlinear = c.at("nonlinear").get<double>();
       comp.coefficients = c.at("coefficients").get<std::vector<double>>();
+      if (comp.term.IsAux()) {
+        comp.reference = c.at("reference").get<double>();
+        comp.units = c.value("units", "");
+      }
+      if (comp.coefficients.empty()) throw std::runtime_error("a component without coefficients");
       comp.coefficients_se.assign(comp.coefficients.size(), 0.0);
       m.deterministic.components.push_back(comp);
     }
@@ -388,7 +400,7 @@ int AppendHistory(const std::string& results, const std::string& recording, cons
     std::snprintf(name, sizeof(name), "step_%03d", index);
     hdf5::Group step = compare.CreateGroup(name);
     std::vector<std::string> terms;
-    for (model::Term t : r.base.terms) terms.push_back(model::ToString(t));
+    for (const model::ModelTerm& t : r.base.terms) terms.push_back(model::ToString(t));
     step.WriteStringArrayAttribute("terms", terms);
     step.WriteDoubleAttribute("error", r.base.views.error);
     step.WriteInt64Attribute("consistent", r.base.views.consistent ? 1 : 0);

@@ -27,7 +27,7 @@ nlohmann::json ImfJson(const model::ImfView& view);
 /// A model file: the terms, the SI deterministic model (enough to compensate) and the fitted
 /// parameters for people.
 struct ModelFile {
-  std::vector<model::Term> terms;
+  std::vector<model::ModelTerm> terms;
   model::DeterministicModel deterministic;
 };
 

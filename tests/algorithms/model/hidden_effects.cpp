@@ -17,6 +17,18 @@ double Uniform01(std::uint64_t seed, simulation::Term term) {
 
 double Sign(double x) { return x < 0 ? -1.0 : 1.0; }
 
+// Taus: 10 per decade up to record / 8, the longest tau of the compare's Allan view
+// (ViewOptions::max_tau_fraction), where the overlapping estimate still has EDF >= ~4.
+std::vector<long long> SignatureFactors(long n) {
+  allan::TauGridOptions grid;
+  grid.kind = allan::TauGridKind::kDecade;
+  grid.per_decade = 10;
+  return allan::AveragingFactors(grid, n / 8);
+}
+
+AllanSignature PeakOf(const std::vector<double>& tau, const std::vector<double>& avar,
+                      const simulation::GyroErrorModel& errors);
+
 }  // namespace
 
 double NoiseAllanDeviation(const simulation::GyroErrorModel& e, double tau) {
@@ -140,42 +152,34 @@ AllanSignature PeakAllanSignature(const simulation::GyroSimulatorOptions& o,
   }
   const long n = static_cast<long>(o.NumSamples());
   const double fs = o.sample_rate_hz;
-  // Taus: 10 per decade up to record / 8, the longest tau of the compare's Allan view
-  // (ViewOptions::max_tau_fraction), where the overlapping estimate still has EDF >= ~4.
-  allan::TauGridOptions grid;
-  grid.kind = allan::TauGridKind::kDecade;
-  grid.per_decade = 10;
-  const std::vector<long long> m = allan::AveragingFactors(grid, n / 8);
+  if (effect != Term::kGaussMarkov)
+    return PeakAllanSignatureOfSeries(simulation::SimulateGyro(alone).rate_rad_s, fs, o.errors);
+  // A stochastic term: its expected Allan variance (IEEE Std 952-1997 Annex C), not one
+  // realisation's.
   std::vector<double> tau, avar;
-  if (effect == Term::kGaussMarkov) {
-    // A stochastic term: its expected Allan variance (IEEE Std 952-1997 Annex C), not one
-    // realisation's.
-    allan::TermParams p;
-    p.amplitude = a.gauss_markov[0].sigma_rad_s;
-    p.correlation_time_s = a.gauss_markov[0].correlation_time_s;
-    for (long long k : m) {
-      tau.push_back(k / fs);
-      avar.push_back(allan::TermAllanVariance(allan::Term::kGaussMarkov, p, tau.back()));
-    }
-  } else {
-    const simulation::SimulatedRecording rec = simulation::SimulateGyro(alone);
-    allan::AllanOptions ao;
-    ao.grid.kind = allan::TauGridKind::kExplicit;
-    ao.grid.explicit_m = m;
-    ao.confidence_intervals = false;
-    const allan::AllanResult r = allan::ComputeAllan(rec.rate_rad_s, fs, ao);
-    for (size_t i = 0; i < r.table.size(); ++i) {
-      tau.push_back(r.table.tau_s[i]);
-      avar.push_back(r.table.sigma[i] * r.table.sigma[i]);
-    }
+  allan::TermParams p;
+  p.amplitude = a.gauss_markov[0].sigma_rad_s;
+  p.correlation_time_s = a.gauss_markov[0].correlation_time_s;
+  for (long long k : SignatureFactors(n)) {
+    tau.push_back(k / fs);
+    avar.push_back(allan::TermAllanVariance(allan::Term::kGaussMarkov, p, tau.back()));
   }
-  AllanSignature best;
-  for (size_t i = 0; i < tau.size(); ++i) {
-    const double noise = NoiseAllanDeviation(o.errors, tau[i]);
-    const double ratio = std::sqrt(avar[i]) / noise;
-    if (ratio > best.ratio) best = {tau[i], std::sqrt(avar[i]), noise, ratio};
+  return PeakOf(tau, avar, o.errors);
+}
+
+AllanSignature PeakAllanSignatureOfSeries(const Eigen::VectorXd& effect, double fs,
+                                          const simulation::GyroErrorModel& errors) {
+  allan::AllanOptions ao;
+  ao.grid.kind = allan::TauGridKind::kExplicit;
+  ao.grid.explicit_m = SignatureFactors(effect.size());
+  ao.confidence_intervals = false;
+  const allan::AllanResult r = allan::ComputeAllan(effect, fs, ao);
+  std::vector<double> tau, avar;
+  for (size_t i = 0; i < r.table.size(); ++i) {
+    tau.push_back(r.table.tau_s[i]);
+    avar.push_back(r.table.sigma[i] * r.table.sigma[i]);
   }
-  return best;
+  return PeakOf(tau, avar, errors);
 }
 
 HiddenCase MakeHiddenCase(const simulation::GyroSimulatorOptions& options) {
@@ -237,5 +241,106 @@ void AddPressureBias(double k, std::uint64_t seed, HiddenCase* c) {
 }
 
 Term AnalysisTerm(simulation::Term t) { return *ParseTerm(simulation::ToString(t)); }
+
+namespace {
+
+AllanSignature PeakOf(const std::vector<double>& tau, const std::vector<double>& avar,
+                      const simulation::GyroErrorModel& errors) {
+  AllanSignature best;
+  for (size_t i = 0; i < tau.size(); ++i) {
+    const double noise = NoiseAllanDeviation(errors, tau[i]);
+    const double ratio = std::sqrt(avar[i]) / noise;
+    if (ratio > best.ratio) best = {tau[i], std::sqrt(avar[i]), noise, ratio};
+  }
+  return best;
+}
+
+// A first-order Gauss-Markov series of unit variance (correlation time tc), started from its
+// stationary law.
+Eigen::VectorXd UnitGaussMarkov(double tc_s, long n, double fs, std::mt19937_64* g) {
+  std::normal_distribution<double> e(0.0, 1.0);
+  const double phi = std::exp(-1.0 / (tc_s * fs));
+  Eigen::VectorXd x(n);
+  double state = e(*g);
+  for (long i = 0; i < n; ++i) {
+    state = phi * state + std::sqrt(1.0 - phi * phi) * e(*g);
+    x[i] = state;
+  }
+  return x;
+}
+
+Eigen::VectorXd WhiteNoise(double sigma, long n, std::mt19937_64* g) {
+  std::normal_distribution<double> e(0.0, sigma);
+  Eigen::VectorXd x(n);
+  for (long i = 0; i < n; ++i) x[i] = e(*g);
+  return x;
+}
+
+}  // namespace
+
+AuxSignal SupplyVoltage(std::uint64_t seed, long n, double fs) {
+  std::mt19937_64 g(seed * 0x9E3779B97F4A7C15ULL + 0x5A1E7ULL);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double period_s = 120.0 + 480.0 * u(g), phase = 2.0 * 3.14159265358979323846 * u(g);
+  AuxSignal v;
+  v.truth = Eigen::VectorXd::Constant(n, 28.0) + 0.1 * UnitGaussMarkov(1800.0, n, fs, &g);
+  for (long i = 0; i < n; ++i)
+    v.truth[i] += 0.03 * std::sin(2.0 * 3.14159265358979323846 * i / (fs * period_s) + phase);
+  v.recorded = v.truth + WhiteNoise(0.001, n, &g);
+  return v;
+}
+
+AuxSignal MagneticField(std::uint64_t seed, long n, double fs) {
+  std::mt19937_64 g(seed * 0x9E3779B97F4A7C15ULL + 0x3A6F1ULL);
+  AuxSignal b;
+  b.truth = Eigen::VectorXd::Constant(n, 48.0) + 0.4 * UnitGaussMarkov(900.0, n, fs, &g);
+  b.recorded = b.truth + WhiteNoise(0.02, n, &g);
+  return b;
+}
+
+void AddInnocentAux(std::uint64_t seed, HiddenCase* c) {
+  const long n = c->recording.rate_rad_s.size();
+  const double fs = c->input.sample_rate_hz;
+  c->input.aux.push_back({"supply_voltage", "V", SupplyVoltage(seed, n, fs).recorded});
+  c->input.aux.push_back({"magnetic_field", "uT", MagneticField(seed, n, fs).recorded});
+}
+
+namespace {
+
+// The coefficient that gives `shape` (a bias per unit coefficient) the peak Allan signature k,
+// with a random sign from its own stream.
+double SizeBySignature(const Eigen::VectorXd& shape, double k, std::uint64_t seed,
+                       std::uint64_t stream, const HiddenCase& c) {
+  std::mt19937_64 g(seed * 0x9E3779B97F4A7C15ULL + stream);
+  const double sign = (g() & 1) ? 1.0 : -1.0;
+  const AllanSignature unit =
+      PeakAllanSignatureOfSeries(shape, c.input.sample_rate_hz, c.recording.truth.options.errors);
+  return sign * k / unit.ratio;
+}
+
+}  // namespace
+
+double AddSupplyVoltageBias(double k, std::uint64_t seed, HiddenCase* c) {
+  const long n = c->recording.rate_rad_s.size();
+  const double fs = c->input.sample_rate_hz;
+  const AuxSignal v = SupplyVoltage(seed, n, fs);
+  const Eigen::VectorXd shape = (v.truth.array() - v.truth.mean()).matrix();
+  const double coefficient = SizeBySignature(shape, k, seed, 0xC0EFULL, *c);
+  c->recording.rate_rad_s += coefficient * shape;
+  c->input.aux.push_back({"supply_voltage", "V", v.recorded});
+  c->input.aux.push_back({"magnetic_field", "uT", MagneticField(seed, n, fs).recorded});
+  return coefficient;
+}
+
+std::pair<double, double> AddQuadraticTemperatureBias(double k, std::uint64_t seed, HiddenCase* c) {
+  const Eigen::VectorXd& temperature = c->recording.temperature_degC;
+  const Eigen::ArrayXd x = temperature.array() - temperature.mean();
+  const double half_range = 0.5 * (x.maxCoeff() - x.minCoeff());
+  const Eigen::VectorXd shape = (x + x.square() / half_range).matrix();
+  // The quadratic part is what must be detected for order 2: it is the part sized.
+  const double c1 = SizeBySignature((x.square() / half_range).matrix(), k, seed, 0x7E2ULL, *c);
+  c->recording.rate_rad_s += c1 * shape;
+  return {c1, c1 / half_range};
+}
 
 }  // namespace fogpipe::model::testing

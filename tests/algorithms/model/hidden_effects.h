@@ -57,6 +57,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "algorithms/model/compare.h"
@@ -104,12 +105,45 @@ HiddenCase MakeHiddenCase(const simulation::GyroSimulatorOptions& options);
 /// (seed). The input keeps pointing at the recording's rate.
 void AddNarrowBand(double f0_hz, double zeta, double peak_ratio, std::uint64_t seed, HiddenCase* c);
 
-/// Adds an effect outside the catalog: a bias that follows an aux channel "pressure" (hPa; a
+/// Adds a bias that follows an aux channel "pressure" (hPa; a
 /// first-order Gauss-Markov wander with a 600 s correlation time, standardised: ~36 independent
 /// excursions in 6 h, so neither a cycle, a step nor a warm-up fits it) with rms amplitude k times
 /// the noise model's Allan deviation at 1000 s, and the channel itself to the input's aux. Its
 /// own random stream (seed).
 void AddPressureBias(double k, std::uint64_t seed, HiddenCase* c);
+
+/// The peak Allan signature (as PeakAllanSignature: same taus, estimator and floor) of a rate
+/// effect given as a series (rad/s) at fs, against the noise of `errors`.
+AllanSignature PeakAllanSignatureOfSeries(const Eigen::VectorXd& effect_rad_s, double fs,
+                                          const simulation::GyroErrorModel& errors);
+
+/// An aux channel's true value and what the recording holds (true + sensor noise).
+struct AuxSignal {
+  Eigen::VectorXd truth, recorded;
+};
+/// supply_voltage, V: 28 V + a first-order Gauss-Markov wander (correlation time 1800 s, 0.1 V
+/// rms: a bus loaded by slowly changing consumers) + a ripple of 0.03 V amplitude with a period
+/// drawn in [120, 600] s and a random phase (a switching regulator's low-frequency beat), recorded
+/// with 1 mV white sensor noise. Its own random stream (seed).
+AuxSignal SupplyVoltage(std::uint64_t seed, long n, double fs);
+/// magnetic_field, uT: 48 uT + a Gauss-Markov wander (correlation time 900 s, 0.4 uT rms),
+/// recorded with 0.02 uT white sensor noise. Its own random stream (seed).
+AuxSignal MagneticField(std::uint64_t seed, long n, double fs);
+
+/// Adds the channels supply_voltage and magnetic_field to the input; the rate follows neither
+/// (with the recording's temperature: three innocent channels).
+void AddInnocentAux(std::uint64_t seed, HiddenCase* c);
+
+/// Adds a bias c (V - mean V) that follows the true supply voltage, c (rad/s/V, random sign) sized
+/// so that the bias' peak Allan signature (PeakAllanSignatureOfSeries) is k; the recorded
+/// supply_voltage and an innocent magnetic_field go to the input. Returns c.
+double AddSupplyVoltageBias(double k, std::uint64_t seed, HiddenCase* c);
+
+/// Adds a bias c1 x + c2 x^2 with x = T - mean T of the recorded temperature and c2 = c1 / (p-p/2)
+/// (at the cycle's extremes the quadratic part is as large as the linear one), sized so that the
+/// quadratic part's peak Allan signature is k (random sign): the part that order 2 must detect.
+/// Returns {c1 rad/s/degC, c2 rad/s/degC^2}.
+std::pair<double, double> AddQuadraticTemperatureBias(double k, std::uint64_t seed, HiddenCase* c);
 
 /// The analysis' name of a simulator term (same catalog names).
 Term AnalysisTerm(simulation::Term t);

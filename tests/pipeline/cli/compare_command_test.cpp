@@ -99,6 +99,65 @@ TEST(CompareCommand, FindsAHiddenThermalEffectAndRecordsTheHistory) {
   fs::remove_all(dir);
 }
 
+// A bias that follows an aux channel other than the temperature: the simulated thermal effect with
+// its channel renamed /aux/coil_temperature (units kept), so that only the aux term can take it.
+// compare names aux:coil_temperature with the channel's unit, adding it makes the model consistent,
+// the history and the model file carry the term by that name, and `validate` accepts the results.
+TEST(CompareCommand, NamesTheAuxTermOfAnyChannelAndStoresItWithItsUnit) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("fogpipe_compare_aux_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string rec = (dir / "rec.h5").string(), results = (dir / "results.h5").string();
+  int code = 0;
+  RunFogpipe("simulate --profile nav --seed 11 --temperature-coef 0.012 -o " + rec, &code);
+  ASSERT_EQ(code, 0);
+  {
+    auto lock = hdf5::LockHdf5();
+    H5::H5File f(rec, H5F_ACC_RDWR);
+    ASSERT_GE(H5Lmove(f.getId(), "/aux/temperature", f.getId(), "/aux/coil_temperature",
+                      H5P_DEFAULT, H5P_DEFAULT),
+              0);
+  }
+  const nlohmann::json j =
+      nlohmann::json::parse(RunFogpipe("compare --json -o " + results + " " + rec, &code));
+  ASSERT_EQ(code, 0);
+  EXPECT_EQ(j["verdict"]["suggestion"], "aux:coil_temperature") << j["verdict"]["text"];
+  EXPECT_TRUE(j["verdict"]["consistent_with_suggestion"].get<bool>());
+  ASSERT_FALSE(j["suggestions"].empty());
+  const auto& coefficient = j["suggestions"][0]["parameters"]["coefficient"];
+  EXPECT_EQ(coefficient["units"], "deg/h/degC");
+  EXPECT_LT(std::abs(coefficient["value"].get<double>() - 0.012) / 0.012, 0.10) << coefficient;
+
+  const std::string model = (dir / "m.json").string();
+  const nlohmann::json j2 =
+      nlohmann::json::parse(RunFogpipe("compare --json --add aux:coil_temperature --save-model " +
+                                           model + " -o " + results + " " + rec,
+                                       &code));
+  ASSERT_EQ(code, 0);
+  EXPECT_EQ(j2["verdict"]["status"], "consistent");
+  const auto history = io::ReadHistory(results);
+  ASSERT_EQ(history.size(), 2u);
+  EXPECT_EQ(history[0].first_suggestion, "aux:coil_temperature");
+  EXPECT_EQ(history[1].terms.back(), "aux:coil_temperature");
+  RunFogpipe("validate " + results, &code);
+  EXPECT_EQ(code, 0);
+
+  const io::ModelFile m = io::ReadModelFile(model);
+  ASSERT_EQ(m.terms.back(), model::ModelTerm::Aux(model::AuxForm::kValue, "coil_temperature"));
+  ASSERT_EQ(m.deterministic.components.size(), 1u);
+  EXPECT_EQ(m.deterministic.components[0].units, "degC");
+  EXPECT_GT(m.deterministic.components[0].reference, 0.0);
+  // A model file is read back by compare --model: the same model, consistent.
+  const nlohmann::json j3 =
+      nlohmann::json::parse(RunFogpipe("compare --json --model " + model + " " + rec, &code));
+  ASSERT_EQ(code, 0);
+  EXPECT_EQ(j3["verdict"]["status"], "consistent");
+  // Unknown spellings are usage errors.
+  RunFogpipe("compare --add aux " + rec, &code);
+  EXPECT_EQ(code, 2);
+  fs::remove_all(dir);
+}
+
 /// A fresh folder `name` holding rec.h5: the nav profile with two axes x, y for `duration_s`.
 fs::path TwoAxisRecording(const std::string& name, int seed, int duration_s) {
   const fs::path dir = fs::temp_directory_path() / (name + "_" + std::to_string(getpid()));
