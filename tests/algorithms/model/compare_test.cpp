@@ -1,8 +1,10 @@
 // The hidden-effect proof of `fogpipe compare` on simulated navigation-grade recordings (6 h at
 // 10 Hz, aux temperature cycling 6-12 degC with a 1-2 h period in every file). Effect sizes:
 // hidden_effects.h. Seeds: 101-103 for each effect, 201-220 for the control, 301-302 for two
-// effects, 401-418 for thermal innocence. The development runs that chose the design used seeds
-// 1-20 (each effect) and 500-539 (effect-free: 2 of 40 inconsistent, none with a suggestion).
+// effects, 401-418 for thermal innocence, 711-714 and 721-723 for the aux terms, 801-830 for the
+// aux controls. The development runs that chose the design used seeds 1-20 (each effect, each aux
+// effect), 500-539 (effect-free: 2 of 40 inconsistent, none with a suggestion) and 850-889 (aux
+// controls).
 // The truth is read only to score.
 #include "algorithms/model/compare.h"
 
@@ -590,6 +592,7 @@ struct AuxScore {
   bool suggested = false;    // the verdict names a term to add
   bool first_right = false;  // ... and it is the hidden aux term
   std::string first = "none";
+  std::string failures;  // the default model's failures, e.g. "time 0-338 s, aux magnetic_field"
   bool order_right = false;
   std::vector<std::pair<std::string, double>> parameter_errors;  // error / max(10 %, 3 SE)
   bool consistent_after = false;
@@ -643,6 +646,8 @@ AuxScore ScoreAux(AuxEffect effect, int seed, double k) {
   if (!HasResult(before.summary.termination)) return s;
   s.error_before = before.base.views.error;
   s.inconsistent = !before.base.views.consistent;
+  for (const Failure& f : before.base.views.failures)
+    s.failures += (s.failures.empty() ? "" : ", ") + FormatFailure(f);
   s.suggested = before.verdict.suggestion.has_value();
   if (s.suggested) s.first = ToString(*before.verdict.suggestion);
   if (truth.empty()) return s;
@@ -756,8 +761,8 @@ TEST(CompareAuxStudy, DISABLED_PassRates) {
           name, seed, r > 0 ? r : AuxSignatureK(seed), s.inconsistent, s.suggested, s.first_right,
           s.first.c_str(), s.order_right, s.ParametersNearTruth());
       for (const auto& [pn, x] : s.parameter_errors) std::printf(" %s=%.2f", pn.c_str(), x);
-      std::printf(" ] consistent %d (%.2f->%.2f)\n", s.consistent_after, s.error_before,
-                  s.error_after);
+      std::printf(" ] consistent %d (%.2f->%.2f) failing: %s\n", s.consistent_after, s.error_before,
+                  s.error_after, s.failures.c_str());
       std::fflush(stdout);
     }
   }
