@@ -254,11 +254,16 @@ void FitBands(int count, double fs, int num_views, const CompareOptions& options
       note = "; narrow_band: no failing frequency band to fit";
       break;
     }
-    std::vector<double> background(welch.frequency_hz.size());
-    for (size_t k = 0; k < background.size(); ++k)
-      background[k] = ModelOneSidedPsd(model, welch.frequency_hz[k], fs);
+    StochasticModel without_bands = model;
+    without_bands.bands.clear();
+    std::vector<double> background(welch.frequency_hz.size()), fixed(background.size(), 0.0);
+    for (size_t k = 0; k < background.size(); ++k) {
+      background[k] = ModelOneSidedPsd(without_bands, welch.frequency_hz[k], fs);
+      for (const NarrowBand& band : bands)
+        fixed[k] += NarrowBandOneSidedPsd(band, welch.frequency_hz[k]);
+    }
     const NarrowBandFitResult fit =
-        FitNarrowBand(welch, background, std::max(1, options.views.psd_skip_bins),
+        FitNarrowBand(welch, background, fixed, std::max(1, options.views.psd_skip_bins),
                       {worst->from, worst->to, worst->center_hz, worst->excess_power});
     if (!fit.ok) {
       note = "; narrow_band: " + fit.message;

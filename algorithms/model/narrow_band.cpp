@@ -110,10 +110,12 @@ double NarrowBandAllanVariance(const NarrowBand& band, double tau_s) {
 }
 
 NarrowBandFitResult FitNarrowBand(const Spectrum& welch, const std::vector<double>& background,
-                                  int first_bin, const NarrowBandStart& start) {
+                                  const std::vector<double>& fixed, int first_bin,
+                                  const NarrowBandStart& start) {
   NarrowBandFitResult result;
   const int bins = static_cast<int>(welch.psd.size());
-  if (bins < 8 || background.size() != welch.psd.size() || !(start.center_hz > 0)) {
+  if (bins < 8 || background.size() != welch.psd.size() ||
+      !(fixed.empty() || fixed.size() == welch.psd.size()) || !(start.center_hz > 0)) {
     result.message = "no spectrum or no band to start from";
     return result;
   }
@@ -133,6 +135,7 @@ NarrowBandFitResult FitNarrowBand(const Spectrum& welch, const std::vector<doubl
   const double nu = welch.dof;
   const double f_low = welch.frequency_hz[window.front()],
                f_high = welch.frequency_hz[window.back()];
+  const auto other = [&](int k) { return fixed.empty() ? 0.0 : fixed[k]; };
   // -2 ln L (Whittle) over the window, up to a constant.
   const auto minus_two_log_l = [&](const Eigen::VectorXd& x) {
     const NarrowBand band = BandOf(x);
@@ -142,28 +145,40 @@ NarrowBandFitResult FitNarrowBand(const Spectrum& welch, const std::vector<doubl
     const double level = std::exp(x[0]);
     double sum = 0;
     for (int k : window) {
-      const double s = level * background[k] + NarrowBandOneSidedPsd(band, welch.frequency_hz[k]);
+      const double s =
+          level * background[k] + other(k) + NarrowBandOneSidedPsd(band, welch.frequency_hz[k]);
       sum += welch.psd[k] / s + std::log(s);
     }
     return nu * sum;
   };
-  // Background alone: the level is mean(psd / background) in closed form.
-  double mean_ratio = 0;
-  for (int k : window) mean_ratio += welch.psd[k] / background[k];
-  mean_ratio /= static_cast<double>(window.size());
-  double null_value = 0;
-  for (int k : window) {
-    const double s = mean_ratio * background[k];
-    null_value += welch.psd[k] / s + std::log(s);
+  // Background alone (the level fitted, no new band): the null of the likelihood-ratio.
+  const auto null_minus_two_log_l = [&](double log_level) {
+    double sum = 0;
+    for (int k : window) {
+      const double s = std::exp(log_level) * background[k] + other(k);
+      sum += welch.psd[k] / s + std::log(s);
+    }
+    return nu * sum;
+  };
+  double best_log_level = 0, null_value = std::numeric_limits<double>::infinity();
+  for (double log_level = -3.0; log_level <= 3.0; log_level += 0.05) {
+    const double value = null_minus_two_log_l(log_level);
+    if (value < null_value) {
+      null_value = value;
+      best_log_level = log_level;
+    }
   }
-  null_value *= nu;
+  null_value = NelderMead([&](const Eigen::VectorXd& y) { return null_minus_two_log_l(y[0]); },
+                          Eigen::VectorXd::Constant(1, best_log_level),
+                          Eigen::VectorXd::Constant(1, 0.02), 200)
+                   .unaryExpr([&](double y) { return null_minus_two_log_l(y); })[0];
   // Start: zeta from the failing extent (a band of peak ratio ~10 fails where its Lorentzian
   // exceeds ~1, about +-3 half-widths, so extent ~ 6 zeta f0), power from the excess power.
   const double zeta0 = std::clamp(extent / (6.0 * start.center_hz), bin_hz / start.center_hz, 0.5);
   double power0 = start.excess_power;
   if (!(power0 > 0)) {
     power0 = 0;
-    for (int k : window) power0 += std::max(welch.psd[k] - background[k], 0.0) * bin_hz;
+    for (int k : window) power0 += std::max(welch.psd[k] - background[k] - other(k), 0.0) * bin_hz;
   }
   if (!(power0 > 0)) {
     result.message = "no excess power around the band";

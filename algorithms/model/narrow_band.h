@@ -60,9 +60,12 @@ struct NarrowBandFitResult {
   std::string message;
 };
 
-/// Fits one band to the Welch PSD `welch` (one-sided) with `background` the model PSD of every
-/// other term at welch.frequency_hz; bins below first_bin are not used (Hann leakage).
+/// Fits one band to the Welch PSD `welch` (one-sided) with `background` the model PSD of the
+/// other terms at welch.frequency_hz (its local level is free) and `fixed` that of the bands
+/// already in the model (as it is; empty: none); bins below first_bin are not used (Hann
+/// leakage).
 NarrowBandFitResult FitNarrowBand(const Spectrum& welch, const std::vector<double>& background,
-                                  int first_bin, const NarrowBandStart& start);
+                                  const std::vector<double>& fixed, int first_bin,
+                                  const NarrowBandStart& start);
 
 }  // namespace fogpipe::model

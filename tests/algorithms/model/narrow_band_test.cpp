@@ -83,7 +83,7 @@ TEST(NarrowBand, FitRecoversASimulatedBand) {
   const Spectrum welch = WelchPsd(x, fs, static_cast<int>(FastFftSizeAtMost(n / 8)));
   const std::vector<double> background(welch.psd.size(), white_psd);
   const NarrowBandFitResult fit =
-      FitNarrowBand(welch, background, 4, {1.25, 1.36, 1.31, 0.5 * power});
+      FitNarrowBand(welch, background, {}, 4, {1.25, 1.36, 1.31, 0.5 * power});
   ASSERT_TRUE(fit.ok) << fit.message;
   EXPECT_NEAR(fit.band.f0_hz / f0, 1.0, 0.01);
   EXPECT_NEAR(fit.band.zeta / zeta, 1.0, 0.25);
