@@ -4,9 +4,9 @@ namespace fogpipe::catalog {
 
 const std::vector<Term>& AllTerms() {
   static const std::vector<Term> kAll = {
-      Term::kWhite,           Term::kQuantization, Term::kBiasInstability, Term::kRateRandomWalk,
-      Term::kRateRamp,        Term::kGaussMarkov,  Term::kSinusoid,        Term::kTemperature,
-      Term::kTemperatureRate, Term::kBiasStep,     Term::kWarmup};
+      Term::kWhite,       Term::kQuantization,    Term::kBiasInstability, Term::kRateRandomWalk,
+      Term::kRateRamp,    Term::kGaussMarkov,     Term::kSinusoid,        Term::kNarrowBand,
+      Term::kTemperature, Term::kTemperatureRate, Term::kBiasStep,        Term::kWarmup};
   return kAll;
 }
 
@@ -26,6 +26,8 @@ const char* ToString(Term term) {
       return "gauss_markov";
     case Term::kSinusoid:
       return "sinusoid";
+    case Term::kNarrowBand:
+      return "narrow_band";
     case Term::kTemperature:
       return "temperature";
     case Term::kTemperatureRate:

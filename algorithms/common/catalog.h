@@ -23,11 +23,14 @@ enum class Term {
   kTemperatureRate,  ///< bias proportional to dT/dt (Shupe effect); needs an aux temperature.
   kBiasStep,         ///< a jump of the bias at a time.
   kWarmup,           ///< start-up transient A exp(-t/tau).
+  // The values seed the simulator's and the tests' random streams: new terms go last.
+  kNarrowBand,  ///< vibration band: noise through a damped resonance (f0, zeta, rms); more than
+                ///< one allowed. Fitted by compare; not made by the simulator.
 };
 
 enum class TermKind { kStochastic, kDeterministic };
 
-/// Every term, in catalog order.
+/// Every term, in catalog order (narrow_band after sinusoid, not in enum order).
 const std::vector<Term>& AllTerms();
 /// The catalog name, e.g. "bias_instability".
 const char* ToString(Term term);

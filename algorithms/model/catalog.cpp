@@ -93,4 +93,11 @@ bool ParseTermList(const std::string& text, std::vector<ModelTerm>* terms, std::
   return true;
 }
 
+std::vector<Term> CatalogTermsOf(const std::vector<ModelTerm>& terms) {
+  std::vector<Term> catalog_terms;
+  for (const ModelTerm& term : terms)
+    if (!term.IsAux()) catalog_terms.push_back(term.term);
+  return catalog_terms;
+}
+
 }  // namespace fogpipe::model

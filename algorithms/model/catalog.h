@@ -66,6 +66,8 @@ bool IsFittedOnRate(const ModelTerm& term);
 std::string AuxChannelOf(const ModelTerm& term);
 /// True when the term reads the channel's smoothed derivative (temperature_rate, aux_rate).
 bool UsesDerivative(const ModelTerm& term);
+/// The fixed-catalog terms of a model, in its order (its aux terms left out).
+std::vector<Term> CatalogTermsOf(const std::vector<ModelTerm>& terms);
 /// bias + white + quantization + bias_instability + rate_random_walk + rate_ramp (bias is
 /// implicit).
 std::vector<ModelTerm> DefaultTerms();

@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "algorithms/common/units.h"
+#include "algorithms/model/spectrum.h"
 
 namespace fogpipe::model {
 namespace {
@@ -109,9 +110,22 @@ std::vector<Parameter> ParametersOfComponent(const DeterministicComponent& compo
   return parameters;
 }
 
+// A band as an engineer reads it: centre, half-power bandwidth 2 zeta f0, damping ratio and rms.
+std::vector<Parameter> BandParameters(const NarrowBand& band) {
+  const double bandwidth = 2 * band.zeta * band.f0_hz;
+  const double bandwidth_se =
+      2 * std::hypot(band.zeta_se * band.f0_hz, band.zeta * band.f0_se_hz);  // independent
+  return {{"frequency", band.f0_hz, band.f0_se_hz, "Hz"},
+          {"bandwidth", bandwidth, bandwidth_se, "Hz"},
+          {"damping_ratio", band.zeta, band.zeta_se, "1"},
+          {"rms", DegH(band.sigma_rad_s), DegH(band.sigma_se_rad_s), "deg/h"}};
+}
+
 std::vector<Parameter> StochasticParameters(const StochasticModel& model, Term term) {
   using namespace units;
   switch (term) {
+    case Term::kNarrowBand:
+      return model.bands.empty() ? std::vector<Parameter>{} : BandParameters(model.bands.back());
     case Term::kWhite:
       return {{"N", ArwToDegPerSqrtHour(model.n_rad_sqrt_s), ArwToDegPerSqrtHour(model.n_se),
                kArwUnit}};
@@ -154,8 +168,11 @@ allan::NoiseFitResult CheckIeeeTerms(const StochasticModel& model, const allan::
       &noise_terms.k_se);
   set(Term::kRateRamp, model.r_rad_s2, model.r_se, &noise_terms.r_rad_s2, &noise_terms.r_se);
   std::function<double(double)> other;
-  if (model.Has(Term::kGaussMarkov))
-    other = [&model](double tau) { return TermAllanVariance(model, Term::kGaussMarkov, tau); };
+  if (model.Has(Term::kGaussMarkov) || model.Has(Term::kNarrowBand))
+    other = [&model](double tau) {
+      return TermAllanVariance(model, Term::kGaussMarkov, tau) +
+             TermAllanVariance(model, Term::kNarrowBand, tau);
+    };
   return allan::AssessNoiseTerms(table, noise_terms, other, relative_tolerance,
                                  allan::NoiseFitOptions());
 }
@@ -242,6 +259,11 @@ std::string Evidence(const Evaluation& base, const Evaluation& trial, const Mode
           "the rate settles from the start of the record with a time constant of %.4g "
           "s, amplitude %.3g deg/h: a start-up transient (error %.3g -> %.3g)",
           val("time_constant"), val("amplitude"), error_before, error_after);
+    case Term::kNarrowBand:
+      return Format(
+          "a band of excess power centred at %.4g Hz, half-power width %.3g Hz, rms %.3g deg/h: "
+          "vibration or a structural resonance (error %.3g -> %.3g)",
+          val("frequency"), val("bandwidth"), val("rms"), error_before, error_after);
     case Term::kWhite:
       return "the short-tau Allan slope -1/2 is not covered: white rate noise (angle random walk)";
     case Term::kQuantization:
@@ -254,6 +276,56 @@ std::string Evidence(const Evaluation& base, const Evaluation& trial, const Mode
       return "the long-tau Allan curve rises with slope +1: a rate ramp";
   }
   return "";
+}
+
+// The narrow bands of a model with `count` narrow_band terms, one after the other: each starts
+// from the most severe failing band of the frequency view under the model fitted so far (the
+// bands found before it included), is fitted on the residual's Welch PSD against that model as
+// background (narrow_band.h), and the Allan-fitted terms are refitted with the bands as a known
+// offset. Fewer bands than asked when the frequency view has no failing band left.
+void FitBands(int count, double fs, int num_views, const CompareOptions& options,
+              Evaluation* evaluation) {
+  const Eigen::VectorXd& residual = evaluation->deterministic.residual;
+  const long segment = FastFftSizeAtMost(
+      std::max(1L, static_cast<long>(residual.size()) / options.views.welch_segments));
+  if (segment < 64) return;
+  const Spectrum welch = WelchPsd(residual, fs, static_cast<int>(segment));
+  std::vector<NarrowBand> bands;
+  std::string note;
+  for (int b = 0; b < count; ++b) {
+    const StochasticModel& model = evaluation->stochastic.model;
+    const std::vector<Failure> failures =
+        FrequencyFailuresOf(residual, fs, model, options.views, num_views);
+    const Failure* worst = nullptr;
+    for (const Failure& failure : failures)
+      if (worst == nullptr || failure.severity > worst->severity) worst = &failure;
+    if (worst == nullptr) {
+      note = "; narrow_band: no failing frequency band to fit";
+      break;
+    }
+    StochasticModel without_bands = model;
+    without_bands.bands.clear();
+    std::vector<double> background(welch.frequency_hz.size()), fixed(background.size(), 0.0);
+    for (size_t k = 0; k < background.size(); ++k) {
+      background[k] = ModelOneSidedPsd(without_bands, welch.frequency_hz[k], fs);
+      for (const NarrowBand& band : bands)
+        fixed[k] += NarrowBandOneSidedPsd(band, welch.frequency_hz[k]);
+    }
+    const NarrowBandFitResult fit =
+        FitNarrowBand(welch, background, fixed, std::max(1, options.views.psd_skip_bins),
+                      {worst->from, worst->to, worst->center_hz, worst->excess_power});
+    if (!fit.ok) {
+      note = "; narrow_band: " + fit.message;
+      break;
+    }
+    bands.push_back(fit.band);
+    const StochasticFit refit = FitStochastic(
+        evaluation->allan.tau_s, evaluation->allan.avar, evaluation->allan.edf, fs,
+        residual.size() / fs, CatalogTermsOf(evaluation->terms), options.stochastic, bands);
+    if (!HasResult(refit.summary.termination)) break;
+    evaluation->stochastic = refit;
+  }
+  evaluation->stochastic.summary.message += note;
 }
 
 }  // namespace
@@ -318,24 +390,24 @@ Evaluation EvaluateModel(const CompareInput& input, const std::vector<ModelTerm>
     return evaluation;
   }
   evaluation.allan = ResidualAllan(evaluation.deterministic.residual, fs, options.views);
-  std::vector<Term> catalog_terms;
-  for (const ModelTerm& term : terms)
-    if (!term.IsAux()) catalog_terms.push_back(term.term);
   evaluation.stochastic =
       FitStochastic(evaluation.allan.tau_s, evaluation.allan.avar, evaluation.allan.edf, fs,
-                    rate.size() / fs, catalog_terms, options.stochastic);
+                    rate.size() / fs, CatalogTermsOf(terms), options.stochastic);
   if (!HasResult(evaluation.stochastic.summary.termination)) {
     evaluation.termination = evaluation.stochastic.summary.termination;
     evaluation.message = evaluation.stochastic.summary.message;
     return evaluation;
   }
-  evaluation.noise_check = CheckIeeeTerms(evaluation.stochastic.model, evaluation.allan.table,
-                                          options.stochastic.relative_floor);
   std::vector<PreparedAux> own;
   if (prepared == nullptr) {
     own = PrepareAux(input.aux, rate.size(), fs, options.views);
     prepared = &own;
   }
+  const int band_count =
+      static_cast<int>(std::count(terms.begin(), terms.end(), Term::kNarrowBand));
+  if (band_count > 0) FitBands(band_count, fs, prepared->empty() ? 3 : 4, options, &evaluation);
+  evaluation.noise_check = CheckIeeeTerms(evaluation.stochastic.model, evaluation.allan.table,
+                                          options.stochastic.relative_floor);
   evaluation.views = ComputeViews(evaluation.deterministic.residual, fs, *prepared,
                                   evaluation.stochastic.model, evaluation.allan, options.views);
   FittedTerm bias{"bias",
@@ -351,7 +423,7 @@ Evaluation EvaluateModel(const CompareInput& input, const std::vector<ModelTerm>
   evaluation.fitted.push_back(bias);
   std::vector<ModelTerm> seen;
   for (const ModelTerm& term : terms) {
-    if (term == Term::kSinusoid) continue;
+    if (term == Term::kSinusoid || term == Term::kNarrowBand) continue;
     if (std::find(seen.begin(), seen.end(), term) != seen.end()) continue;
     seen.push_back(term);
     evaluation.fitted.push_back({ToString(term), ParametersOf(evaluation, term)});
@@ -359,6 +431,8 @@ Evaluation EvaluateModel(const CompareInput& input, const std::vector<ModelTerm>
   for (const auto& component : evaluation.deterministic.model.components)
     if (component.term == Term::kSinusoid)
       evaluation.fitted.push_back({"sinusoid", ParametersOfComponent(component)});
+  for (const NarrowBand& band : evaluation.stochastic.model.bands)
+    evaluation.fitted.push_back({"narrow_band", BandParameters(band)});
   evaluation.message = "error " + std::to_string(evaluation.views.error);
   return evaluation;
 }
@@ -370,7 +444,7 @@ std::vector<ModelTerm> TrialTerms(const CompareInput& input, const std::vector<M
   };
   const bool has_temp = FindAux(input, "temperature") != nullptr;
   for (Term term : CatalogTerms()) {
-    if (present(term) && term != Term::kSinusoid) continue;
+    if (present(term) && term != Term::kSinusoid && term != Term::kNarrowBand) continue;
     if (NeedsTemperature(term) && !has_temp) continue;
     trial_terms.push_back(term);
   }
@@ -442,6 +516,13 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
     } else if (term == Term::kWarmup && time_view.warmup_critical > 0) {
       suggestion.delta_bic = time_view.warmup_critical * time_view.warmup_critical -
                              time_view.warmup_z * time_view.warmup_z;
+    } else if (term == Term::kNarrowBand &&
+               trial.stochastic.model.bands.size() > base.stochastic.model.bands.size()) {
+      // Whittle -2 ln L drop of the new band over the window it was fitted in (the rest of the
+      // spectrum is unchanged by it), 3 parameters, n = the effectively independent Welch bins.
+      const NarrowBand& band = trial.stochastic.model.bands.back();
+      suggestion.delta_bic =
+          -band.minus_two_log_likelihood_drop + 3.0 * std::log(std::max(band.effective_bins, 2.0));
     } else if (IsFittedOnRate(term)) {
       const double added_parameters =
           trial.deterministic.summary.num_parameters - base.deterministic.summary.num_parameters;
@@ -530,6 +611,20 @@ std::string FailureList(std::vector<Failure> failures, size_t limit = 4) {
   return out;
 }
 
+// The term as the verdict names it: a narrow band with its centre, width and rms.
+std::string SuggestionLabel(const Suggestion& suggestion) {
+  std::string label = ToString(suggestion.term);
+  if (suggestion.term != Term::kNarrowBand) return label;
+  double frequency = 0, bandwidth = 0, rms = 0;
+  for (const Parameter& parameter : suggestion.parameters) {
+    if (parameter.name == "frequency") frequency = parameter.value;
+    if (parameter.name == "bandwidth") bandwidth = parameter.value;
+    if (parameter.name == "rms") rms = parameter.value;
+  }
+  return label + Format(" at %.4g Hz (half-power width %.3g Hz, rms %.3g deg/h)", frequency,
+                        bandwidth, rms);
+}
+
 std::string Join(const std::vector<ViewDomain>& domains) {
   std::string joined;
   for (ViewDomain domain : domains)
@@ -565,7 +660,7 @@ Verdict MakeVerdict(const Evaluation& base, const std::vector<ModelTerm>& trial_
       verdict.consistent_with_suggestion = trials[index].views.consistent;
       verdict.still_failing = trials[index].views.failures;
     }
-    verdict.text = std::string("inconsistent: suggestion ") + ToString(suggestion.term);
+    verdict.text = "inconsistent: suggestion " + SuggestionLabel(suggestion);
     if (verdict.consistent_with_suggestion)
       verdict.text += " (makes the model consistent)";
     else
@@ -583,7 +678,7 @@ Verdict MakeVerdict(const Evaluation& base, const std::vector<ModelTerm>& trial_
   if (!suggestions.empty()) {
     const Suggestion& suggestion = suggestions.front();
     verdict.text +=
-        std::string("; the first candidate, ") + ToString(suggestion.term) +
+        "; the first candidate, " + SuggestionLabel(suggestion) +
         (suggestion.bic_rejects ? " (rejected by BIC)" : "") +
         Format(", only takes the error %.3g -> %.3g", base.views.error, suggestion.error_after);
   }
@@ -612,11 +707,17 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
     for (const ModelTerm& term : TrialTerms(input, terms))
       if (!term.IsAux() || AuxViewSupports(result.base, term)) trial_terms.push_back(term);
   }
+  // A narrow band is fitted at a failing frequency band (FitBands): without one its trial would
+  // be the base model again.
+  if (ViewErrorOf(result.base.views, ViewDomain::kFrequency) <= 1.0)
+    trial_terms.erase(std::remove(trial_terms.begin(), trial_terms.end(), Term::kNarrowBand),
+                      trial_terms.end());
   result.trials.resize(trial_terms.size());
   std::vector<int> order(trial_terms.size());
   std::iota(order.begin(), order.end(), 0);
-  std::stable_partition(order.begin(), order.end(),
-                        [&](int i) { return HasNonlinearParameter(trial_terms[i]); });
+  std::stable_partition(order.begin(), order.end(), [&](int i) {
+    return HasNonlinearParameter(trial_terms[i]) || trial_terms[i] == Term::kNarrowBand;
+  });
   const int count = 1 + static_cast<int>(trial_terms.size());
   // The trials' own step and warm-up scans would never be read (RankSuggestions uses the base
   // model's), so they are skipped: a FitDeterministic scan and a noise refit each, per trial.

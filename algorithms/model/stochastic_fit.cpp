@@ -12,11 +12,6 @@
 namespace fogpipe::model {
 namespace {
 
-bool IsStochastic(Term term) {
-  return term == Term::kWhite || term == Term::kQuantization || term == Term::kBiasInstability ||
-         term == Term::kRateRandomWalk || term == Term::kRateRamp || term == Term::kGaussMarkov;
-}
-
 allan::Term AllanTerm(Term term) {
   switch (term) {
     case Term::kQuantization:
@@ -78,8 +73,8 @@ struct Fitted {
 };
 
 Fitted FitAt(const std::vector<double>& tau, const Eigen::VectorXd& avar,
-             const Eigen::VectorXd& edf, const std::vector<Term>& terms, double correlation_time_s,
-             double floor_squared) {
+             const Eigen::VectorXd& offset, const Eigen::VectorXd& edf,
+             const std::vector<Term>& terms, double correlation_time_s, double floor_squared) {
   const int rows = static_cast<int>(tau.size()), num_terms = static_cast<int>(terms.size());
   Eigen::MatrixXd design(rows, num_terms);
   for (int i = 0; i < rows; ++i)
@@ -87,6 +82,7 @@ Fitted FitAt(const std::vector<double>& tau, const Eigen::VectorXd& avar,
       design(i, j) = UnitAllanLaw(terms[j], tau[i], correlation_time_s);
   // Relative variance of s2: 2 / edf + floor^2. Weights start from the data, then the model.
   Eigen::VectorXd model_avar = avar;
+  const Eigen::VectorXd target = avar - offset;
   Fitted fitted;
   fitted.tc = correlation_time_s;
   for (int iteration = 0; iteration < 3; ++iteration) {
@@ -95,13 +91,18 @@ Fitted FitAt(const std::vector<double>& tau, const Eigen::VectorXd& avar,
       const double model_value = std::max(model_avar[i], 1e-6 * avar[i]);
       weights[i] = 1.0 / ((2.0 / edf[i] + floor_squared) * model_value * model_value);
     }
-    fitted.nnls = Nnls(design, avar, weights);
-    model_avar = design * fitted.nnls.coefficients;
+    fitted.nnls = Nnls(design, target, weights);
+    model_avar = design * fitted.nnls.coefficients + offset;
   }
   return fitted;
 }
 
 }  // namespace
+
+bool IsFittedOnAllan(Term term) {
+  return term == Term::kWhite || term == Term::kQuantization || term == Term::kBiasInstability ||
+         term == Term::kRateRandomWalk || term == Term::kRateRamp || term == Term::kGaussMarkov;
+}
 
 // The model is sum c_i g_i with c_i = P_i^2 (P = Q, N, B, K, R, sigma).
 double UnitAllanLaw(Term term, double tau, double tc) {
@@ -133,6 +134,11 @@ double TermAllanVariance(const StochasticModel& model, Term term, double tau) {
                  ? model.gm_sigma_rad_s * model.gm_sigma_rad_s *
                        UnitAllanLaw(term, tau, model.gm_correlation_time_s)
                  : 0.0;
+    case Term::kNarrowBand: {
+      double sum = 0;
+      for (const NarrowBand& band : model.bands) sum += NarrowBandAllanVariance(band, tau);
+      return sum;
+    }
     default:
       return 0.0;
   }
@@ -167,7 +173,10 @@ double ModelOneSidedPsd(const StochasticModel& model, double frequency_hz, doubl
     psd += 2.0 * model.gm_sigma_rad_s * model.gm_sigma_rad_s * correlation_time_s /
            (1.0 + angular_frequency * angular_frequency * correlation_time_s * correlation_time_s);
   }
-  return 2.0 * psd;
+  psd *= 2.0;
+  if (model.Has(Term::kNarrowBand))
+    for (const NarrowBand& band : model.bands) psd += NarrowBandOneSidedPsd(band, frequency_hz);
+  return psd;
 }
 
 bool StochasticFitOptions::IsValid(std::string* error) const {
@@ -184,8 +193,8 @@ bool StochasticFitOptions::IsValid(std::string* error) const {
 
 StochasticFit FitStochastic(const std::vector<double>& tau, const std::vector<double>& avar,
                             const std::vector<double>& edf_in, double fs, double record_s,
-                            const std::vector<Term>& all_terms,
-                            const StochasticFitOptions& options) {
+                            const std::vector<Term>& all_terms, const StochasticFitOptions& options,
+                            const std::vector<NarrowBand>& bands) {
   StochasticFit result;
   std::string err;
   if (!options.IsValid(&err)) {
@@ -195,9 +204,13 @@ StochasticFit FitStochastic(const std::vector<double>& tau, const std::vector<do
   }
   std::vector<Term> terms;
   for (Term term : all_terms)
-    if (IsStochastic(term) && std::find(terms.begin(), terms.end(), term) == terms.end())
+    if (IsFittedOnAllan(term) && std::find(terms.begin(), terms.end(), term) == terms.end())
       terms.push_back(term);
   result.model.terms = terms;
+  if (!bands.empty()) {
+    result.model.bands = bands;
+    result.model.terms.push_back(Term::kNarrowBand);
+  }
   std::vector<double> fit_tau;
   std::vector<double> fit_avar, fit_edf;
   for (size_t i = 0; i < tau.size(); ++i) {
@@ -214,12 +227,15 @@ StochasticFit FitStochastic(const std::vector<double>& tau, const std::vector<do
   }
   const Eigen::VectorXd avar_points = Eigen::Map<Eigen::VectorXd>(fit_avar.data(), fit_avar.size());
   const Eigen::VectorXd edf = Eigen::Map<Eigen::VectorXd>(fit_edf.data(), fit_edf.size());
+  Eigen::VectorXd offset = Eigen::VectorXd::Zero(avar_points.size());
+  for (size_t i = 0; i < fit_tau.size(); ++i)
+    for (const NarrowBand& band : bands) offset[i] += NarrowBandAllanVariance(band, fit_tau[i]);
   const double floor_squared = options.relative_floor * options.relative_floor;
   const bool has_gauss_markov =
       std::find(terms.begin(), terms.end(), Term::kGaussMarkov) != terms.end();
   Fitted best;
   if (!has_gauss_markov) {
-    best = FitAt(fit_tau, avar_points, edf, terms, 0.0, floor_squared);
+    best = FitAt(fit_tau, avar_points, offset, edf, terms, 0.0, floor_squared);
   } else {
     const double log_tc_low = std::log(options.min_tc_factor / fs),
                  log_tc_high = std::log(record_s / options.max_tc_divisor);
@@ -228,7 +244,7 @@ StochasticFit FitStochastic(const std::vector<double>& tau, const std::vector<do
     int best_index = 0;
     for (int i = 0; i < grid; ++i) {
       Fitted fitted =
-          FitAt(fit_tau, avar_points, edf, terms,
+          FitAt(fit_tau, avar_points, offset, edf, terms,
                 std::exp(log_tc_low + (log_tc_high - log_tc_low) * i / (grid - 1)), floor_squared);
       if (fitted.nnls.cost < best.nnls.cost) {
         best = fitted;
@@ -243,9 +259,9 @@ StochasticFit FitStochastic(const std::vector<double>& tau, const std::vector<do
       const double inner_low = bracket_high - golden * (bracket_high - bracket_low),
                    inner_high = bracket_low + golden * (bracket_high - bracket_low);
       const Fitted fit_low =
-          FitAt(fit_tau, avar_points, edf, terms, std::exp(inner_low), floor_squared);
+          FitAt(fit_tau, avar_points, offset, edf, terms, std::exp(inner_low), floor_squared);
       const Fitted fit_high =
-          FitAt(fit_tau, avar_points, edf, terms, std::exp(inner_high), floor_squared);
+          FitAt(fit_tau, avar_points, offset, edf, terms, std::exp(inner_high), floor_squared);
       if (fit_low.nnls.cost < fit_high.nnls.cost) {
         bracket_high = inner_high;
         if (fit_low.nnls.cost < best.nnls.cost) best = fit_low;
@@ -258,10 +274,10 @@ StochasticFit FitStochastic(const std::vector<double>& tau, const std::vector<do
     // chi-square, so var(log Tc) ~ 2 / cost''.
     const double log_step = 0.05, log_tc = std::log(best.tc);
     const double cost_minus =
-        FitAt(fit_tau, avar_points, edf, terms, std::exp(log_tc - log_step), floor_squared)
+        FitAt(fit_tau, avar_points, offset, edf, terms, std::exp(log_tc - log_step), floor_squared)
             .nnls.cost;
     const double cost_plus =
-        FitAt(fit_tau, avar_points, edf, terms, std::exp(log_tc + log_step), floor_squared)
+        FitAt(fit_tau, avar_points, offset, edf, terms, std::exp(log_tc + log_step), floor_squared)
             .nnls.cost;
     const double curvature = (cost_plus - 2 * best.nnls.cost + cost_minus) / (log_step * log_step);
     result.model.gm_correlation_time_s = best.tc;

@@ -13,6 +13,9 @@
 // The Gauss-Markov correlation time is found by a log-grid + golden-section search with the
 // amplitudes profiled out. PSD laws (two-sided, IEEE Std 952 Annex C) are given for the frequency
 // view; they are the same processes as the Allan laws.
+// Narrow bands (narrow_band.h) are fitted on the spectrum, not here: FitStochastic takes them as
+// known and fits the other terms to what they leave, with the bands' Allan variance as a fixed
+// offset of the model (in the target and in the weights).
 #pragma once
 
 #include <Eigen/Core>
@@ -21,6 +24,7 @@
 
 #include "algorithms/common/status.h"
 #include "algorithms/model/catalog.h"
+#include "algorithms/model/narrow_band.h"
 
 namespace fogpipe::model {
 
@@ -34,8 +38,12 @@ struct StochasticModel {
   double r_rad_s2 = 0, r_se = 0;
   double gm_sigma_rad_s = 0, gm_sigma_se = 0;
   double gm_correlation_time_s = 0, gm_correlation_time_se = 0;
+  std::vector<NarrowBand> bands;  ///< Term::kNarrowBand (in `terms` once, whatever their count)
   bool Has(Term t) const;
 };
+
+/// True for the terms FitStochastic fits on the Allan variance (white ... gauss_markov).
+bool IsFittedOnAllan(Term term);
 
 /// Unit-amplitude Allan law g(tau) of a stochastic term (fogpipe::allan's closed forms): the
 /// term's Allan variance is P^2 g(tau) with P = Q, N, B, K, R or sigma; `tc_s` is the Gauss-Markov
@@ -70,9 +78,12 @@ struct StochasticFit {
   StochasticFitSummary summary;
 };
 
-/// Fits the stochastic terms of `terms` to Allan variances s2(tau) with their EDFs.
+/// Fits the stochastic terms of `terms` to Allan variances s2(tau) with their EDFs. `bands`
+/// (known, fitted on the spectrum) enter the model as they are: the result has them and
+/// Term::kNarrowBand when there is at least one.
 StochasticFit FitStochastic(const std::vector<double>& tau_s, const std::vector<double>& avar,
                             const std::vector<double>& edf, double sample_rate_hz, double record_s,
-                            const std::vector<Term>& terms, const StochasticFitOptions& options);
+                            const std::vector<Term>& terms, const StochasticFitOptions& options,
+                            const std::vector<NarrowBand>& bands = {});
 
 }  // namespace fogpipe::model

@@ -52,11 +52,14 @@ std::vector<std::complex<double>> DecayDft(long n, double rho, long half) {
 double GaussMarkovArcLength(const std::vector<double>& tau, const std::vector<double>& weights,
                             const StochasticModel& model, double log_tc_low, double log_tc_high) {
   const long rows = static_cast<long>(tau.size());
-  const long num_terms = static_cast<long>(model.terms.size());
+  std::vector<Term> columns;  // the fitted columns (narrow bands are a fixed offset)
+  for (Term term : model.terms)
+    if (IsFittedOnAllan(term)) columns.push_back(term);
+  const long num_terms = static_cast<long>(columns.size());
   Eigen::MatrixXd design(rows, num_terms);
   for (long i = 0; i < rows; ++i)
     for (long j = 0; j < num_terms; ++j)
-      design(i, j) = weights[i] * UnitAllanLaw(model.terms[j], tau[i], 0.0);
+      design(i, j) = weights[i] * UnitAllanLaw(columns[j], tau[i], 0.0);
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(design);
   const Eigen::MatrixXd basis =
       qr.householderQ() * Eigen::MatrixXd::Identity(rows, std::min(rows, num_terms));
@@ -87,7 +90,7 @@ StochasticModel RefitNoise(const Eigen::VectorXd& x, double fs, const Stochastic
   StochasticFitOptions fit_options;
   fit_options.relative_floor = options.relative_floor;
   const StochasticFit fit = FitStochastic(allan.tau_s, allan.avar, allan.edf, fs, x.size() / fs,
-                                          model.terms, fit_options);
+                                          model.terms, fit_options, model.bands);
   return HasResult(fit.summary.termination) ? fit.model : model;
 }
 
@@ -203,10 +206,10 @@ TargetedTest ScanGaussMarkov(const AllanData& allan, double fs, double record_s,
   fit_options.relative_floor = options.relative_floor;
   std::vector<Term> with_gm = model.terms;
   with_gm.push_back(Term::kGaussMarkov);
-  const StochasticFit fit_without =
-      FitStochastic(allan.tau_s, allan.avar, allan.edf, fs, record_s, model.terms, fit_options);
-  const StochasticFit fit_with =
-      FitStochastic(allan.tau_s, allan.avar, allan.edf, fs, record_s, with_gm, fit_options);
+  const StochasticFit fit_without = FitStochastic(allan.tau_s, allan.avar, allan.edf, fs, record_s,
+                                                  model.terms, fit_options, model.bands);
+  const StochasticFit fit_with = FitStochastic(allan.tau_s, allan.avar, allan.edf, fs, record_s,
+                                               with_gm, fit_options, model.bands);
   if (!HasResult(fit_without.summary.termination) || !HasResult(fit_with.summary.termination))
     return test;
   // The same points and weights as the fit: 1 / sqrt((2 / edf + c^2)) / model.

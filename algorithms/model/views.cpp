@@ -589,6 +589,17 @@ Views ComputeViews(const Eigen::VectorXd& residual, double fs, const std::vector
   return views;
 }
 
+std::vector<Failure> FrequencyFailuresOf(const Eigen::VectorXd& residual, double fs,
+                                         const StochasticModel& model, const ViewOptions& options,
+                                         int num_views) {
+  FrequencyView view;
+  std::vector<Failure> failures;
+  const FrequencyBins bins =
+      FrequencyStatistics(residual, fs, model, options, options.alpha / num_views, &view);
+  if (!bins.z.empty()) FrequencyFailures(bins, options, &view, &failures);
+  return failures;
+}
+
 double ViewErrorOf(const Views& views, ViewDomain domain) {
   for (const ViewError& view_error : views.view_errors)
     if (view_error.domain == domain) return view_error.error;

@@ -220,6 +220,12 @@ Views ComputeViews(const Eigen::VectorXd& residual, double sample_rate_hz,
                    const std::vector<PreparedAux>& aux, const StochasticModel& model,
                    const AllanData& allan, const ViewOptions& options);
 
+/// The frequency view alone (as ComputeViews computes it with `num_views` scored views): its
+/// failing bands, e.g. to start a narrow_band fit from.
+std::vector<Failure> FrequencyFailuresOf(const Eigen::VectorXd& residual, double sample_rate_hz,
+                                         const StochasticModel& model, const ViewOptions& options,
+                                         int num_views);
+
 /// The error of the view `domain` (0 when it is not scored).
 double ViewErrorOf(const Views& views, ViewDomain domain);
 

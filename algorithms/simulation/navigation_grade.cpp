@@ -162,6 +162,10 @@ void AddNavigationGradeTerm(Term term, std::uint64_t seed, GyroSimulatorOptions*
       e.warmup = w;
       break;
     }
+    case Term::kNarrowBand:
+      // Not simulated: the simulator's error model has no band (the compare tests add one
+      // themselves); `simulate --add` rejects it.
+      break;
   }
 }
 

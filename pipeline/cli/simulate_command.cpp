@@ -149,6 +149,8 @@ void AddCatalogTerms(const SimulateArguments& a, std::uint64_t seed, sim::GyroSi
   for (const std::string& name : a.add) {
     const std::optional<sim::Term> term = sim::ParseTerm(name);
     if (!term) throw std::invalid_argument("--add '" + name + "' is not a catalog term");
+    if (*term == sim::Term::kNarrowBand)
+      throw std::invalid_argument("--add " + name + ": the simulator does not make this term");
     if (a.no_temperature && sim::NeedsTemperature(*term)) {
       throw std::invalid_argument("--add " + name +
                                   " needs the aux temperature (--no-temperature)");
@@ -384,7 +386,8 @@ void AddSimulateCommand(CLI::App& app, int* exit_code) {
                   "Aux temperature sensor noise std, degC (default 0.005)");
   cmd->add_flag("--no-temperature", args->no_temperature, "Write no aux temperature channel");
   std::string catalog;
-  for (sim::Term term : sim::AllTerms()) catalog += std::string(" ") + sim::ToString(term);
+  for (sim::Term term : sim::AllTerms())
+    if (term != sim::Term::kNarrowBand) catalog += std::string(" ") + sim::ToString(term);
   cmd->add_option("--add", args->add,
                   "Add a catalog term at a random navigation-grade size drawn from the seed "
                   "(repeatable):" +

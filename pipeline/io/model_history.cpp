@@ -374,6 +374,32 @@ ModelFile ReadModelFile(const std::string& path) {
   return m;
 }
 
+namespace {
+
+// The model's narrow bands (narrow_band.h), one row each, SI; zero rows without any.
+void WriteNarrowBands(hdf5::Group& step, const std::vector<model::NarrowBand>& bands) {
+  std::vector<double> f0, f0_se, zeta, zeta_se, bandwidth, rms, rms_se;
+  for (const model::NarrowBand& b : bands) {
+    f0.push_back(b.f0_hz);
+    f0_se.push_back(b.f0_se_hz);
+    zeta.push_back(b.zeta);
+    zeta_se.push_back(b.zeta_se);
+    bandwidth.push_back(2 * b.zeta * b.f0_hz);
+    rms.push_back(b.sigma_rad_s);
+    rms_se.push_back(b.sigma_se_rad_s);
+  }
+  hdf5::Group g = step.CreateGroup("narrow_bands");
+  g.WriteDataset("frequency_hz", f0, "Hz");
+  g.WriteDataset("frequency_se_hz", f0_se, "Hz");
+  g.WriteDataset("damping_ratio", zeta, "1");
+  g.WriteDataset("damping_ratio_se", zeta_se, "1");
+  g.WriteDataset("bandwidth_hz", bandwidth, "Hz");
+  g.WriteDataset("rms_rad_s", rms, "rad/s");
+  g.WriteDataset("rms_se_rad_s", rms_se, "rad/s");
+}
+
+}  // namespace
+
 int AppendHistory(const std::string& results, const std::string& recording, const std::string& axis,
                   const model::CompareResult& r) {
   auto lock = hdf5::LockHdf5();
@@ -417,6 +443,7 @@ int AppendHistory(const std::string& results, const std::string& recording, cons
     step.WriteTextDataset("compare_json", cj.dump());
     step.WriteTextDataset("model_json", cj["model"].dump());
     WriteViews(step, r.base);
+    WriteNarrowBands(step, r.base.stochastic.model.bands);
     hdf5::Group noise = step.OpenGroup("allan").CreateGroup("noise");
     noise.WriteStringAttribute("termination", ToString(r.base.noise_check.summary.termination));
     noise.WriteStringAttribute("message", r.base.noise_check.summary.message);

@@ -8,11 +8,11 @@
 namespace fogpipe::catalog {
 namespace {
 
-TEST(Catalog, ListsTheElevenTermsOfTheIssueWithTheirFixedNames) {
+TEST(Catalog, ListsTheTwelveTermsWithTheirFixedNames) {
   const std::vector<std::string> expected = {
-      "white",        "quantization", "bias_instability", "rate_random_walk", "rate_ramp",
-      "gauss_markov", "sinusoid",     "temperature",      "temperature_rate", "bias_step",
-      "warmup"};
+      "white",       "quantization",     "bias_instability", "rate_random_walk",
+      "rate_ramp",   "gauss_markov",     "sinusoid",         "narrow_band",
+      "temperature", "temperature_rate", "bias_step",        "warmup"};
   ASSERT_EQ(AllTerms().size(), expected.size());
   for (size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(ToString(AllTerms()[i]), expected[i]);
 }
