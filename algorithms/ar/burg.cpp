@@ -14,8 +14,8 @@ constexpr Eigen::Index kBlock = 1024;
 
 }  // namespace
 
-OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x, int max_order,
-                            double mean) {
+OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x, int max_order, double mean,
+                            BurgWork* work) {
   const Eigen::Index n = x.size();
   OrderSequence out;
   out.num_effective = n;
@@ -26,8 +26,12 @@ OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x, int max_
   // Layout after Collomb (2009): forward error of order m at time t is f[t] (t = m..N-1); backward
   // error of order m that predicts x_t from the m samples after it is b[t] (t = 0..N-1-m). Order m
   // pairs f[t + m + 1] with b[t], t = 0..N-m-2.
-  Eigen::VectorXd f = x.array() - mean;
-  Eigen::VectorXd b = f;
+  BurgWork local;
+  BurgWork& arrays = work != nullptr ? *work : local;
+  Eigen::VectorXd& f = arrays.forward;
+  Eigen::VectorXd& b = arrays.backward;
+  f = x.array() - mean;
+  b = f;
   double* fp = f.data();
   double* bp = b.data();
 

@@ -22,11 +22,21 @@
 
 namespace fogpipe::ar {
 
+/// The two error arrays of BurgAllOrders. A caller that fits many series of one length keeps one
+/// and passes it to every call: fresh pages cost more than a pass of the recursion on the machines
+/// fogpipe runs on (docs/performance.md), and a kept array of the right size is reused as it is.
+struct BurgWork {
+  Eigen::VectorXd forward;
+  Eigen::VectorXd backward;
+};
+
 /// Burg models of orders 1..max_order of x - mean (pass the mean of x, or 0 for a series whose
 /// mean is already removed; subtracting it here saves the caller an N-double copy).
 /// num_effective = N. Stops early (orders_completed < max_order) if the prediction error vanishes.
+/// `work` (may be null: the arrays are then allocated here) holds the error arrays; the results do
+/// not depend on what it held before.
 OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x, int max_order,
-                            double mean = 0.0);
+                            double mean = 0.0, BurgWork* work = nullptr);
 
 /// The same estimator computed from the autocorrelation, after Vos (2013, "A fast implementation
 /// of Burg's method"): one O(N P) pass for c(0..P), then each order's error energies are quadratic

@@ -82,15 +82,21 @@ void OneStepResidualBlock(const Eigen::Ref<const Eigen::VectorXd>& x, const ArMo
   });
 }
 
+/// OneStepResiduals into out[0 .. N - p).
+void OneStepResidualsInto(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model,
+                          double* out) {
+  const Eigen::Index n = x.size();
+  const int p = model.order;
+  // Block by block (ResidualBlock: four samples at a time, every output written once).
+  for (Eigen::Index t0 = p; t0 < n; t0 += kBlock)
+    OneStepResidualBlock(x, model, t0, std::min(kBlock, n - t0), out + (t0 - p));
+}
+
 }  // namespace
 
 Eigen::VectorXd OneStepResiduals(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model) {
-  const Eigen::Index n = x.size();
-  const int p = model.order;
-  Eigen::VectorXd e(std::max<Eigen::Index>(n - p, 0));
-  // Block by block (ResidualBlock: four samples at a time, every output written once).
-  for (Eigen::Index t0 = p; t0 < n; t0 += kBlock)
-    OneStepResidualBlock(x, model, t0, std::min(kBlock, n - t0), e.data() + (t0 - p));
+  Eigen::VectorXd e(std::max<Eigen::Index>(x.size() - model.order, 0));
+  OneStepResidualsInto(x, model, e.data());
   return e;
 }
 
@@ -278,9 +284,16 @@ double OneStepFitPercent(const Eigen::Ref<const Eigen::VectorXd>& x, const ArMod
 }
 
 ArDiagnostics ComputeDiagnostics(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model) {
+  Eigen::VectorXd scratch(x.size());
+  return ComputeDiagnostics(x, model, scratch.data());
+}
+
+ArDiagnostics ComputeDiagnostics(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model,
+                                 double* scratch) {
   ArDiagnostics d;
   const int p = model.order;
-  Eigen::VectorXd e = OneStepResiduals(x, model);
+  Eigen::Map<Eigen::VectorXd> e(scratch, std::max<Eigen::Index>(x.size() - p, 0));
+  OneStepResidualsInto(x, model, e.data());
   SquareSum sum;
   sum.Add(e.data(), e.size());
   const double error_energy = sum.Value();

@@ -91,5 +91,9 @@ double OneStepFitPercent(const Eigen::Ref<const Eigen::VectorXd>& x, const ArMod
 
 /// All of the above. Requires x.size() > model.order + 20.
 ArDiagnostics ComputeDiagnostics(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model);
+/// The same, with the residuals written to `scratch`, which must hold N doubles (a caller's work
+/// array, so that no N-sized array is allocated here).
+ArDiagnostics ComputeDiagnostics(const Eigen::Ref<const Eigen::VectorXd>& x, const ArModel& model,
+                                 double* scratch);
 
 }  // namespace fogpipe::ar

@@ -41,6 +41,10 @@ bool ArOptions::IsValid(std::string* error) const {
 }
 
 ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options) {
+  return FitAr(x, options, nullptr);
+}
+
+ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options, ArWork* work) {
   ArFit fit;
   std::string error;
   if (!options.IsValid(&error)) {
@@ -69,7 +73,7 @@ ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options
   switch (options.estimator) {
     case Estimator::kBurg:
     case Estimator::kMaximumLikelihood:
-      seq = BurgAllOrders(x, top, mean);
+      seq = BurgAllOrders(x, top, mean, work != nullptr ? &work->burg : nullptr);
       break;
     case Estimator::kLeastSquaresQr:
       xc = x.array() - mean;
@@ -148,7 +152,14 @@ ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options
       << fit.model.max_root_modulus;
   if (!fit.model.stationary) msg << "; NOT stationary";
   fit.summary.message = msg.str();
-  if (options.compute_diagnostics) fit.diagnostics = ComputeDiagnostics(x, fit.model);
+  if (options.compute_diagnostics) {
+    // Burg's forward errors are spent: their array holds the residuals.
+    if (work != nullptr && work->burg.forward.size() == n) {
+      fit.diagnostics = ComputeDiagnostics(x, fit.model, work->burg.forward.data());
+    } else {
+      fit.diagnostics = ComputeDiagnostics(x, fit.model);
+    }
+  }
   return fit;
 }
 

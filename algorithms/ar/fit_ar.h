@@ -28,6 +28,7 @@
 #include <string>
 
 #include "algorithms/ar/ar_model.h"
+#include "algorithms/ar/burg.h"
 #include "algorithms/ar/diagnostics.h"
 #include "algorithms/common/status.h"
 
@@ -83,5 +84,15 @@ struct ArFit {
 /// non-finite or constant input, kNoConvergence when ML stopped early; the Burg start is then kept
 /// if ML did not improve on it).
 ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options);
+
+/// The N-sized work arrays of FitAr: Burg's two error arrays, the first of which then holds the
+/// diagnostics' residuals; 2 N doubles after a fit. A caller that fits many series of one length
+/// keeps one and passes it to each call, so that no fit allocates fresh pages.
+struct ArWork {
+  BurgWork burg;
+};
+
+/// FitAr with its work arrays in *work (may be null); the result is the same bit for bit.
+ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options, ArWork* work);
 
 }  // namespace fogpipe::ar

@@ -15,9 +15,10 @@ namespace fogpipe {
 class TaskGroup {
  public:
   virtual ~TaskGroup() = default;
-  /// Starts `task` (possibly at once, in the caller).
+  /// Starts `task` (possibly at once, in the caller). A running task of the group may start more.
   virtual void Run(std::function<void()> task) = 0;
-  /// Returns when every task started so far has finished; rethrows the first exception of one.
+  /// Returns when every task started so far, and every task they started, has finished;
+  /// rethrows the first exception of one.
   virtual void Wait() = 0;
 };
 

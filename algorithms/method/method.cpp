@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <deque>
 #include <memory>
+#include <mutex>
 #include <sstream>
 #include <utility>
 
@@ -111,6 +112,8 @@ class ImfStream {
     }
   }
 
+  /// On the EMD's thread: copies IMF k and queues its band limit; the sifting of the next IMF
+  /// goes on meanwhile.
   void Take(int k, const Eigen::VectorXd& imf, const emd::ImfInfo& info) {
     Eigen::VectorXd* c = nullptr;
     if (stream_.store == nullptr) {
@@ -124,23 +127,16 @@ class ImfStream {
       c = &buffers_[slot];
     }
     infos_.push_back(info);
-    limiter_.Next(c, &infos_.back());
-    variances_.push_back(ComponentVariance(*c));
-    if (stream_.store) stream_.store->Put(ComponentStore::Kind::kComponent, k, *c);
+    variances_.push_back(0.0);
     fits_.emplace_back();
-    Prefit* fit = &fits_.back();
-    const ar::ArOptions& ar_options = options_.component.ar;
-    fits_group_->Run([c, fit, &ar_options] {
-      if (IsConstantComponent(*c)) return;  // ModelComponent passes it through unfitted
-      fit->fit = ar::FitAr(*c, ar_options);
-      fit->done = true;
-    });
+    Queue({k, c, &infos_.back(), &variances_.back(), &fits_.back()});
   }
 
   /// After the EMD: every fit finished, and after a decomposition the last IMF's leakage in the
   /// residue.
   void Finish(bool decomposed, Eigen::VectorXd* residue) {
     fits_group_->Wait();
+    idle_work_.clear();
     if (decomposed) limiter_.Finish(residue);
   }
 
@@ -148,6 +144,73 @@ class ImfStream {
     ar::ArFit fit;
     bool done = false;
   };
+
+ private:
+  /// An IMF waiting for its band limit; the pointers stay valid (deques, buffers_).
+  struct Pending {
+    int k = 0;
+    Eigen::VectorXd* component = nullptr;
+    emd::ImfInfo* info = nullptr;
+    double* variance = nullptr;
+    Prefit* fit = nullptr;
+  };
+
+  /// The band limit is a chain (IMF k receives the leakage of IMF k - 1), so the pending IMFs are
+  /// limited in order by one task at a time, while the EMD's thread sifts the next IMF; each
+  /// limited component's AR fit is then a task of its own. The order of the arithmetic is that
+  /// of a serial run, so the results do not depend on the schedule.
+  void Queue(const Pending& pending) {
+    {
+      std::lock_guard<std::mutex> lock(queue_mutex_);
+      queue_.push_back(pending);
+      if (limiting_) return;  // the running task takes it
+      limiting_ = true;
+    }
+    fits_group_->Run([this] { LimitQueued(); });
+  }
+
+  void LimitQueued() {
+    for (;;) {
+      Pending p;
+      {
+        std::lock_guard<std::mutex> lock(queue_mutex_);
+        if (queue_.empty()) {
+          limiting_ = false;
+          return;
+        }
+        p = queue_.front();
+        queue_.pop_front();
+      }
+      limiter_.Next(p.component, p.info);
+      *p.variance = ComponentVariance(*p.component);
+      if (stream_.store) stream_.store->Put(ComponentStore::Kind::kComponent, p.k, *p.component);
+      fits_group_->Run([this, c = p.component, fit = p.fit] {
+        if (IsConstantComponent(*c)) return;  // ModelComponent passes it through unfitted
+        std::unique_ptr<ar::ArWork> work = TakeWork();
+        fit->fit = ar::FitAr(*c, options_.component.ar, work.get());
+        fit->done = true;
+        ReturnWork(std::move(work));
+      });
+    }
+  }
+
+  /// The work arrays of a fit: the set kept from an earlier fit when it is free. Every component
+  /// has the record's length, so the arrays are reused as they are. At most one idle set is kept
+  /// (2 N doubles), so that the fits running at once allocate no more than before, and it is
+  /// released when the EMD ends.
+  std::unique_ptr<ar::ArWork> TakeWork() {
+    std::lock_guard<std::mutex> lock(work_mutex_);
+    if (idle_work_.empty()) return std::make_unique<ar::ArWork>();
+    std::unique_ptr<ar::ArWork> work = std::move(idle_work_.back());
+    idle_work_.pop_back();
+    return work;
+  }
+  void ReturnWork(std::unique_ptr<ar::ArWork> work) {
+    std::lock_guard<std::mutex> lock(work_mutex_);
+    if (idle_work_.empty()) idle_work_.push_back(std::move(work));
+  }
+
+ public:
   const MethodOptions& options_;
   const StreamOptions& stream_;
   BandLimiter limiter_;
@@ -156,8 +219,13 @@ class ImfStream {
   // Deques: the running fits hold pointers into them while more are appended.
   std::deque<Eigen::VectorXd> kept_;  // without a store: every IMF
   std::deque<Prefit> fits_;
-  std::vector<emd::ImfInfo> infos_;  // as band limited
-  std::vector<double> variances_;    // the components' (ComponentVariance)
+  std::deque<emd::ImfInfo> infos_;  // as band limited
+  std::deque<double> variances_;    // the components' (ComponentVariance)
+  std::mutex queue_mutex_;
+  std::deque<Pending> queue_;  // IMFs taken, not yet band limited
+  bool limiting_ = false;      // a task is limiting the queue
+  std::mutex work_mutex_;
+  std::vector<std::unique_ptr<ar::ArWork>> idle_work_;  // of the fits, between fits
 };
 
 /// Step 1 and EMD, the IMFs handed to `imfs` as extracted. False (with the failure in the
@@ -173,7 +241,7 @@ bool DecomposeStreamed(const Eigen::VectorXd& x, double sample_rate_hz,
   emd::EmdResult& d = result->decomposition;
   const bool decomposed = HasResult(d.summary.termination);
   imfs->Finish(decomposed, &d.residue);
-  if (decomposed) d.imf_info = imfs->infos_;
+  if (decomposed) d.imf_info.assign(imfs->infos_.begin(), imfs->infos_.end());
   return NoteDecomposition(options, result);
 }
 
@@ -190,7 +258,7 @@ void FilterComponents(double sample_rate_hz, const MethodOptions& options,
 
   // R per component (white_noise.h): the raw white-noise variance shared by mean period.
   const WhiteNoiseLevels levels = EstimateWhiteNoiseLevels(signal);
-  std::vector<double> variances = imfs->variances_;
+  std::vector<double> variances(imfs->variances_.begin(), imfs->variances_.end());
   variances.push_back(ComponentVariance(d.residue));
   const std::vector<double> r = ShareWhiteNoise(levels, ComponentPeriods(d, n), variances);
 

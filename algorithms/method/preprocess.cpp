@@ -20,20 +20,61 @@ double MedianInPlace(std::vector<double>* values) {
   return 0.5 * (lower + upper);
 }
 
+/// Moves sorted[pos] to its place among the other, sorted, values.
+void Resort(std::vector<double>* sorted, std::size_t pos) {
+  std::vector<double>& s = *sorted;
+  while (pos > 0 && s[pos - 1] > s[pos]) {
+    std::swap(s[pos - 1], s[pos]);
+    --pos;
+  }
+  while (pos + 1 < s.size() && s[pos + 1] < s[pos]) {
+    std::swap(s[pos + 1], s[pos]);
+    ++pos;
+  }
+}
+
+/// median[k] = the median of x over [k - h, k + h] clipped to the record. The full windows are
+/// slid: the sample that leaves is replaced by the one that enters in a sorted copy of the window
+/// (O(h) per sample instead of a selection over 2 h + 1 values). A median is a value of the
+/// window's multiset, however it is found, and the leaving value is matched bit for bit (signed
+/// zeros), so the medians are those of MedianInPlace on each window.
+void LocalMedians(const Eigen::VectorXd& x, Eigen::Index h, Eigen::VectorXd* median) {
+  const Eigen::Index n = x.size();
+  median->resize(n);
+  std::vector<double> window;
+  auto clipped = [&](Eigen::Index k) {
+    const Eigen::Index lo = std::max<Eigen::Index>(0, k - h);
+    const Eigen::Index hi = std::min<Eigen::Index>(n - 1, k + h);
+    window.assign(x.data() + lo, x.data() + hi + 1);
+    (*median)[k] = MedianInPlace(&window);
+  };
+  const Eigen::Index width = 2 * h + 1;
+  if (n < width) {
+    for (Eigen::Index k = 0; k < n; ++k) clipped(k);
+    return;
+  }
+  for (Eigen::Index k = 0; k < h; ++k) clipped(k);
+  for (Eigen::Index k = n - h; k < n; ++k) clipped(k);
+  std::vector<double> sorted(x.data(), x.data() + width);
+  std::sort(sorted.begin(), sorted.end());
+  (*median)[h] = sorted[static_cast<std::size_t>(h)];
+  for (Eigen::Index k = h + 1; k + h < n; ++k) {
+    const double leaving = x[k - h - 1];
+    auto it = std::lower_bound(sorted.begin(), sorted.end(), leaving);
+    while (std::signbit(*it) != std::signbit(leaving)) ++it;  // -0.0 == +0.0 in the ordering
+    *it = x[k + h];
+    Resort(&sorted, static_cast<std::size_t>(it - sorted.begin()));
+    (*median)[k] = sorted[static_cast<std::size_t>(h)];
+  }
+}
+
 void ReplaceOutliers(const PreprocessOptions& options, long long offset, Eigen::VectorXd* x,
                      std::vector<long long>* indices) {
   const Eigen::Index n = x->size();
-  const Eigen::Index h = options.hampel_half_window;
   // Local medians of the original values (replacements are written afterwards, so the result does
   // not depend on the scan order).
-  Eigen::VectorXd median(n);
-  std::vector<double> window;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    const Eigen::Index lo = std::max<Eigen::Index>(0, k - h);
-    const Eigen::Index hi = std::min<Eigen::Index>(n - 1, k + h);
-    window.assign(x->data() + lo, x->data() + hi + 1);
-    median[k] = MedianInPlace(&window);
-  }
+  Eigen::VectorXd median;
+  LocalMedians(*x, options.hampel_half_window, &median);
   const Eigen::Index block = options.hampel_scale_block;
   std::vector<double> deviation;
   for (Eigen::Index start = 0; start < n; start += block) {

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -141,16 +142,29 @@ TEST(Method, ReverseOrderScheduleGivesIdenticalNumbers) {
 
 // A TaskGroup that runs every task on its own thread at once (real concurrency, an arbitrary
 // interleaving), as the pipeline's tbb::task_group may.
+// A thread per task. Tasks may start more tasks (TaskGroup's contract), so Run and Wait share a
+// lock, and Wait joins until no task is left.
 class ThreadTaskGroup : public TaskGroup {
  public:
   ~ThreadTaskGroup() override { Wait(); }
-  void Run(std::function<void()> task) override { threads_.emplace_back(std::move(task)); }
+  void Run(std::function<void()> task) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    threads_.emplace_back(std::move(task));
+  }
   void Wait() override {
-    for (std::thread& t : threads_) t.join();
-    threads_.clear();
+    for (;;) {
+      std::vector<std::thread> started;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        started.swap(threads_);
+      }
+      if (started.empty()) return;
+      for (std::thread& t : started) t.join();
+    }
   }
 
  private:
+  std::mutex mutex_;
   std::vector<std::thread> threads_;
 };
 

@@ -3,8 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
+#include <vector>
 
 namespace fogpipe::method {
 namespace {
@@ -52,6 +55,62 @@ TEST(Preprocess, ReplacesPlantedOutliersAndOnlyThem) {
   }
   EXPECT_LE(p.outlier_indices.size(), planted.size() + 2);
   EXPECT_LT(p.signal.cwiseAbs().maxCoeff(), 8.0);
+}
+
+// The Hampel rule written out directly: each window's median by a full sort of a copy, the scale
+// per block as preprocess.h states it. An independent statement of the rule that the sliding
+// median of preprocess.cpp must reproduce exactly, ties and signed zeros included.
+std::vector<std::pair<long long, double>> HampelByDefinition(const Eigen::VectorXd& x, int h,
+                                                             double threshold, int block) {
+  const long long n = x.size();
+  auto median_of = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t m = v.size() / 2;
+    return v.size() % 2 == 1 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+  };
+  std::vector<double> median(n);
+  for (long long k = 0; k < n; ++k) {
+    const long long lo = std::max(0LL, k - h), hi = std::min(n - 1, k + h);
+    median[k] = median_of(std::vector<double>(x.data() + lo, x.data() + hi + 1));
+  }
+  std::vector<std::pair<long long, double>> replaced;
+  for (long long start = 0; start < n;) {
+    long long end = std::min(n, start + block);
+    if (n - end < block / 2) end = n;
+    std::vector<double> deviation;
+    for (long long k = start; k < end; ++k) deviation.push_back(std::abs(x[k] - median[k]));
+    const double limit = threshold * 1.482602218505602 * median_of(deviation);
+    for (long long k = start; k < end; ++k)
+      if (limit > 0.0 && std::abs(x[k] - median[k]) > limit) replaced.emplace_back(k, median[k]);
+    start = end;
+  }
+  return replaced;
+}
+
+TEST(Preprocess, ReplacesExactlyTheSamplesTheHampelRuleNamesByItsWindowMedians) {
+  // Counts of a coarse quantizer (many ties, signed zeros) with gross errors every ~50 samples,
+  // at lengths below, at and just above one window and well beyond.
+  for (const int n : {8, 10, 11, 12, 13, 2000, 20011}) {
+    Eigen::VectorXd x = Gaussian(n, 1.0, 300 + n);
+    for (int i = 0; i < n; ++i) {
+      x[i] = std::round(2.0 * x[i]) * (i % 3 == 0 ? -0.5 : 0.5);  // -0.0 and +0.0 both occur
+      if (i % 53 == 7) x[i] += (i % 2 ? 30.0 : -30.0);
+    }
+    PreprocessOptions options;
+    options.hampel_scale_block = 100;
+    options.min_samples = 8;
+    const Preprocessed p = Preprocess(x, 1.0, options);
+    ASSERT_EQ(p.summary.termination, Termination::kSuccess) << n << " " << p.summary.message;
+    const auto expected = HampelByDefinition(x, options.hampel_half_window,
+                                             options.hampel_threshold, options.hampel_scale_block);
+    ASSERT_EQ(p.outlier_indices.size(), expected.size()) << n;
+    for (std::size_t j = 0; j < expected.size(); ++j) {
+      const long long k = expected[j].first;
+      EXPECT_EQ(p.outlier_indices[j], k) << n;
+      // The stored signal has its mean removed: one rounding of a value of order 1 (1e-12).
+      EXPECT_NEAR(p.signal[k] + p.mean_removed, expected[j].second, 1e-12) << n << " " << k;
+    }
+  }
 }
 
 TEST(Preprocess, RejectsANonFiniteSampleNamingItsIndex) {
