@@ -343,4 +343,24 @@ std::pair<double, double> AddQuadraticTemperatureBias(double k, std::uint64_t se
   return {c1, c1 / half_range};
 }
 
+Chirp AddChirp(double k, std::uint64_t seed, HiddenCase* c) {
+  const long n = c->recording.rate_rad_s.size();
+  const double fs = c->input.sample_rate_hz, record = static_cast<double>(n) / fs;
+  constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
+  std::mt19937_64 g(seed * 0x9E3779B97F4A7C15ULL + 0xC41ABULL);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Chirp chirp;
+  chirp.f1_hz = 0.8 + 0.8 * u(g);
+  chirp.f2_hz = chirp.f1_hz + 1.0;
+  const double phase0 = kTwoPi * u(g), sweep = (chirp.f2_hz - chirp.f1_hz) / record;
+  Eigen::VectorXd shape(n);
+  for (long i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) / fs;
+    shape[i] = std::sin(phase0 + kTwoPi * (chirp.f1_hz * t + 0.5 * sweep * t * t));
+  }
+  chirp.amplitude_rad_s = std::abs(SizeBySignature(shape, k, seed, 0xC41ACULL, *c));
+  c->recording.rate_rad_s += chirp.amplitude_rad_s * shape;
+  return chirp;
+}
+
 }  // namespace fogpipe::model::testing

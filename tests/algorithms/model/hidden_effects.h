@@ -28,6 +28,8 @@
 // signature directly (PeakAllanSignatureOfSeries), k drawn in [3, 5] as for temperature (for the
 // quadratic one, the quadratic part's signature: the part order 2 must find); their pass counts
 // over design seeds 1-20 are in docs/compare.md.
+// The out-of-catalog chirp (AddChirp) is sized the same way, k = 3 in its test; its verdict rates
+// over design seeds 600-619 are in docs/compare.md.
 //
 // Why these sizes: the seed study (compare_test.cpp, HiddenEffectStudy) rescales each effect to
 // a fixed signature ratio on design seeds 1-20 and scores every criterion of the proof. Pass
@@ -115,6 +117,17 @@ void AddNarrowBand(double f0_hz, double zeta, double peak_ratio, std::uint64_t s
 /// the noise model's Allan deviation at 1000 s, and the channel itself to the input's aux. Its
 /// own random stream (seed).
 void AddPressureBias(double k, std::uint64_t seed, HiddenCase* c);
+
+/// A vibration line that sweeps in frequency (a chirp: rotating machinery whose speed drifts
+/// through the run, e.g. a pump or fan spinning up): A sin(phase), its frequency going linearly
+/// from f1 to f2 over the record (f1 drawn in [0.8, 1.6] Hz, f2 = f1 + 1 Hz, a random phase), with
+/// A sized so that its peak Allan signature (PeakAllanSignatureOfSeries) is k. Spread over the
+/// sweep, its one-sided PSD is a plateau A^2 / (2 (f2 - f1)) across [f1, f2]: no single damped
+/// resonance (narrow_band) or tone (sinusoid) has that shape. Its own random stream (seed).
+struct Chirp {
+  double f1_hz = 0, f2_hz = 0, amplitude_rad_s = 0;
+};
+Chirp AddChirp(double k, std::uint64_t seed, HiddenCase* c);
 
 /// The peak Allan signature (as PeakAllanSignature: same taus, estimator and floor) of a rate
 /// effect given as a series (rad/s) at fs, against the noise of `errors`.
