@@ -115,6 +115,7 @@ class ImfStream {
   /// On the EMD's thread: copies IMF k and queues its band limit; the sifting of the next IMF
   /// goes on meanwhile.
   void Take(int k, const Eigen::VectorXd& imf, const emd::ImfInfo& info) {
+    if (Failed()) fits_group_->Wait();  // rethrows the failure: the EMD stops here
     Eigen::VectorXd* c = nullptr;
     if (stream_.store == nullptr) {
       kept_.emplace_back(imf);
@@ -162,11 +163,17 @@ class ImfStream {
   void Queue(const Pending& pending) {
     {
       std::lock_guard<std::mutex> lock(queue_mutex_);
+      if (failed_) return;
       queue_.push_back(pending);
       if (limiting_) return;  // the running task takes it
       limiting_ = true;
     }
     fits_group_->Run([this] { LimitQueued(); });
+  }
+
+  bool Failed() {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    return failed_;
   }
 
   void LimitQueued() {
@@ -181,9 +188,19 @@ class ImfStream {
         p = queue_.front();
         queue_.pop_front();
       }
-      limiter_.Next(p.component, p.info);
-      *p.variance = ComponentVariance(*p.component);
-      if (stream_.store) stream_.store->Put(ComponentStore::Kind::kComponent, p.k, *p.component);
+      try {
+        limiter_.Next(p.component, p.info);
+        *p.variance = ComponentVariance(*p.component);
+        if (stream_.store) stream_.store->Put(ComponentStore::Kind::kComponent, p.k, *p.component);
+      } catch (...) {
+        // A failed component fails the decomposition (the task group rethrows at the next Wait):
+        // nothing more is queued or limited, and the EMD stops at its next IMF (Take).
+        std::lock_guard<std::mutex> lock(queue_mutex_);
+        failed_ = true;
+        limiting_ = false;
+        queue_.clear();
+        throw;
+      }
       fits_group_->Run([this, c = p.component, fit = p.fit] {
         if (IsConstantComponent(*c)) return;  // ModelComponent passes it through unfitted
         std::unique_ptr<ar::ArWork> work = TakeWork();
@@ -224,6 +241,7 @@ class ImfStream {
   std::mutex queue_mutex_;
   std::deque<Pending> queue_;  // IMFs taken, not yet band limited
   bool limiting_ = false;      // a task is limiting the queue
+  bool failed_ = false;        // a component's band limit or store failed
   std::mutex work_mutex_;
   std::vector<std::unique_ptr<ar::ArWork>> idle_work_;  // of the fits, between fits
 };

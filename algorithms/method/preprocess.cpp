@@ -37,7 +37,8 @@ void Resort(std::vector<double>* sorted, std::size_t pos) {
 /// slid: the sample that leaves is replaced by the one that enters in a sorted copy of the window
 /// (O(h) per sample instead of a selection over 2 h + 1 values). A median is a value of the
 /// window's multiset, however it is found, and the leaving value is matched bit for bit (signed
-/// zeros), so the medians are those of MedianInPlace on each window.
+/// zeros), so the medians equal MedianInPlace's on each window (a zero median may differ in its
+/// sign, which no comparison of the rule sees).
 void LocalMedians(const Eigen::VectorXd& x, Eigen::Index h, Eigen::VectorXd* median) {
   const Eigen::Index n = x.size();
   median->resize(n);

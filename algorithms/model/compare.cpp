@@ -63,7 +63,8 @@ std::vector<Parameter> AuxParameters(const DeterministicComponent& component) {
     parameters.push_back({k == 0 ? "coefficient" : "coefficient_" + std::to_string(k + 1),
                           DegH(component.coefficients[k]), DegH(component.coefficients_se[k]),
                           PerAuxUnit(component.units, k + 1, false)});
-  parameters.push_back({"reference", component.reference, 0.0, component.units});
+  parameters.push_back(
+      {"reference", component.reference, 0.0, component.units.empty() ? "1" : component.units});
   return parameters;
 }
 
@@ -443,7 +444,17 @@ std::vector<ModelTerm> TrialTerms(const CompareInput& input, const std::vector<M
     return std::find(terms.begin(), terms.end(), term) != terms.end();
   };
   const bool has_temp = FindAux(input, "temperature") != nullptr;
+  // The thermal catalog terms are contained in the temperature channel's aux terms
+  // (deterministic_fit.h): a model with aux:temperature has the temperature term, one with
+  // aux_rate:temperature the temperature_rate term.
+  const auto contained = [&](Term term) {
+    return (term == Term::kTemperature &&
+            present(ModelTerm::Aux(AuxForm::kValue, "temperature"))) ||
+           (term == Term::kTemperatureRate &&
+            present(ModelTerm::Aux(AuxForm::kRate, "temperature")));
+  };
   for (Term term : CatalogTerms()) {
+    if (contained(term)) continue;
     if (present(term) && term != Term::kSinusoid && term != Term::kNarrowBand) continue;
     if (NeedsTemperature(term) && !has_temp) continue;
     trial_terms.push_back(term);

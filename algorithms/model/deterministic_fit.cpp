@@ -350,6 +350,7 @@ bool DeterministicOptions::IsValid(std::string* error) const {
   if (!(min_warmup_tau_s > 0)) return fail("min_warmup_tau_s must be > 0");
   if (!(min_sinusoid_cycles >= 1)) return fail("min_sinusoid_cycles must be >= 1");
   if (refinement_passes < 0) return fail("refinement_passes must be >= 0");
+  if (max_aux_order < 1) return fail("max_aux_order must be >= 1");
   return true;
 }
 
@@ -418,6 +419,9 @@ std::string MakeComponents(const Context& ctx, const std::vector<ModelTerm>& ter
     // make the design singular.
     if (term.aux == AuxForm::kValue && channel == "temperature" && has(Term::kTemperature))
       return "aux:temperature contains the temperature term; the model may have one of them";
+    // aux_rate:temperature and temperature_rate are one regressor (the same smoothed derivative).
+    if (term.aux == AuxForm::kRate && channel == "temperature" && has(Term::kTemperatureRate))
+      return "aux_rate:temperature is the temperature_rate term; the model may have one of them";
     if (term.IsAux() && std::count(terms.begin(), terms.end(), term) > 1)
       return "term '" + ToString(term) + "' is in the model twice";
     DeterministicComponent component;

@@ -120,7 +120,7 @@ NarrowBandFitResult FitNarrowBand(const Spectrum& welch, const std::vector<doubl
     return result;
   }
   const double bin_hz = welch.frequency_hz[1] - welch.frequency_hz[0];
-  // Window: the failing band and three times its extent on either side (at least 20 bins), so that
+  // Window: the failing band and 3.5 times its extent on either side (at least 20 bins), so that
   // the band's skirts and the local background level are both in it.
   const double extent = std::max(start.to_hz - start.from_hz, 2 * bin_hz);
   const double half = std::max(3.5 * extent, 20 * bin_hz);
@@ -208,15 +208,24 @@ NarrowBandFitResult FitNarrowBand(const Spectrum& welch, const std::vector<doubl
       };
       hessian(i, j) = hessian(j, i) = (at(h, h) - at(h, -h) - at(-h, h) + at(-h, -h)) / (4 * h * h);
     }
-  const Eigen::Matrix4d covariance = kHannBinCorrelation * hessian.inverse();
+  // The likelihood's curvature at a minimum is positive definite; where it is not (a flat or
+  // saddle direction), the standard errors are undefined and the fit is not offered as one.
+  const Eigen::LLT<Eigen::Matrix4d> curvature(hessian);
+  const bool curved = curvature.info() == Eigen::Success;
+  const Eigen::Matrix4d covariance =
+      kHannBinCorrelation *
+      (curved ? curvature.solve(Eigen::Matrix4d::Identity()).eval()
+              : Eigen::Matrix4d::Constant(std::numeric_limits<double>::quiet_NaN()));
   NarrowBand band = BandOf(x);
-  auto se = [&](int i) { return std::sqrt(std::max(covariance(i, i), 0.0)); };
+  auto se = [&](int i) { return std::sqrt(covariance(i, i)); };
   band.f0_se_hz = band.f0_hz * se(1);
   band.zeta_se = band.zeta * se(2);
   band.sigma_se_rad_s = 0.5 * band.sigma_rad_s * se(3);
   band.minus_two_log_likelihood_drop = (null_value - best) / kHannBinCorrelation;
   band.effective_bins = (bins - first_bin) / kHannBinCorrelation;
-  result.ok = std::isfinite(band.f0_se_hz) && std::isfinite(band.sigma_se_rad_s);
+  result.ok = curved && band.f0_se_hz > 0 && band.zeta_se > 0 && band.sigma_se_rad_s > 0 &&
+              std::isfinite(band.f0_se_hz) && std::isfinite(band.zeta_se) &&
+              std::isfinite(band.sigma_se_rad_s);
   result.band = band;
   result.message = result.ok ? "Whittle fit on " + std::to_string(window.size()) + " Welch bins"
                              : "singular information matrix";

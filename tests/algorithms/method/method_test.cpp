@@ -8,9 +8,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -146,10 +148,22 @@ TEST(Method, ReverseOrderScheduleGivesIdenticalNumbers) {
 // lock, and Wait joins until no task is left.
 class ThreadTaskGroup : public TaskGroup {
  public:
-  ~ThreadTaskGroup() override { Wait(); }
+  ~ThreadTaskGroup() override {
+    try {
+      Wait();
+    } catch (...) {
+    }
+  }
   void Run(std::function<void()> task) override {
     std::lock_guard<std::mutex> lock(mutex_);
-    threads_.emplace_back(std::move(task));
+    threads_.emplace_back([this, task = std::move(task)] {
+      try {
+        task();
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!error_) error_ = std::current_exception();
+      }
+    });
   }
   void Wait() override {
     for (;;) {
@@ -158,14 +172,21 @@ class ThreadTaskGroup : public TaskGroup {
         std::lock_guard<std::mutex> lock(mutex_);
         started.swap(threads_);
       }
-      if (started.empty()) return;
+      if (started.empty()) break;
       for (std::thread& t : started) t.join();
     }
+    std::exception_ptr error;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      error.swap(error_);
+    }
+    if (error) std::rethrow_exception(error);
   }
 
  private:
   std::mutex mutex_;
   std::vector<std::thread> threads_;
+  std::exception_ptr error_;  // the first task's exception, rethrown by Wait
 };
 
 void ThreadedForEach(int n, const std::function<void(int)>& body) {
@@ -223,6 +244,48 @@ TEST(Method, StreamingThroughAStoreGivesTheNumbersOfKeepingEveryComponent) {
     }
     for (std::size_t i = 0; i < kept.reference.size(); ++i)
       EXPECT_TRUE(streamed.reference[i].output.signal == kept.reference[i].output.signal);
+  }
+}
+
+// A store that fails (a full scratch device) fails the decomposition with its exception, serially
+// and on threads, after the components before it were stored; nothing hangs.
+class FailingStore : public ComponentStore {
+ public:
+  explicit FailingStore(int fail_at) : fail_at_(fail_at) {}
+  void Put(Kind kind, int k, const Eigen::VectorXd& x) override {
+    if (kind == Kind::kComponent && k == fail_at_) throw std::runtime_error("scratch device full");
+    std::lock_guard<std::mutex> lock(mutex_);
+    stored_ = std::max(stored_, k + 1);
+    (void)x;
+  }
+  void Get(Kind, int, Eigen::VectorXd*) const override { throw std::logic_error("not stored"); }
+  bool Has(Kind, int) const override { return false; }
+  int stored() const { return stored_; }
+
+ private:
+  const int fail_at_;
+  std::mutex mutex_;
+  int stored_ = 0;
+};
+
+TEST(Method, AFailingStoreFailsTheDecompositionWithItsError) {
+  const Eigen::VectorXd x = PaperRecording(3);
+  for (const bool threaded : {false, true}) {
+    FailingStore store(2);
+    StreamOptions stream;
+    stream.store = &store;
+    if (threaded) {
+      stream.tasks = [] { return std::make_unique<ThreadTaskGroup>(); };
+      stream.for_each = ThreadedForEach;
+    }
+    MethodResult result;
+    try {
+      DecomposeAndModel(x, 1.0, MethodOptions(), stream, &result);
+      ADD_FAILURE() << "no exception, threaded " << threaded;
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "scratch device full");
+    }
+    EXPECT_EQ(store.stored(), 2) << "threaded " << threaded;
   }
 }
 
