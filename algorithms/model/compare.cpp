@@ -113,11 +113,8 @@ std::vector<Parameter> ParametersOfComponent(const DeterministicComponent& compo
 
 // A band as an engineer reads it: centre, half-power bandwidth 2 zeta f0, damping ratio and rms.
 std::vector<Parameter> BandParameters(const NarrowBand& band) {
-  const double bandwidth = 2 * band.zeta * band.f0_hz;
-  const double bandwidth_se =
-      2 * std::hypot(band.zeta_se * band.f0_hz, band.zeta * band.f0_se_hz);  // independent
   return {{"frequency", band.f0_hz, band.f0_se_hz, "Hz"},
-          {"bandwidth", bandwidth, bandwidth_se, "Hz"},
+          {"bandwidth", HalfPowerBandwidthHz(band), band.bandwidth_se_hz, "Hz"},
           {"damping_ratio", band.zeta, band.zeta_se, "1"},
           {"rms", DegH(band.sigma_rad_s), DegH(band.sigma_se_rad_s), "deg/h"}};
 }

@@ -140,7 +140,7 @@ NarrowBandFitResult FitNarrowBand(const Spectrum& welch, const std::vector<doubl
   const auto minus_two_log_l = [&](const Eigen::VectorXd& x) {
     const NarrowBand band = BandOf(x);
     if (!(band.f0_hz > f_low && band.f0_hz < f_high && band.zeta < kMaxZeta &&
-          2 * band.zeta * band.f0_hz > 0.5 * bin_hz))
+          HalfPowerBandwidthHz(band) > 0.5 * bin_hz))
       return std::numeric_limits<double>::infinity();
     const double level = std::exp(x[0]);
     double sum = 0;
@@ -220,6 +220,10 @@ NarrowBandFitResult FitNarrowBand(const Spectrum& welch, const std::vector<doubl
   auto se = [&](int i) { return std::sqrt(covariance(i, i)); };
   band.f0_se_hz = band.f0_hz * se(1);
   band.zeta_se = band.zeta * se(2);
+  // ln(2 zeta f0) = ln 2 + x1 + x2 (the log parameters): its variance is C11 + C22 + 2 C12.
+  band.bandwidth_se_hz =
+      HalfPowerBandwidthHz(band) *
+      std::sqrt(std::max(covariance(1, 1) + covariance(2, 2) + 2 * covariance(1, 2), 0.0));
   band.sigma_se_rad_s = 0.5 * band.sigma_rad_s * se(3);
   band.minus_two_log_likelihood_drop = (null_value - best) / kHannBinCorrelation;
   band.effective_bins = (bins - first_bin) / kHannBinCorrelation;

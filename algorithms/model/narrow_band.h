@@ -36,11 +36,17 @@ struct NarrowBand {
   double f0_hz = 0, f0_se_hz = 0;
   double zeta = 0, zeta_se = 0;                ///< damping ratio (half-power bandwidth 2 zeta f0)
   double sigma_rad_s = 0, sigma_se_rad_s = 0;  ///< rms of the band (sqrt of its power)
+  /// Standard error of the half-power bandwidth 2 zeta f0, Hz, from the joint covariance of f0
+  /// and zeta (their estimates are correlated: both shape the same peak).
+  double bandwidth_se_hz = 0;
   /// Drop of -2 ln L (Whittle, bin-correlation corrected) against the background alone over the
   /// window, and the number of effectively independent bins of the tested spectrum (for BIC).
   double minus_two_log_likelihood_drop = 0;
   double effective_bins = 0;
 };
+
+/// The half-power (-3 dB) bandwidth of the band, 2 zeta f0, Hz.
+inline double HalfPowerBandwidthHz(const NarrowBand& band) { return 2 * band.zeta * band.f0_hz; }
 
 /// One-sided PSD of the band at f, (rad/s)^2/Hz.
 double NarrowBandOneSidedPsd(const NarrowBand& band, double frequency_hz);

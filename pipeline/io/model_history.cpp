@@ -384,7 +384,7 @@ void WriteNarrowBands(hdf5::Group& step, const std::vector<model::NarrowBand>& b
     f0_se.push_back(b.f0_se_hz);
     zeta.push_back(b.zeta);
     zeta_se.push_back(b.zeta_se);
-    bandwidth.push_back(2 * b.zeta * b.f0_hz);
+    bandwidth.push_back(model::HalfPowerBandwidthHz(b));
     rms.push_back(b.sigma_rad_s);
     rms_se.push_back(b.sigma_se_rad_s);
   }
