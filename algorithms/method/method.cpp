@@ -137,7 +137,7 @@ class ImfStream {
   /// residue.
   void Finish(bool decomposed, Eigen::VectorXd* residue) {
     fits_group_->Wait();
-    idle_work_.clear();
+    idle_work_.reset();
     if (decomposed) limiter_.Finish(residue);
   }
 
@@ -217,14 +217,12 @@ class ImfStream {
   /// released when the EMD ends.
   std::unique_ptr<ar::ArWork> TakeWork() {
     std::lock_guard<std::mutex> lock(work_mutex_);
-    if (idle_work_.empty()) return std::make_unique<ar::ArWork>();
-    std::unique_ptr<ar::ArWork> work = std::move(idle_work_.back());
-    idle_work_.pop_back();
-    return work;
+    if (!idle_work_) return std::make_unique<ar::ArWork>();
+    return std::move(idle_work_);
   }
   void ReturnWork(std::unique_ptr<ar::ArWork> work) {
     std::lock_guard<std::mutex> lock(work_mutex_);
-    if (idle_work_.empty()) idle_work_.push_back(std::move(work));
+    if (!idle_work_) idle_work_ = std::move(work);
   }
 
  public:
@@ -243,7 +241,7 @@ class ImfStream {
   bool limiting_ = false;      // a task is limiting the queue
   bool failed_ = false;        // a component's band limit or store failed
   std::mutex work_mutex_;
-  std::vector<std::unique_ptr<ar::ArWork>> idle_work_;  // of the fits, between fits
+  std::unique_ptr<ar::ArWork> idle_work_;  // of the fits, between fits
 };
 
 /// Step 1 and EMD, the IMFs handed to `imfs` as extracted. False (with the failure in the

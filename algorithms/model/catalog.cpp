@@ -93,6 +93,11 @@ bool ParseTermList(const std::string& text, std::vector<ModelTerm>* terms, std::
   return true;
 }
 
+std::optional<Term> ThermalTermWithin(const ModelTerm& term) {
+  if (!term.IsAux() || term.channel != "temperature") return std::nullopt;
+  return term.aux == AuxForm::kRate ? Term::kTemperatureRate : Term::kTemperature;
+}
+
 std::vector<Term> CatalogTermsOf(const std::vector<ModelTerm>& terms) {
   std::vector<Term> catalog_terms;
   for (const ModelTerm& term : terms)

@@ -66,6 +66,11 @@ bool IsFittedOnRate(const ModelTerm& term);
 std::string AuxChannelOf(const ModelTerm& term);
 /// True when the term reads the channel's smoothed derivative (temperature_rate, aux_rate).
 bool UsesDerivative(const ModelTerm& term);
+/// The fixed-catalog term that an aux term of the temperature channel holds: aux:temperature
+/// contains temperature (its linear coefficient), aux_rate:temperature is temperature_rate (the
+/// same smoothed derivative); nullopt for every other term. A model has at most one of each pair:
+/// both would make the least-squares design singular.
+std::optional<Term> ThermalTermWithin(const ModelTerm& term);
 /// The fixed-catalog terms of a model, in its order (its aux terms left out).
 std::vector<Term> CatalogTermsOf(const std::vector<ModelTerm>& terms);
 /// bias + white + quantization + bias_instability + rate_random_walk + rate_ramp (bias is

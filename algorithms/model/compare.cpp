@@ -441,28 +441,26 @@ std::vector<ModelTerm> TrialTerms(const CompareInput& input, const std::vector<M
     return std::find(terms.begin(), terms.end(), term) != terms.end();
   };
   const bool has_temp = FindAux(input, "temperature") != nullptr;
-  // The thermal catalog terms are contained in the temperature channel's aux terms
-  // (deterministic_fit.h): a model with aux:temperature has the temperature term, one with
-  // aux_rate:temperature the temperature_rate term.
-  const auto contained = [&](Term term) {
-    return (term == Term::kTemperature &&
-            present(ModelTerm::Aux(AuxForm::kValue, "temperature"))) ||
-           (term == Term::kTemperatureRate &&
-            present(ModelTerm::Aux(AuxForm::kRate, "temperature")));
+  // A thermal catalog term held by an aux term of the model (ThermalTermWithin) is not tried.
+  const auto held = [&](Term term) {
+    return std::any_of(terms.begin(), terms.end(),
+                       [&](const ModelTerm& t) { return ThermalTermWithin(t) == term; });
   };
   for (Term term : CatalogTerms()) {
-    if (contained(term)) continue;
+    if (held(term)) continue;
     if (present(term) && term != Term::kSinusoid && term != Term::kNarrowBand) continue;
     if (NeedsTemperature(term) && !has_temp) continue;
     trial_terms.push_back(term);
   }
   for (const AuxChannel& channel : input.aux) {
     if (FindAux(input, channel.name) != &channel) continue;  // other length, or a repeated name
-    const bool thermal = channel.name == "temperature";
     const ModelTerm value = ModelTerm::Aux(AuxForm::kValue, channel.name);
     const ModelTerm rate = ModelTerm::Aux(AuxForm::kRate, channel.name);
-    if (!present(value) && !(thermal && present(Term::kTemperature))) trial_terms.push_back(value);
-    if (!present(rate) && !thermal) trial_terms.push_back(rate);
+    // aux:temperature is tried beside temperature only while the model lacks it; aux_rate:
+    // temperature never, as it is the temperature_rate term, tried as such.
+    const std::optional<Term> value_within = ThermalTermWithin(value);
+    if (!present(value) && !(value_within && present(*value_within))) trial_terms.push_back(value);
+    if (!present(rate) && !ThermalTermWithin(rate)) trial_terms.push_back(rate);
   }
   return trial_terms;
 }

@@ -415,13 +415,10 @@ std::string MakeComponents(const Context& ctx, const std::vector<ModelTerm>& ter
     if (!channel.empty() && AuxValues(ctx, channel) == nullptr)
       return "term '" + ToString(term) + "' needs an aux " + channel +
              " channel of the rate's length";
-    // aux:temperature's linear coefficient is the temperature term's: both in one model would
-    // make the design singular.
-    if (term.aux == AuxForm::kValue && channel == "temperature" && has(Term::kTemperature))
-      return "aux:temperature contains the temperature term; the model may have one of them";
-    // aux_rate:temperature and temperature_rate are one regressor (the same smoothed derivative).
-    if (term.aux == AuxForm::kRate && channel == "temperature" && has(Term::kTemperatureRate))
-      return "aux_rate:temperature is the temperature_rate term; the model may have one of them";
+    if (const std::optional<Term> within = ThermalTermWithin(term); within && has(*within)) {
+      return ToString(term) + (term.aux == AuxForm::kRate ? " is the " : " contains the ") +
+             ToString(*within) + " term; the model may have one of them";
+    }
     if (term.IsAux() && std::count(terms.begin(), terms.end(), term) > 1)
       return "term '" + ToString(term) + "' is in the model twice";
     DeterministicComponent component;
