@@ -1,8 +1,43 @@
 #include "algorithms/model/compensate.h"
 
+#include <algorithm>
+
 namespace fogpipe::model {
 
-Compensation Compensate(const Eigen::VectorXd& rate, double fs, const Eigen::VectorXd* temperature,
+namespace {
+
+const AuxSeries* FindSeries(const std::vector<AuxSeries>& aux, const std::string& name) {
+  for (const AuxSeries& series : aux)
+    if (series.name == name) return &series;
+  return nullptr;
+}
+
+// Why the model cannot be evaluated on these channels ("" when it can): every channel a term
+// reads must be there with the rate's length, and in the units the term was fitted in (its
+// coefficients are per unit of the channel, so a channel in other units would scale the effect
+// silently).
+std::string MissingChannel(const DeterministicModel& model, const std::vector<AuxSeries>& aux,
+                           long n) {
+  for (const auto& component : model.components) {
+    const std::string channel = AuxChannelOf(component.term);
+    if (channel.empty()) continue;
+    const AuxSeries* series = FindSeries(aux, channel);
+    const std::string term = "the model's '" + ToString(component.term) + "' term";
+    if (series == nullptr || series->values == nullptr)
+      return term + " needs the aux channel '" + channel + "', which is not there";
+    if (series->values->size() != n)
+      return term + " needs the aux channel '" + channel + "' with the rate's " +
+             std::to_string(n) + " samples; it has " + std::to_string(series->values->size());
+    if (!component.units.empty() && series->units != component.units)
+      return term + " was fitted on '" + channel + "' in " + component.units +
+             ", but the channel here is in " + (series->units.empty() ? "no units" : series->units);
+  }
+  return "";
+}
+
+}  // namespace
+
+Compensation Compensate(const Eigen::VectorXd& rate, double fs, const std::vector<AuxSeries>& aux,
                         const DeterministicModel& model, const CompensateOptions& options) {
   Compensation compensation;
   if (!(fs > 0)) {
@@ -10,28 +45,22 @@ Compensation Compensate(const Eigen::VectorXd& rate, double fs, const Eigen::Vec
     compensation.summary.message = "sample_rate_hz must be > 0";
     return compensation;
   }
-  for (const auto& component : model.components) {
-    if (!AuxChannelOf(component.term).empty() && AuxChannelOf(component.term) != "temperature") {
-      compensation.summary.termination = Termination::kInsufficientData;
-      compensation.summary.message = "the model's '" + ToString(component.term) +
-                                     "' term needs its aux channel, and only the temperature "
-                                     "is passed here";
-      return compensation;
-    }
-    if (AuxChannelOf(component.term) == "temperature" &&
-        (temperature == nullptr || temperature->size() != rate.size())) {
-      compensation.summary.termination = Termination::kInsufficientData;
-      compensation.summary.message = std::string("the model's '") + ToString(component.term) +
-                                     "' term needs an aux temperature channel of the rate's length";
-      return compensation;
-    }
+  if (const std::string missing = MissingChannel(model, aux, rate.size()); !missing.empty()) {
+    compensation.summary.termination = Termination::kInsufficientData;
+    compensation.summary.message = missing;
+    return compensation;
   }
   compensation.rate_rad_s =
-      rate - EvaluateDeterministic(model, rate.size(), fs, temperature, options.subtract_bias);
+      rate - EvaluateDeterministic(model, rate.size(), fs, aux, options.subtract_bias);
   compensation.summary.num_effects = static_cast<int>(model.components.size());
   compensation.summary.message =
       "subtracted " + std::to_string(compensation.summary.num_effects) + " effect(s)";
   return compensation;
+}
+
+Compensation Compensate(const Eigen::VectorXd& rate, double fs, const Eigen::VectorXd* temperature,
+                        const DeterministicModel& model, const CompensateOptions& options) {
+  return Compensate(rate, fs, TemperatureSeries(temperature), model, options);
 }
 
 }  // namespace fogpipe::model

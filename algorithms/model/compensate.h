@@ -3,12 +3,13 @@
 // `fogpipe compare` also improves the filtered output and its Allan tables.
 //
 // The effects are re-evaluated on the recording being compensated (deterministic_fit.h,
-// EvaluateDeterministic): temperature terms use that recording's aux temperature (smoothed and
-// differentiated exactly as in the fit), bias_step and warmup use time from its first sample.
+// EvaluateDeterministic): temperature and aux terms use that recording's aux channels (smoothed
+// and differentiated exactly as in the fit), bias_step and warmup use time from its first sample.
 #pragma once
 
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "algorithms/common/status.h"
 #include "algorithms/model/deterministic_fit.h"
@@ -33,8 +34,14 @@ struct Compensation {
   CompensationSummary summary;
 };
 
-/// rate - effects(model). temperature_degc may be null only if the model has no thermal term
-/// (otherwise kInsufficientData and an empty rate).
+/// rate - effects(model), the effects evaluated on the recording's aux channels. Every channel a
+/// term reads (AuxChannelOf) must be in `aux` with the rate's length and, for aux terms, in the
+/// units it was fitted in (DeterministicComponent::units); otherwise kInsufficientData, an empty
+/// rate and a message naming the term and the channel.
+Compensation Compensate(const Eigen::VectorXd& rate_rad_s, double sample_rate_hz,
+                        const std::vector<AuxSeries>& aux, const DeterministicModel& model,
+                        const CompensateOptions& options);
+/// The same with at most the aux channel "temperature" (degC; may be null).
 Compensation Compensate(const Eigen::VectorXd& rate_rad_s, double sample_rate_hz,
                         const Eigen::VectorXd* temperature_degc, const DeterministicModel& model,
                         const CompensateOptions& options);

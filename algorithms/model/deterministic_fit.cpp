@@ -477,13 +477,16 @@ void ChooseAuxOrders(const Context& ctx, const Eigen::VectorXd& rate, int max_or
 
 }  // namespace
 
+std::vector<AuxSeries> TemperatureSeries(const Eigen::VectorXd* temperature_degc) {
+  if (temperature_degc == nullptr) return {};
+  return {{"temperature", "degC", temperature_degc}};
+}
+
 DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
                                   const Eigen::VectorXd* temperature,
                                   const std::vector<ModelTerm>& terms,
                                   const DeterministicOptions& options) {
-  std::vector<AuxSeries> aux;
-  if (temperature != nullptr) aux.push_back({"temperature", "degC", temperature});
-  return FitDeterministic(rate, fs, aux, terms, options);
+  return FitDeterministic(rate, fs, TemperatureSeries(temperature), terms, options);
 }
 
 DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
@@ -637,9 +640,7 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
 
 Eigen::VectorXd EvaluateDeterministic(const DeterministicModel& model, long n, double fs,
                                       const Eigen::VectorXd* temperature, bool include_bias) {
-  std::vector<AuxSeries> aux;
-  if (temperature != nullptr) aux.push_back({"temperature", "degC", temperature});
-  return EvaluateDeterministic(model, n, fs, aux, include_bias);
+  return EvaluateDeterministic(model, n, fs, TemperatureSeries(temperature), include_bias);
 }
 
 Eigen::VectorXd EvaluateDeterministic(const DeterministicModel& model, long n, double fs,

@@ -84,6 +84,10 @@ struct AuxSeries {
   const Eigen::VectorXd* values = nullptr;
 };
 
+/// The aux channels of the overloads that take at most a temperature: {"temperature", "degC"},
+/// or none for null.
+std::vector<AuxSeries> TemperatureSeries(const Eigen::VectorXd* temperature_degc);
+
 /// Everything needed to evaluate (and so compensate) the deterministic part on a recording.
 struct DeterministicModel {
   double bias_rad_s = 0.0;

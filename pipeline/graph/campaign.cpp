@@ -469,33 +469,34 @@ void ReportDryRun(const Jobs& jobs, const CampaignOptions& options, CampaignRepo
 }
 
 /// --model: -(the model's effects) for this recording, in job->compensation_rad_s (or why not,
-/// in job->compensation_error); a thermal term reads the recording's /aux/temperature. Returns
+/// in job->compensation_error); thermal and aux terms read the recording's /aux channels. Returns
 /// a failure of the whole recording ("" when none).
 std::string PrepareCompensation(FileJob* job, const CampaignOptions& options) {
   if (!options.model) return "";
-  Eigen::VectorXd temperature_degc;
-  if (options.model->needs_temperature) {
-    bool has = false;
-    for (const auto& ch : job->info.aux) has = has || ch.name == "temperature";
-    if (!has) {
-      return job->input.path + ": --model " + options.model->path +
-             " compensates a thermal effect (" + options.model->terms +
-             ") but the recording has no /aux/temperature channel";
+  const ModelCompensationOptions& m = *options.model;
+  std::vector<Eigen::VectorXd> values(m.aux_channels.size());
+  std::vector<model::AuxSeries> aux;
+  for (size_t c = 0; c < m.aux_channels.size(); ++c) {
+    const std::string& name = m.aux_channels[c];
+    const auto info = std::find_if(job->info.aux.begin(), job->info.aux.end(),
+                                   [&](const io::AuxChannelInfo& ch) { return ch.name == name; });
+    if (info == job->info.aux.end()) {
+      return job->input.path + ": --model " + m.path + " compensates " + m.terms +
+             ", which reads /aux/" + name + ", but the recording has no /aux/" + name + " channel";
     }
     try {
       io::ReadOptions aux_read = options.read;
       aux_read.reject_constant = false;
-      temperature_degc =
-          io::ReadAuxIsolated(job->info, "temperature", aux_read, nullptr, ReadLimits());
+      values[c] = io::ReadAuxIsolated(job->info, name, aux_read, nullptr, ReadLimits());
     } catch (const std::exception& e) {
-      return job->input.path + ": --model: reading /aux/temperature: " + e.what();
+      return job->input.path + ": --model: reading /aux/" + name + ": " + e.what();
     }
+    aux.push_back({name, info->units, &values[c]});
   }
-  // The effects depend on time and temperature, not on the axis: Compensate of zeros, once.
+  // The effects depend on time and the aux channels, not on the axis: Compensate of zeros, once.
   model::Compensation c =
-      model::Compensate(Eigen::VectorXd::Zero(job->info.samples), job->info.sample_rate_hz,
-                        temperature_degc.size() ? &temperature_degc : nullptr,
-                        options.model->deterministic, model::CompensateOptions());
+      model::Compensate(Eigen::VectorXd::Zero(job->info.samples), job->info.sample_rate_hz, aux,
+                        m.deterministic, model::CompensateOptions());
   if (HasResult(c.summary.termination)) {
     job->compensation_rad_s = std::move(c.rate_rad_s);
   } else {

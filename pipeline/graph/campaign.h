@@ -44,8 +44,10 @@ struct ModelCompensationOptions {
   std::string path;    ///< the file as given
   std::string sha256;  ///< of its bytes; part of the configuration hash
   model::DeterministicModel deterministic;
-  std::string terms;               ///< the compensated terms, comma-separated (e.g. "temperature")
-  bool needs_temperature = false;  ///< a thermal term: every recording needs /aux/temperature
+  std::string terms;  ///< the compensated terms, comma-separated (e.g. "temperature")
+  /// The /aux channels the terms read ("temperature" for the thermal terms), each once: every
+  /// recording needs them.
+  std::vector<std::string> aux_channels;
 };
 
 struct CampaignOptions {

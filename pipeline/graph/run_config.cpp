@@ -512,15 +512,10 @@ bool ReadModelCompensation(ModelCompensationOptions* m, std::string* error) {
   m->sha256 = *sha;
   for (const auto& comp : m->deterministic.components) {
     const std::string channel = model::AuxChannelOf(comp.term);
-    if (!channel.empty() && channel != "temperature") {
-      // The run compensates with the recording's aux temperature only (model::Compensate).
-      *error = "--model " + path + ": term '" + model::ToString(comp.term) +
-               "' reads the aux channel '" + channel +
-               "'; run --model applies the temperature terms only (use compare)";
-      return false;
-    }
     m->terms += (m->terms.empty() ? "" : ",") + model::ToString(comp.term);
-    m->needs_temperature = m->needs_temperature || channel == "temperature";
+    if (!channel.empty() &&
+        std::find(m->aux_channels.begin(), m->aux_channels.end(), channel) == m->aux_channels.end())
+      m->aux_channels.push_back(channel);
   }
   return true;
 }

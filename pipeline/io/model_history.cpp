@@ -378,13 +378,14 @@ namespace {
 
 // The model's narrow bands (narrow_band.h), one row each, SI; zero rows without any.
 void WriteNarrowBands(hdf5::Group& step, const std::vector<model::NarrowBand>& bands) {
-  std::vector<double> f0, f0_se, zeta, zeta_se, bandwidth, rms, rms_se;
+  std::vector<double> f0, f0_se, zeta, zeta_se, bandwidth, bandwidth_se, rms, rms_se;
   for (const model::NarrowBand& b : bands) {
     f0.push_back(b.f0_hz);
     f0_se.push_back(b.f0_se_hz);
     zeta.push_back(b.zeta);
     zeta_se.push_back(b.zeta_se);
     bandwidth.push_back(model::HalfPowerBandwidthHz(b));
+    bandwidth_se.push_back(b.bandwidth_se_hz);
     rms.push_back(b.sigma_rad_s);
     rms_se.push_back(b.sigma_se_rad_s);
   }
@@ -394,6 +395,7 @@ void WriteNarrowBands(hdf5::Group& step, const std::vector<model::NarrowBand>& b
   g.WriteDataset("damping_ratio", zeta, "1");
   g.WriteDataset("damping_ratio_se", zeta_se, "1");
   g.WriteDataset("bandwidth_hz", bandwidth, "Hz");
+  g.WriteDataset("bandwidth_se_hz", bandwidth_se, "Hz");
   g.WriteDataset("rms_rad_s", rms, "rad/s");
   g.WriteDataset("rms_se_rad_s", rms_se, "rad/s");
 }

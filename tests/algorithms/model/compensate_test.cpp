@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
 namespace fogpipe::model {
 namespace {
@@ -40,6 +42,63 @@ TEST(Compensate, AThermalModelNeedsTheTemperature) {
   const Eigen::VectorXd rate = Eigen::VectorXd::Zero(100);
   EXPECT_EQ(Compensate(rate, 1.0, nullptr, m, {}).summary.termination,
             Termination::kInsufficientData);
+}
+
+TEST(Compensate, SubtractsAnAuxPolynomialEvaluatedOnItsOwnChannel) {
+  // aux:supply_voltage of order 2 about the channel's fitted mean: c1 (v - v_ref) + c2 (v -
+  // v_ref)^2, written out here in closed form.
+  const double fs = 10.0, v_ref = 28.0, c1 = 2e-6, c2 = -5e-7;
+  const long n = 3000;
+  Eigen::VectorXd rate(n), volts(n), other(n);
+  for (long i = 0; i < n; ++i) {
+    volts[i] = v_ref + 0.4 * std::sin(2 * M_PI * i / 700.0) + 0.1 * std::cos(2 * M_PI * i / 37.0);
+    other[i] = 1000.0 + i;
+    const double d = volts[i] - v_ref;
+    rate[i] = 1e-5 + c1 * d + c2 * d * d;
+  }
+  DeterministicModel m;
+  m.bias_rad_s = 1e-5;
+  m.components.push_back({ModelTerm::Aux(AuxForm::kValue, "supply_voltage"),
+                          0.0,
+                          0.0,
+                          {c1, c2},
+                          {0.0, 0.0},
+                          v_ref,
+                          "V"});
+  // The channel is found by name among others.
+  const std::vector<AuxSeries> aux = {{"pressure", "hPa", &other}, {"supply_voltage", "V", &volts}};
+  const Compensation c = Compensate(rate, fs, aux, m, {});
+  ASSERT_EQ(c.summary.termination, Termination::kSuccess) << c.summary.message;
+  EXPECT_EQ(c.summary.num_effects, 1);
+  EXPECT_LT((c.rate_rad_s.array() - 1e-5).abs().maxCoeff(), 1e-18);
+}
+
+TEST(Compensate, RefusesAnAuxTermWhoseChannelIsMissingShortOrInOtherUnits) {
+  DeterministicModel m;
+  m.components.push_back(
+      {ModelTerm::Aux(AuxForm::kRate, "supply_voltage"), 0.0, 0.0, {1.0}, {0.0}, 28.0, "V"});
+  const Eigen::VectorXd rate = Eigen::VectorXd::Zero(100), volts = Eigen::VectorXd::Ones(100),
+                        short_volts = Eigen::VectorXd::Ones(99);
+  struct Case {
+    std::vector<AuxSeries> aux;
+    const char* expected;
+  } cases[] = {
+      {{}, "which is not there"},
+      {{{"temperature", "degC", &volts}}, "which is not there"},
+      {{{"supply_voltage", "V", &short_volts}}, "it has 99"},
+      {{{"supply_voltage", "mV", &volts}},
+       "fitted on 'supply_voltage' in V, but the channel here is in mV"},
+  };
+  for (const Case& k : cases) {
+    const Compensation c = Compensate(rate, 1.0, k.aux, m, {});
+    EXPECT_EQ(c.summary.termination, Termination::kInsufficientData);
+    EXPECT_EQ(c.rate_rad_s.size(), 0);
+    EXPECT_NE(c.summary.message.find("aux_rate:supply_voltage"), std::string::npos)
+        << c.summary.message;
+    EXPECT_NE(c.summary.message.find(k.expected), std::string::npos) << c.summary.message;
+  }
+  EXPECT_EQ(Compensate(rate, 1.0, {{"supply_voltage", "V", &volts}}, m, {}).summary.termination,
+            Termination::kSuccess);
 }
 
 }  // namespace

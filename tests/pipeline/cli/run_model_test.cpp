@@ -4,9 +4,11 @@
 //   fogpipe simulate (hidden thermal effect) -> compare --add temperature --save-model m.json ->
 //   run without and with --model -> the raw and method-1 Allan deviations at the tau where the
 //   thermal effect shows fall; provenance records the model; `fogpipe validate` passes.
-// Failure cases: a missing or malformed model file (exit 2, the file named), a recording without
-// /aux/temperature (that file fails with a clear message, the others go on), and resume (the same
-// model skips, a changed model redoes).
+// The same for an aux term on a channel of another name. Failure cases: a missing or malformed
+// model file (exit 2, the file named), a recording without /aux/temperature or with an aux
+// channel in other units (that file fails with a clear message, the others go on), and resume (the
+// same model skips, a changed model redoes).
+#include <H5Cpp.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -207,6 +209,62 @@ TEST_F(RunModel, ARecordingWithoutTemperatureFailsAloneAndAChangedModelIsRedone)
   out = RunFogpipe("run --model " + model + " " + with_t + " -o " + outdir.string(), &code);
   EXPECT_EQ(code, 0) << out;
   EXPECT_EQ(StatusOf(outdir, "with_t.h5").back()["status"], "ok");
+}
+
+// Renames the recording's /aux/temperature to /aux/<name> and sets its units attribute: a channel
+// the thermal catalog terms do not read, which only an aux term can use.
+void RenameTemperatureChannel(const std::string& path, const std::string& name,
+                              const std::string& units) {
+  auto lock = hdf5::LockHdf5();
+  H5::H5File f(path, H5F_ACC_RDWR);
+  ASSERT_GE(H5Lmove(f.getId(), "/aux/temperature", f.getId(), ("/aux/" + name).c_str(), H5P_DEFAULT,
+                    H5P_DEFAULT),
+            0);
+  H5::DataSet d = f.openDataSet("/aux/" + name);
+  d.removeAttr("units");
+  const H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
+  d.createAttribute("units", type, H5::DataSpace(H5S_SCALAR)).write(type, units);
+}
+
+TEST_F(RunModel, AnAuxTermIsCompensatedWithTheRecordingsChannelOfItsNameAndUnits) {
+  // The thermal effect of the first test, on a channel named coil_temperature: compare fits
+  // aux:coil_temperature, and run --model must subtract it using each recording's
+  // /aux/coil_temperature. A copy whose channel is in K (the model was fitted in degC) must fail
+  // alone, naming the term, the channel and both units.
+  const std::string rec = (dir_ / "coil.h5").string(), rec_k = (dir_ / "coil_k.h5").string(),
+                    model = (dir_ / "m_aux.json").string();
+  int code = 0;
+  RunFogpipe("simulate --profile nav --seed 11 --temperature-coef 0.012 -o " + rec, &code);
+  ASSERT_EQ(code, 0);
+  fs::copy_file(rec, rec_k);
+  RenameTemperatureChannel(rec, "coil_temperature", "degC");
+  RenameTemperatureChannel(rec_k, "coil_temperature", "K");
+  const std::string cmp = RunFogpipe(
+      "compare --json --add aux:coil_temperature --save-model " + model + " " + rec, &code);
+  ASSERT_EQ(code, 0) << cmp;
+  const fs::path plain = dir_ / "coil_plain", with = dir_ / "coil_with";
+  std::string out = RunFogpipe("run --threads 2 " + rec + " -o " + plain.string(), &code);
+  ASSERT_EQ(code, 0) << out;
+  out = RunFogpipe(
+      "run --threads 2 --model " + model + " " + rec + " " + rec_k + " -o " + with.string(), &code);
+  EXPECT_EQ(code, 1) << out;  // the recording in K failed, the other went on
+  const auto failed = StatusOf(with, "coil_k.h5");
+  ASSERT_EQ(failed.size(), 1u);
+  EXPECT_EQ(failed[0]["status"], "failed");
+  const std::string message = failed[0]["message"];
+  for (const char* part : {"aux:coil_temperature", "in degC", "is in K", "m_aux.json"})
+    EXPECT_NE(message.find(part), std::string::npos) << part << " in: " << message;
+
+  // Where the effect shows (as in the first test), the raw Allan deviation falls at least 2x.
+  std::ifstream tf(rec + ".truth.json");
+  const double tau = 0.371 * nlohmann::json::parse(tf)["aux_temperature"]["period_s"].get<double>();
+  const std::string r0 = (plain / "coil.fogpipe.h5").string(),
+                    r1 = (with / "coil.fogpipe.h5").string();
+  const double before = ReadAllan(r0, "raw").At(tau), after = ReadAllan(r1, "raw").At(tau);
+  EXPECT_LT(2.0 * after, before) << "tau " << tau << " s: " << before << " -> " << after;
+  EXPECT_EQ(ProvenanceAttribute(r1, "model_compensated_terms"), "aux:coil_temperature");
+  out = RunFogpipe("validate " + r1, &code);
+  EXPECT_EQ(code, 0) << out;
 }
 
 }  // namespace
