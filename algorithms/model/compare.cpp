@@ -139,7 +139,8 @@ std::vector<Parameter> StochasticParameters(const StochasticModel& model, Term t
       return {{"R", RampToDegPerHour2(model.r_rad_s2), RampToDegPerHour2(model.r_se), kRampUnit}};
     case Term::kGaussMarkov:
       return {{"sigma", DegH(model.gm_sigma_rad_s), DegH(model.gm_sigma_se), "deg/h"},
-              {"correlation_time", model.gm_correlation_time_s, model.gm_correlation_time_se, "s"}};
+              {"correlation_time", model.gm_correlation_time_s, model.gm_correlation_time_se, "s",
+               model.gm_correlation_time_low_s, model.gm_correlation_time_high_s}};
     default:
       return {};
   }

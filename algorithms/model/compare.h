@@ -56,6 +56,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -97,6 +98,10 @@ struct Parameter {
   double value = 0;
   double standard_error = 0;
   std::string units;
+  /// A 95 % interval [low, high] where the error is not symmetric (the Gauss-Markov correlation
+  /// time's profile interval, stochastic_fit.h); NaN where value +- 1.96 SE serves.
+  double low = std::numeric_limits<double>::quiet_NaN();
+  double high = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct FittedTerm {

@@ -72,6 +72,41 @@ struct Fitted {
   double tc = 0;
 };
 
+constexpr double kChiSquare1At95 = 3.841458820694124;  // chi-square(1) 0.95 quantile
+constexpr double kNormal975 = 1.959963984540054;       // its square root
+
+struct ProfileInterval {
+  double low = 0, high = 0;  // log Tc
+};
+
+// The log-Tc range where the profiled cost is within `threshold` of its minimum (cost_min at
+// log_tc_min): the outermost grid points under the threshold, widened to where the cost crosses
+// it between them and their outer neighbours (linear in log Tc); the grid's end where the cost
+// never crosses before it.
+ProfileInterval ProfileIntervalOf(const std::vector<double>& log_tc,
+                                  const std::vector<double>& cost, double log_tc_min,
+                                  double cost_min, double threshold) {
+  const double level = cost_min + threshold;
+  const int n = static_cast<int>(log_tc.size());
+  int first = n, last = -1;
+  for (int i = 0; i < n; ++i) {
+    if (cost[i] <= level) {
+      first = std::min(first, i);
+      last = i;
+    }
+  }
+  ProfileInterval interval{log_tc_min, log_tc_min};
+  auto crossing = [&](int inside, int outside) {
+    const double t = (level - cost[inside]) / (cost[outside] - cost[inside]);
+    return log_tc[inside] + t * (log_tc[outside] - log_tc[inside]);
+  };
+  if (first < n) {
+    interval.low = std::min(log_tc_min, first == 0 ? log_tc[0] : crossing(first, first - 1));
+    interval.high = std::max(log_tc_min, last == n - 1 ? log_tc[n - 1] : crossing(last, last + 1));
+  }
+  return interval;
+}
+
 Fitted FitAt(const std::vector<double>& tau, const Eigen::VectorXd& avar,
              const Eigen::VectorXd& offset, const Eigen::VectorXd& edf,
              const std::vector<Term>& terms, double correlation_time_s, double floor_squared) {
@@ -242,10 +277,12 @@ StochasticFit FitStochastic(const std::vector<double>& tau, const std::vector<do
     const int grid = 30;
     best.nnls.cost = std::numeric_limits<double>::infinity();
     int best_index = 0;
+    std::vector<double> grid_log_tc(grid), grid_cost(grid);
     for (int i = 0; i < grid; ++i) {
+      grid_log_tc[i] = log_tc_low + (log_tc_high - log_tc_low) * i / (grid - 1);
       Fitted fitted =
-          FitAt(fit_tau, avar_points, offset, edf, terms,
-                std::exp(log_tc_low + (log_tc_high - log_tc_low) * i / (grid - 1)), floor_squared);
+          FitAt(fit_tau, avar_points, offset, edf, terms, std::exp(grid_log_tc[i]), floor_squared);
+      grid_cost[i] = fitted.nnls.cost;
       if (fitted.nnls.cost < best.nnls.cost) {
         best = fitted;
         best_index = i;
@@ -273,16 +310,34 @@ StochasticFit FitStochastic(const std::vector<double>& tau, const std::vector<do
     // Standard error of Tc from the curvature of the cost in log(Tc): a weighted LS cost is a
     // chi-square, so var(log Tc) ~ 2 / cost''.
     const double log_step = 0.05, log_tc = std::log(best.tc);
-    const double cost_minus =
-        FitAt(fit_tau, avar_points, offset, edf, terms, std::exp(log_tc - log_step), floor_squared)
-            .nnls.cost;
-    const double cost_plus =
-        FitAt(fit_tau, avar_points, offset, edf, terms, std::exp(log_tc + log_step), floor_squared)
-            .nnls.cost;
-    const double curvature = (cost_plus - 2 * best.nnls.cost + cost_minus) / (log_step * log_step);
+    const Fitted minus =
+        FitAt(fit_tau, avar_points, offset, edf, terms, std::exp(log_tc - log_step), floor_squared);
+    const Fitted plus =
+        FitAt(fit_tau, avar_points, offset, edf, terms, std::exp(log_tc + log_step), floor_squared);
+    const double curvature =
+        (plus.nnls.cost - 2 * best.nnls.cost + minus.nnls.cost) / (log_step * log_step);
+    const int num_parameters = static_cast<int>(terms.size()) + 1;
+    const double dispersion = std::max(
+        1.0, best.nnls.cost / std::max(1, static_cast<int>(fit_tau.size()) - num_parameters));
+    const ProfileInterval interval = ProfileIntervalOf(
+        grid_log_tc, grid_cost, std::log(best.tc), best.nnls.cost, kChiSquare1At95 * dispersion);
+    const double half_width = (interval.high - interval.low) / (2.0 * kNormal975);
+    const double log_tc_variance =
+        std::max(curvature > 0 ? 2.0 * dispersion / curvature : 1.0, half_width * half_width);
+    result.model.gm_correlation_time_low_s = std::exp(interval.low);
+    result.model.gm_correlation_time_high_s = std::exp(interval.high);
     result.model.gm_correlation_time_s = best.tc;
-    result.model.gm_correlation_time_se =
-        curvature > 0 ? best.tc * std::sqrt(2.0 / curvature) : best.tc;
+    result.model.gm_correlation_time_se = best.tc * std::sqrt(log_tc_variance);
+    // The coefficients' standard errors above hold Tc fixed; Tc is estimated too, and sigma^2
+    // trades against it along the cost valley. The delta method on the profile (first order, Tc
+    // and the coefficients at fixed Tc independent): var(c) = var(c | Tc) + (dc / dlog Tc)^2
+    // var(log Tc), the slope by central differences of the fits at log Tc +- log_step.
+    for (long j = 0; j < best.nnls.coefficients.size(); ++j) {
+      const double slope =
+          (plus.nnls.coefficients[j] - minus.nnls.coefficients[j]) / (2.0 * log_step);
+      best.nnls.se[j] =
+          std::sqrt(best.nnls.se[j] * best.nnls.se[j] + slope * slope * log_tc_variance);
+    }
   }
   auto root = [](double coefficient, double se, double* value, double* value_se) {
     *value = std::sqrt(std::max(coefficient, 0.0));

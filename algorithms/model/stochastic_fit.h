@@ -11,7 +11,14 @@
 // the Lawson-Hanson NNLS are fogpipe::allan's (noise_model.h, nnls.h); allan::FitNoiseTerms is not
 // used directly because the model needs a Gauss-Markov column and the shape tolerance.
 // The Gauss-Markov correlation time is found by a log-grid + golden-section search with the
-// amplitudes profiled out. PSD laws (two-sided, IEEE Std 952 Annex C) are given for the frequency
+// amplitudes profiled out. Its uncertainty is a profile interval (Venzon & Moolgavkar 1988): the
+// cost, a chi-square in the fit's weights, is scaled by its dispersion cost / (points -
+// parameters) when that exceeds 1 (quasi-likelihood, McCullagh & Nelder 1989, 9.2), and the
+// interval holds the Tc within chi2_1(0.95) = 3.84 of the minimum; a flat or two-valleyed profile
+// gives a wide interval where the local curvature would give a small standard error. The
+// standard error of log Tc is the larger of the curvature's and the interval's half-width / 1.96,
+// and the amplitudes' standard errors add their trade-off with Tc (the delta method on the
+// profile). PSD laws (two-sided, IEEE Std 952 Annex C) are given for the frequency
 // view; they are the same processes as the Allan laws.
 // Narrow bands (narrow_band.h) are fitted on the spectrum, not here: FitStochastic takes them as
 // known and fits the other terms to what they leave, with the bands' Allan variance as a fixed
@@ -38,6 +45,11 @@ struct StochasticModel {
   double r_rad_s2 = 0, r_se = 0;
   double gm_sigma_rad_s = 0, gm_sigma_se = 0;
   double gm_correlation_time_s = 0, gm_correlation_time_se = 0;
+  /// The correlation time's 95 % profile interval [s] (FitStochastic): every Tc whose profiled
+  /// cost is within the chi-square(1) 95 % point of the minimum. Tc is estimated on a log scale and
+  /// its error is multiplicative: the interval, not value +- 2 SE, is what to quote. Equal to the
+  /// search bound where the profile does not rise above the threshold before it.
+  double gm_correlation_time_low_s = 0, gm_correlation_time_high_s = 0;
   std::vector<NarrowBand> bands;  ///< Term::kNarrowBand (in `terms` once, whatever their count)
   bool Has(Term t) const;
 };

@@ -50,6 +50,15 @@ struct CompareArguments {
 };
 
 // The IMF view (diagnostic, not part of the error): one line per IMF, '*' where it carries misfit.
+// " (95 % interval LOW .. HIGH UNITS)" for a parameter whose error is not symmetric, else "".
+std::string IntervalText(const model::Parameter& p) {
+  if (!std::isfinite(p.low) || !std::isfinite(p.high)) return "";
+  char text[96];
+  std::snprintf(text, sizeof(text), " (95 %% interval %.3g .. %.3g %s)", p.low, p.high,
+                p.units.c_str());
+  return text;
+}
+
 void PrintImfView(const model::ImfView& v) {
   if (!HasResult(v.summary.termination)) {
     std::printf("IMF view: %s\n", v.summary.message.c_str());
@@ -106,15 +115,15 @@ void PrintText(const model::CompareResult& r) {
                 s.bic_rejects ? " (BIC rejects it)" : "", fixes.empty() ? "" : ", fixes ",
                 fixes.c_str(), s.evidence.c_str());
     for (const auto& p : s.parameters)
-      std::printf("    %s = %.5g +- %.2g %s\n", p.name.c_str(), p.value, p.standard_error,
-                  p.units.c_str());
+      std::printf("    %s = %.5g +- %.2g %s%s\n", p.name.c_str(), p.value, p.standard_error,
+                  p.units.c_str(), IntervalText(p).c_str());
   }
   PrintImfView(r.base.imf);
   std::printf("model:\n");
   for (const auto& ft : r.base.fitted)
     for (const auto& p : ft.parameters)
-      std::printf("  %-18s %-24s %.5g +- %.2g %s\n", ft.term.c_str(), p.name.c_str(), p.value,
-                  p.standard_error, p.units.c_str());
+      std::printf("  %-18s %-24s %.5g +- %.2g %s%s\n", ft.term.c_str(), p.name.c_str(), p.value,
+                  p.standard_error, p.units.c_str(), IntervalText(p).c_str());
   // The same reliability checks and read-offs as `allan`, `run`, `info` and `merge` show
   // (allan::AssessNoiseTerms), on the curve these terms were fitted to.
   std::cout << "\nThe IEEE terms above against the residual's Allan curve (the checks and slope "

@@ -31,10 +31,13 @@ json Number(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 
 json ParametersJson(const std::vector<model::Parameter>& ps) {
   json o = json::object();
-  for (const auto& p : ps)
+  for (const auto& p : ps) {
     o[p.name] = {{"value", Number(p.value)},
                  {"standard_error", Number(p.standard_error)},
                  {"units", p.units}};
+    if (std::isfinite(p.low) && std::isfinite(p.high))
+      o[p.name]["interval_95"] = {Number(p.low), Number(p.high)};
+  }
   return o;
 }
 
