@@ -285,10 +285,8 @@ std::string Evidence(const Evaluation& base, const Evaluation& trial, const Mode
 void FitBands(int count, double fs, int num_views, const CompareOptions& options,
               Evaluation* evaluation) {
   const Eigen::VectorXd& residual = evaluation->deterministic.residual;
-  const long segment = FastFftSizeAtMost(
-      std::max(1L, static_cast<long>(residual.size()) / options.views.welch_segments));
-  if (segment < 64) return;
-  const Spectrum welch = WelchPsd(residual, fs, static_cast<int>(segment));
+  const Spectrum welch = FrequencyViewPsd(residual, fs, options.views);
+  if (welch.psd.empty()) return;
   std::vector<NarrowBand> bands;
   std::string note;
   for (int b = 0; b < count; ++b) {
@@ -311,7 +309,7 @@ void FitBands(int count, double fs, int num_views, const CompareOptions& options
         fixed[k] += NarrowBandOneSidedPsd(band, welch.frequency_hz[k]);
     }
     const NarrowBandFitResult fit =
-        FitNarrowBand(welch, background, fixed, std::max(1, options.views.psd_skip_bins),
+        FitNarrowBand(welch, background, fixed, FirstTestedBin(options.views),
                       {worst->from, worst->to, worst->center_hz, worst->excess_power});
     if (!fit.ok) {
       note = "; narrow_band: " + fit.message;
@@ -404,7 +402,8 @@ Evaluation EvaluateModel(const CompareInput& input, const std::vector<ModelTerm>
   }
   const int band_count =
       static_cast<int>(std::count(terms.begin(), terms.end(), Term::kNarrowBand));
-  if (band_count > 0) FitBands(band_count, fs, prepared->empty() ? 3 : 4, options, &evaluation);
+  if (band_count > 0)
+    FitBands(band_count, fs, ScoredViewCount(!prepared->empty()), options, &evaluation);
   evaluation.noise_check = CheckIeeeTerms(evaluation.stochastic.model, evaluation.allan.table,
                                           options.stochastic.relative_floor);
   evaluation.views = ComputeViews(evaluation.deterministic.residual, fs, *prepared,

@@ -158,16 +158,12 @@ FrequencyBins FrequencyStatistics(const Eigen::VectorXd& residual, double fs,
   // (K = 15, nu = 28.5) on 24 h at 100 Hz the bin is flagged at ratio 3.2 (z_c = 5.47 over 5.4e5
   // bins), i.e. W^2 = 106 sigma^2 / n, against 75 sigma^2 / n for the 2x padded periodogram
   // (ratio 19.7 over 4.3e6 bins): 1.4x the power, 1.2x the amplitude.
-  const long segment_length =
-      FastFftSizeAtMost(std::max(1L, static_cast<long>(residual.size()) / options.welch_segments));
-  if (segment_length < 64) return bins;
-  const Spectrum welch = WelchPsd(residual, fs, static_cast<int>(segment_length));
+  const Spectrum welch = FrequencyViewPsd(residual, fs, options);
   if (welch.psd.size() < 3) return bins;
   view->dof = welch.dof;
   const double record_s = residual.size() / fs;
   std::vector<double> ratios, model_psd;
-  for (int k = std::max(1, options.psd_skip_bins); k + 1 < static_cast<int>(welch.psd.size());
-       ++k) {
+  for (int k = FirstTestedBin(options); k + 1 < static_cast<int>(welch.psd.size()); ++k) {
     if (welch.frequency_hz[k] * record_s < options.min_line_cycles) continue;
     const double model_psd_k = ModelOneSidedPsd(model, welch.frequency_hz[k], fs);
     view->frequency_hz.push_back(welch.frequency_hz[k]);
@@ -559,7 +555,7 @@ Views ComputeViews(const Eigen::VectorXd& residual, double fs, const std::vector
                    const ViewOptions& options) {
   Views views;
   const bool has_aux = !aux.empty();
-  const int num_views = has_aux ? 4 : 3;
+  const int num_views = ScoredViewCount(has_aux);
   const double alpha_view = options.alpha / num_views;
   const Decimated decimated = Decimate(residual, fs);
   const double record_s = residual.size() / fs;
@@ -588,6 +584,17 @@ Views ComputeViews(const Eigen::VectorXd& residual, double fs, const std::vector
   views.consistent = views.error <= 1.0;
   return views;
 }
+
+int ScoredViewCount(bool has_aux) { return has_aux ? 4 : 3; }
+
+Spectrum FrequencyViewPsd(const Eigen::VectorXd& residual, double fs, const ViewOptions& options) {
+  const long segment_length =
+      FastFftSizeAtMost(std::max(1L, static_cast<long>(residual.size()) / options.welch_segments));
+  if (segment_length < 64) return {};
+  return WelchPsd(residual, fs, static_cast<int>(segment_length));
+}
+
+int FirstTestedBin(const ViewOptions& options) { return std::max(1, options.psd_skip_bins); }
 
 std::vector<Failure> FrequencyFailuresOf(const Eigen::VectorXd& residual, double fs,
                                          const StochasticModel& model, const ViewOptions& options,

@@ -52,6 +52,7 @@
 #include <vector>
 
 #include "algorithms/allan/allan.h"
+#include "algorithms/model/spectrum.h"
 #include "algorithms/model/stochastic_fit.h"
 
 namespace fogpipe::model {
@@ -219,6 +220,18 @@ std::vector<PreparedAux> PrepareAux(const std::vector<AuxChannel>& aux, long n,
 Views ComputeViews(const Eigen::VectorXd& residual, double sample_rate_hz,
                    const std::vector<PreparedAux>& aux, const StochasticModel& model,
                    const AllanData& allan, const ViewOptions& options);
+
+/// The number of scored views: tau, frequency and time, and aux when the recording has a channel.
+/// Each view is tested at alpha / this (Bonferroni over the views).
+int ScoredViewCount(bool has_aux);
+
+/// The Welch PSD the frequency view tests (Hann segments of the largest fast FFT size <= n /
+/// welch_segments, 50 % overlap); empty when that segment would be shorter than 64 samples.
+Spectrum FrequencyViewPsd(const Eigen::VectorXd& residual, double sample_rate_hz,
+                          const ViewOptions& options);
+
+/// The first Welch bin the frequency view tests and displays (the lower ones carry Hann leakage).
+int FirstTestedBin(const ViewOptions& options);
 
 /// The frequency view alone (as ComputeViews computes it with `num_views` scored views): its
 /// failing bands, e.g. to start a narrow_band fit from.
