@@ -75,6 +75,15 @@ def allan_view(s, cj, out):
     plt.close(fig)
 
 
+def fitted_bands(s):
+    """The step's narrow_band terms (its narrow_bands/ group; none in files without one)."""
+    if "narrow_bands" not in s:
+        return []
+    g = s["narrow_bands"]
+    return [{"f0_hz": f0, "width_hz": w, "rms_deg_h": rms * RAD_S_TO_DEG_H}
+            for f0, w, rms in zip(g["frequency_hz"][()], g["bandwidth_hz"][()], g["rms_rad_s"][()])]
+
+
 def psd_view(s, cj, out):
     g = s["frequency"]
     f = g["frequency_hz"][()]
@@ -96,10 +105,21 @@ def psd_view(s, cj, out):
                         ha="center", fontsize=7, color="red")
     for fl in g["line_frequency_hz"][()]:
         ax.axvline(fl, color="red", ls=":", lw=1)
+    # The model's fitted narrow bands (term narrow_band): centre and half-power width, in green.
+    fitted = fitted_bands(s)
+    for k, b in enumerate(fitted):
+        ax.axvspan(b["f0_hz"] - b["width_hz"] / 2, b["f0_hz"] + b["width_hz"] / 2, color="green",
+                   alpha=0.25)
+        ax.axvline(b["f0_hz"], color="green", lw=1)
+        ax.annotate("narrow_band %.4g Hz\nwidth %.3g Hz, rms %.3g deg/h" % (
+                        b["f0_hz"], b["width_hz"], b["rms_deg_h"]),
+                    (b["f0_hz"], 0.0), xycoords=("data", "axes fraction"),
+                    xytext=(-3, 3 + 20 * k), textcoords="offset points", va="bottom", ha="right",
+                    fontsize=7, color="green")
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("PSD [(deg/h)^2/Hz]")
-    what = "Frequency view (red: %d failing band%s; centre, peak psd/model)" % (
-        len(bands), "" if len(bands) == 1 else "s")
+    what = "Frequency view (red: %d failing band%s; centre, peak psd/model; green: %d fitted)" % (
+        len(bands), "" if len(bands) == 1 else "s", len(fitted))
     ax.set_title(title(s, cj, what), fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
@@ -303,6 +323,9 @@ def main():
         _, s, cj = load_step(f, a.step)
         allan_view(s, cj, a.output)
         psd_view(s, cj, a.output)
+        for b in fitted_bands(s):
+            print("report.py: psd.png marks narrow_band %.4g Hz (width %.3g Hz, rms %.3g deg/h)" % (
+                b["f0_hz"], b["width_hz"], b["rms_deg_h"]))
         time_view(s, cj, a.output)
         aux_view(s, cj, a.output)
         imf_view(s, cj, a.output)

@@ -3,7 +3,8 @@
 file with exit 2, naming it:
 - a results file of `fogpipe run`: index.html with Table 5 and the Allan, signal, PSD and IMF
   pictures of each axis;
-- a results file with a `fogpipe compare -o` history: the six pictures of the last step;
+- a results file with a `fogpipe compare -o` history: the six pictures of the last step, the
+  model's fitted narrow bands marked on the PSD;
 - a recording, or a results file of the previous layout (fogpipe-results-v1): exit 2.
 
 Usage: report_test.py FOGPIPE SOURCE_DIR
@@ -15,6 +16,7 @@ import sys
 import tempfile
 
 import h5py
+import numpy as np
 
 FAILURES = []
 
@@ -71,6 +73,33 @@ def main():
         fogpipe(binary, "compare", rec, "-o", compared)
         check_pictures(script, compared, os.path.join(tmp, "compare_pictures"), "a compare history",
                        ("allan.png", "psd.png", "time.png", "history.png"))
+
+        # A vibration band (white noise through a resonance at 1.5 Hz, damping 2 %, peak ~10x
+        # the white floor) added to a navigation record: with --add narrow_band the fitted band
+        # is marked on psd.png and named on stdout.
+        banded = os.path.join(tmp, "banded.h5")
+        fogpipe(binary, "simulate", "--profile", "nav", "--seed", "11", "-o", banded)
+        with h5py.File(banded, "r+") as f:
+            y, fs = f["rate"][()], f.attrs["sample_rate_hz"]
+            w0 = 2 * np.pi * 1.5 / fs
+            r = np.exp(-0.02 * w0)
+            e = np.random.default_rng(5).standard_normal(len(y) + 4096)
+            a1, a2, x = 2 * r * np.cos(w0), -r * r, np.zeros(len(e))
+            for i in range(2, len(e)):  # the AR(2) resonator, burn-in 4096 samples
+                x[i] = a1 * x[i - 1] + a2 * x[i - 2] + e[i]
+            x = x[4096:]
+            power = 10.0 * 2 * (np.var(np.diff(y)) / 2 / fs) * np.pi * 0.02 * 1.5
+            f["rate"][...] = y + x * np.sqrt(power / np.var(x))
+        banded_history = os.path.join(tmp, "banded_history.h5")
+        fogpipe(binary, "compare", banded, "--add", "narrow_band", "-o", banded_history)
+        out = os.path.join(tmp, "band_pictures")
+        r = report(script, banded_history, out)
+        check(r.returncode == 0 and is_png(os.path.join(out, "psd.png")),
+              f"a compare history with a narrow band gives psd.png (exit {r.returncode})")
+        marked = [line for line in r.stdout.splitlines() if "marks narrow_band" in line]
+        f0 = [float(line.split("narrow_band ")[1].split(" Hz")[0]) for line in marked]
+        check(len(f0) == 1 and abs(f0[0] - 1.5) < 0.01,
+              f"psd.png marks the one fitted band at 1.5 Hz ({r.stdout.strip()})")
 
         r = report(script, rec, os.path.join(tmp, "none"))
         check(r.returncode == 2 and rec in r.stderr, f"a recording is refused, named (exit {r.returncode}: {r.stderr.strip()})")
