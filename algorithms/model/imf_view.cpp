@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "algorithms/allan/edf.h"
 #include "algorithms/ar/fit_ar.h"
+#include "algorithms/model/narrow_band.h"
 #include "algorithms/model/spectrum.h"
 #include "algorithms/simulation/gyro_simulator.h"
 #include "algorithms/simulation/random.h"
@@ -49,6 +51,10 @@ struct Reference {
   std::string error;
 };
 
+// The reference's narrow bands draw from streams of their own (the simulator numbers its streams
+// from small integers).
+constexpr std::uint64_t kNarrowBandStream = 0x6E6172726F770000ULL;
+
 simulation::GyroErrorModel NoiseOf(const StochasticModel& model) {
   simulation::GyroErrorModel errors;
   if (model.Has(Term::kWhite)) errors.n_rad_sqrt_s = model.n_rad_sqrt_s;
@@ -61,7 +67,11 @@ simulation::GyroErrorModel NoiseOf(const StochasticModel& model) {
   return errors;
 }
 
-Reference ModelReference(long n, double fs, const StochasticModel& model,
+// n samples at fs, the block means of `decimation` samples at fs * decimation: what the view
+// decomposes. The power-law and Gauss-Markov terms are simulated at fs directly (their laws hold
+// for block means at the lower rate); a narrow band is simulated at the original rate and averaged
+// like the residual, so that the block means attenuate and alias it as they do the data.
+Reference ModelReference(long n, double fs, long decimation, const StochasticModel& model,
                          const ImfViewOptions& options) {
   Reference ref;
   std::vector<double> psd_sum, psd_square_sum;
@@ -80,6 +90,14 @@ Reference ModelReference(long n, double fs, const StochasticModel& model,
     }
     Eigen::VectorXd rate =
         simulated.rate_rad_s.head(std::min<long>(n, simulated.rate_rad_s.size()));
+    // The model's narrow bands, which the simulator's error model has no term for, each from a
+    // stream of its own.
+    for (size_t b = 0; b < model.bands.size(); ++b) {
+      const Eigen::VectorXd band =
+          SimulateNarrowBand(model.bands[b], rate.size() * decimation, fs * decimation,
+                             simulation::DeriveSeed(simulator_options.seed, kNarrowBandStream + b));
+      rate += decimation > 1 ? BlockMeans(band, decimation) : band;
+    }
     rate.array() -= rate.mean();
     const emd::EmdResult decomposition = emd::Decompose(rate, options.emd);
     for (size_t k = 0; k < decomposition.imfs.size(); ++k) {
@@ -247,7 +265,8 @@ ImfView ComputeImfView(const Eigen::VectorXd& residual, double fs,
     return view;
   }
   // The EMD of the fitted noise, measured (for white noise: the dyadic law of Wu & Huang 2004).
-  const Reference ref = ModelReference(num_decimated, decimated_rate_hz, model, options);
+  const Reference ref =
+      ModelReference(num_decimated, decimated_rate_hz, decimation, model, options);
   if (!ref.error.empty() || ref.energy.empty()) {
     view.summary.termination = Termination::kInsufficientData;
     view.summary.message = "no reference decomposition of the fitted noise: " + ref.error;

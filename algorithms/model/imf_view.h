@@ -13,7 +13,8 @@
 // between IMFs depends on the spectrum (strong quantization noise pushes white-noise energy from
 // IMF 1 into IMFs 2-7, by 20-60 % at navigation grade), so no fixed filter bank weighted by the
 // model PSD predicts the energies. We measure them instead: `reference_realizations` simulations
-// of the fitted stochastic model at the decimated rate (fogpipe::simulation, fixed seeds) are
+// of the fitted stochastic model at the decimated rate (fogpipe::simulation, fixed seeds; the
+// narrow bands by model::SimulateNarrowBand, above the decimated Nyquist they alias) are
 // decomposed with the same EMD options, and exp(mean ln energy) over them is the expectation
 // (the test is on the log scale). For a white model this is the white-noise dyadic law (tested
 // against Wu & Huang's slope). The fitted N and Q alone (the literal white-noise law) would flag

@@ -7,6 +7,7 @@
 #include <complex>
 #include <functional>
 #include <limits>
+#include <random>
 
 #include "algorithms/common/units.h"
 
@@ -107,6 +108,39 @@ double NarrowBandAllanVariance(const NarrowBand& band, double tau_s) {
   if (!(band.f0_hz > 0 && band.zeta > 0 && tau_s > 0)) return 0.0;
   return std::max(0.0, (4 * StructureFunction(band, tau_s) - StructureFunction(band, 2 * tau_s)) /
                            (2 * tau_s * tau_s));
+}
+
+Eigen::VectorXd SimulateNarrowBand(const NarrowBand& band, long n, double fs, std::uint64_t seed) {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(std::max(0L, n));
+  if (!(band.f0_hz > 0 && band.zeta > 0 && band.zeta < 1 && band.sigma_rad_s > 0 && fs > 0))
+    return x;
+  const double w0 = 2 * units::kPi * band.f0_hz, dt = 1.0 / fs;
+  const double decay = band.zeta * w0, wd = w0 * std::sqrt(1 - band.zeta * band.zeta);
+  // exp(A dt) of A = [[0, 1], [-w0^2, -2 zeta w0]] (underdamped), and the step's noise covariance
+  // P - Phi P Phi^T with P the stationary covariance.
+  const double e = std::exp(-decay * dt), c = std::cos(wd * dt), s = std::sin(wd * dt);
+  Eigen::Matrix2d phi;
+  phi << e * (c + decay / wd * s), e * s / wd, -e * w0 * w0 / wd * s, e * (c - decay / wd * s);
+  const double var = band.sigma_rad_s * band.sigma_rad_s;
+  Eigen::Matrix2d stationary;
+  stationary << var, 0, 0, w0 * w0 * var;
+  const Eigen::Matrix2d step = stationary - phi * stationary * phi.transpose();
+  // The step covariance is positive definite for dt > 0; its Cholesky factor colours the draws
+  // (LDLT guards against rounding at tiny dt, where it is nearly singular).
+  const Eigen::LDLT<Eigen::Matrix2d> ldlt(step);
+  const Eigen::Matrix2d factor = ldlt.transpositionsP().transpose() *
+                                 Eigen::Matrix2d(ldlt.matrixL()) *
+                                 ldlt.vectorD().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+  std::mt19937_64 generator(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::Vector2d state(band.sigma_rad_s * normal(generator),
+                        w0 * band.sigma_rad_s * normal(generator));
+  for (long i = 0; i < n; ++i) {
+    x[i] = state[0];
+    const Eigen::Vector2d draw(normal(generator), normal(generator));
+    state = phi * state + factor * draw;
+  }
+  return x;
 }
 
 NarrowBandFitResult FitNarrowBand(const Spectrum& welch, const std::vector<double>& background,

@@ -25,6 +25,8 @@
 // Hessian of -ln L, inflated for the correlation of adjacent Hann bins (see narrow_band.cpp).
 #pragma once
 
+#include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -53,6 +55,13 @@ double NarrowBandOneSidedPsd(const NarrowBand& band, double frequency_hz);
 
 /// Allan variance of the band at tau, (rad/s)^2 (closed form above).
 double NarrowBandAllanVariance(const NarrowBand& band, double tau_s);
+
+/// n samples at sample_rate_hz of the band's process, rad/s: the resonance's state (x, x') sampled
+/// exactly (its transition exp(A / fs) and the stationary covariance diag(sigma^2, w0^2 sigma^2)
+/// give the step's noise covariance), started from the stationary law, so that the samples have
+/// the autocovariance R(u) above at every lag. zeta in (0, 1); `seed` drives its own stream.
+Eigen::VectorXd SimulateNarrowBand(const NarrowBand& band, long n, double sample_rate_hz,
+                                   std::uint64_t seed);
 
 /// Where to look: the failing band of the frequency view (views.h Failure) that starts the fit.
 struct NarrowBandStart {

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "algorithms/common/units.h"
 #include "algorithms/model/compare.h"
@@ -43,16 +44,23 @@ struct Evaluated {
   Evaluation base;
   testing::HiddenCase hidden;
 };
+// The evaluation of `terms` on a hidden case and its IMF view.
+Evaluation EvaluateWithImfView(const testing::HiddenCase& hidden,
+                               const std::vector<ModelTerm>& terms) {
+  CompareOptions o;
+  const auto prepared = PrepareAux(hidden.input.aux, hidden.recording.rate_rad_s.size(),
+                                   hidden.input.sample_rate_hz, o.views);
+  Evaluation e = EvaluateModel(hidden.input, terms, o, &prepared);
+  e.imf = ComputeImfView(e.deterministic.residual, hidden.input.sample_rate_hz, prepared,
+                         e.stochastic.model, o.imf);
+  return e;
+}
+
 Evaluated EvaluateDefault(std::uint64_t seed, const std::vector<sim::Term>& effects) {
   Evaluated out;
   out.hidden = testing::MakeHiddenCase(seed, effects);
   out.hidden.input.rate_rad_s = &out.hidden.recording.rate_rad_s;
-  CompareOptions o;
-  const auto prepared = PrepareAux(out.hidden.input.aux, out.hidden.recording.rate_rad_s.size(),
-                                   out.hidden.input.sample_rate_hz, o.views);
-  out.base = EvaluateModel(out.hidden.input, DefaultTerms(), o, &prepared);
-  out.base.imf = ComputeImfView(out.base.deterministic.residual, out.hidden.input.sample_rate_hz,
-                                prepared, out.base.stochastic.model, o.imf);
+  out.base = EvaluateWithImfView(out.hidden, DefaultTerms());
   return out;
 }
 
@@ -163,6 +171,50 @@ TEST(ImfView, AHiddenSinusoidFlagsTheImfOfItsPeriod) {
     // EMD's IMFs are an octave apart: the matching IMF's mean period within a factor 1.5.
     EXPECT_LT(std::abs(std::log(v.mean_period_s[k] / period)), std::log(1.5));
   }
+}
+
+// Seeds on which a record with a vibration band (1.5 Hz, damping 2 %, peak 10x the white floor;
+// hidden_effects.h AddNarrowBand) has an IMF flagged, analysed with the default model and with the
+// default model + narrow_band.
+struct BandFlags {
+  int without_band_term = 0, with_band_term = 0;
+};
+BandFlags SeedsFlaggedWithABand(std::uint64_t first, std::uint64_t last) {
+  BandFlags flags;
+  for (std::uint64_t seed = first; seed <= last; ++seed) {
+    testing::HiddenCase c = testing::MakeHiddenCase(seed, {});
+    testing::AddNarrowBand(1.5, 0.02, 10.0, seed, &c);
+    c.input.rate_rad_s = &c.recording.rate_rad_s;
+    std::vector<ModelTerm> terms = DefaultTerms();
+    const Evaluation without = EvaluateWithImfView(c, terms);
+    terms.push_back(Term::kNarrowBand);
+    const Evaluation with = EvaluateWithImfView(c, terms);
+    EXPECT_EQ(with.imf.summary.termination, Termination::kSuccess);
+    EXPECT_EQ(with.stochastic.model.bands.size(), 1u) << "seed " << seed;
+    flags.without_band_term += without.imf.summary.num_flagged > 0;
+    flags.with_band_term += with.imf.summary.num_flagged > 0;
+  }
+  return flags;
+}
+
+TEST(ImfView, AModelWithTheVibrationBandIsNotFlaggedForIt) {
+  // The reference realizations carry the model's narrow bands (SimulateNarrowBand, block-averaged
+  // like the residual). Without them the band's IMFs were flagged against a reference that lacks
+  // it, however well the band was fitted: with the narrow_band term in the model, 17 of 20 design
+  // seeds (750-769) and 9 of 10 test seeds (770-779) had an IMF flagged; now 0 and 0. With the
+  // band in the model the view must be flagged at most at its nominal rate, 5 % per record
+  // (Holm): P(>= 3 of 10) = 1.2 % (binomial), so at most 2 of the 10 test seeds. (Without the term
+  // the view flags the misfit band on 9 of 20 and 3 of 10: the residual is decimated 4x to 2.5 Hz
+  // by block means, which attenuate and alias the 1.5 Hz band; the frequency view is the one that
+  // finds it.)
+  const BandFlags flags = SeedsFlaggedWithABand(770, 779);
+  EXPECT_LE(flags.with_band_term, 2);
+}
+
+TEST(ImfView, DISABLED_VibrationBandDesignSeeds) {
+  const BandFlags flags = SeedsFlaggedWithABand(750, 769);
+  std::printf("design seeds 750-769: flagged without the term %d / 20, with it %d / 20\n",
+              flags.without_band_term, flags.with_band_term);
 }
 
 // Counts the seeds on which an IMF within a factor 2 of the temperature period is flagged by the

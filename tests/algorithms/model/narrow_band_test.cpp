@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 #include <random>
 
 #include "algorithms/model/spectrum.h"
@@ -63,6 +64,39 @@ TEST(NarrowBand, TheAllanVarianceIsThePsdTransferIntegral) {
 
 // Whittle fit of a simulated band (AR(2) resonator in white noise, 6 h at 10 Hz) started from a
 // rough guess: centre within 1 %, damping ratio within 25 %, rms within 10 %.
+// The band's autocovariance in closed form (narrow_band.h): R(u) = Re[C exp(lambda u)],
+// lambda = -zeta w0 + i w_d, C = sigma^2 (1 - i zeta w0 / w_d). Written out here.
+double BandAutocovariance(const NarrowBand& b, double u) {
+  const double w0 = 2 * kPi * b.f0_hz, wd = w0 * std::sqrt(1 - b.zeta * b.zeta);
+  const std::complex<double> lambda(-b.zeta * w0, wd);
+  const std::complex<double> c =
+      b.sigma_rad_s * b.sigma_rad_s * std::complex<double>(1.0, -b.zeta * w0 / wd);
+  return (c * std::exp(lambda * std::abs(u))).real();
+}
+
+TEST(NarrowBand, SimulatedSamplesHaveTheBandsAutocovariance) {
+  // Sample autocovariances at lags 0..40 of 2e6 samples against R(u). Bartlett's (1946) variance
+  // of a sample autocovariance, var c(h) ~ (1/n) sum_k [R(k)^2 + R(k + h) R(k - h)] <= (2/n)
+  // sum_k R(k)^2, is computed from the closed form; each lag must be within 5 of its SEs (41
+  // lags: a Gaussian false alarm has probability 41 x 5.7e-7).
+  for (double zeta : {0.02, 0.2}) {
+    const NarrowBand band{1.5, 0, zeta, 0, 2.0};
+    const double fs = 10.0;
+    const long n = 2000000;
+    const Eigen::VectorXd x = SimulateNarrowBand(band, n, fs, 17);
+    ASSERT_EQ(x.size(), n);
+    double sum_r2 = 0;
+    for (long k = -20000; k <= 20000; ++k) sum_r2 += std::pow(BandAutocovariance(band, k / fs), 2);
+    const double se = std::sqrt(2.0 * sum_r2 / n);
+    for (int h = 0; h <= 40; ++h) {
+      const double c = x.head(n - h).dot(x.tail(n - h)) / (n - h);
+      EXPECT_NEAR(c, BandAutocovariance(band, h / fs), 5 * se) << "zeta " << zeta << " lag " << h;
+    }
+    // The same seed gives the same samples.
+    EXPECT_EQ(SimulateNarrowBand(band, 1000, fs, 17), x.head(1000));
+  }
+}
+
 TEST(NarrowBand, FitRecoversASimulatedBand) {
   const double fs = 10.0, f0 = 1.3, zeta = 0.02, white_psd = 2e-10;
   const long n = static_cast<long>(6 * 3600 * fs);
