@@ -385,11 +385,16 @@ void RecordEarly(CampaignRunner& runner, std::size_t i, const std::string& input
 }
 
 /// What one recording needs in memory; saturates instead of overflowing (refused either way).
+/// With --model, also the compensation kept for its axes and the aux channels it is evaluated on
+/// (one signal each, PrepareCompensation).
 std::uint64_t RecordingBytes(const io::RecordingInfo& info, const CampaignOptions& options) {
-  std::uint64_t need = 0;
+  const std::uint64_t samples = static_cast<std::uint64_t>(std::max(info.samples, 0ll));
+  const std::uint64_t model_signals = options.model ? 1 + options.model->aux_channels.size() : 0;
+  std::uint64_t need = 0, model_need = 0;
   if (__builtin_mul_overflow(static_cast<std::uint64_t>(std::max(info.axis_count, 1)),
-                             BytesPerAxis(static_cast<std::uint64_t>(std::max(info.samples, 0ll))),
-                             &need)) {
+                             BytesPerAxis(samples), &need) ||
+      __builtin_mul_overflow(model_signals * sizeof(double), samples, &model_need) ||
+      __builtin_add_overflow(need, model_need, &need)) {
     return UINT64_MAX;
   }
   return need;
