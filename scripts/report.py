@@ -126,6 +126,7 @@ def psd_view(s, cj, out):
     fig.tight_layout()
     fig.savefig(os.path.join(out, "psd.png"), dpi=110)
     plt.close(fig)
+    return fitted
 
 
 def time_view(s, cj, out):
@@ -322,8 +323,7 @@ def main():
     with h5py.File(a.results, "r") as f:
         _, s, cj = load_step(f, a.step)
         allan_view(s, cj, a.output)
-        psd_view(s, cj, a.output)
-        for b in fitted_bands(s):
+        for b in psd_view(s, cj, a.output):
             print("report.py: psd.png marks narrow_band %.4g Hz (width %.3g Hz, rms %.3g deg/h)" % (
                 b["f0_hz"], b["width_hz"], b["rms_deg_h"]))
         time_view(s, cj, a.output)

@@ -6,6 +6,8 @@ namespace fogpipe::model {
 
 namespace {
 
+const std::string kThermalUnits = "degC";
+
 const AuxSeries* FindSeries(const std::vector<AuxSeries>& aux, const std::string& name) {
   for (const AuxSeries& series : aux)
     if (series.name == name) return &series;
@@ -24,12 +26,15 @@ std::string MissingChannel(const DeterministicModel& model, const std::vector<Au
     const AuxSeries* series = FindSeries(aux, channel);
     const std::string term = "the model's '" + ToString(component.term) + "' term";
     if (series == nullptr || series->values == nullptr)
-      return term + " needs the aux channel '" + channel + "', which is not there";
+      return term + " needs the aux channel /aux/" + channel + ", which is not there";
     if (series->values->size() != n)
-      return term + " needs the aux channel '" + channel + "' with the rate's " +
+      return term + " needs the aux channel /aux/" + channel + " with the rate's " +
              std::to_string(n) + " samples; it has " + std::to_string(series->values->size());
-    if (!component.units.empty() && series->units != component.units)
-      return term + " was fitted on '" + channel + "' in " + component.units +
+    // The thermal catalog terms are in degC (their coefficients per degC, their reference
+    // temperature in degC); an aux term in the units its channel had when it was fitted.
+    const std::string& units = component.term.IsAux() ? component.units : kThermalUnits;
+    if (!units.empty() && series->units != units)
+      return term + " was fitted on /aux/" + channel + " in " + units +
              ", but the channel here is in " + (series->units.empty() ? "no units" : series->units);
   }
   return "";

@@ -92,12 +92,10 @@ Reference ModelReference(long n, double fs, long decimation, const StochasticMod
         simulated.rate_rad_s.head(std::min<long>(n, simulated.rate_rad_s.size()));
     // The model's narrow bands, which the simulator's error model has no term for, each from a
     // stream of its own.
-    for (size_t b = 0; b < model.bands.size(); ++b) {
-      const Eigen::VectorXd band =
-          SimulateNarrowBand(model.bands[b], rate.size() * decimation, fs * decimation,
-                             simulation::DeriveSeed(simulator_options.seed, kNarrowBandStream + b));
-      rate += decimation > 1 ? BlockMeans(band, decimation) : band;
-    }
+    for (size_t b = 0; b < model.bands.size(); ++b)
+      rate += SimulateNarrowBand(
+          model.bands[b], rate.size(), fs * decimation,
+          simulation::DeriveSeed(simulator_options.seed, kNarrowBandStream + b), decimation);
     rate.array() -= rate.mean();
     const emd::EmdResult decomposition = emd::Decompose(rate, options.emd);
     for (size_t k = 0; k < decomposition.imfs.size(); ++k) {

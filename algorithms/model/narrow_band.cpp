@@ -7,9 +7,9 @@
 #include <complex>
 #include <functional>
 #include <limits>
-#include <random>
 
 #include "algorithms/common/units.h"
+#include "algorithms/simulation/random.h"
 
 namespace fogpipe::model {
 namespace {
@@ -110,7 +110,8 @@ double NarrowBandAllanVariance(const NarrowBand& band, double tau_s) {
                            (2 * tau_s * tau_s));
 }
 
-Eigen::VectorXd SimulateNarrowBand(const NarrowBand& band, long n, double fs, std::uint64_t seed) {
+Eigen::VectorXd SimulateNarrowBand(const NarrowBand& band, long n, double fs, std::uint64_t seed,
+                                   long block) {
   Eigen::VectorXd x = Eigen::VectorXd::Zero(std::max(0L, n));
   if (!(band.f0_hz > 0 && band.zeta > 0 && band.zeta < 1 && band.sigma_rad_s > 0 && fs > 0))
     return x;
@@ -131,14 +132,20 @@ Eigen::VectorXd SimulateNarrowBand(const NarrowBand& band, long n, double fs, st
   const Eigen::Matrix2d factor = ldlt.transpositionsP().transpose() *
                                  Eigen::Matrix2d(ldlt.matrixL()) *
                                  ldlt.vectorD().cwiseMax(0.0).cwiseSqrt().asDiagonal();
-  std::mt19937_64 generator(seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  Eigen::Vector2d state(band.sigma_rad_s * normal(generator),
-                        w0 * band.sigma_rad_s * normal(generator));
+  simulation::RandomSource random(seed);
+  const double x0 = band.sigma_rad_s * random.Normal();
+  const double v0 = w0 * band.sigma_rad_s * random.Normal();
+  Eigen::Vector2d state(x0, v0);
+  block = std::max(1L, block);
   for (long i = 0; i < n; ++i) {
-    x[i] = state[0];
-    const Eigen::Vector2d draw(normal(generator), normal(generator));
-    state = phi * state + factor * draw;
+    double sum = 0;
+    for (long j = 0; j < block; ++j) {
+      sum += state[0];
+      const double first = random.Normal();
+      const double second = random.Normal();
+      state = phi * state + factor * Eigen::Vector2d(first, second);
+    }
+    x[i] = sum / block;
   }
   return x;
 }

@@ -59,9 +59,11 @@ double NarrowBandAllanVariance(const NarrowBand& band, double tau_s);
 /// n samples at sample_rate_hz of the band's process, rad/s: the resonance's state (x, x') sampled
 /// exactly (its transition exp(A / fs) and the stationary covariance diag(sigma^2, w0^2 sigma^2)
 /// give the step's noise covariance), started from the stationary law, so that the samples have
-/// the autocovariance R(u) above at every lag. zeta in (0, 1); `seed` drives its own stream.
+/// the autocovariance R(u) above at every lag. With block > 1, n means of `block` consecutive
+/// such samples (what a residual averaged in blocks holds). zeta in (0, 1); `seed` drives its
+/// own stream (simulation::RandomSource).
 Eigen::VectorXd SimulateNarrowBand(const NarrowBand& band, long n, double sample_rate_hz,
-                                   std::uint64_t seed);
+                                   std::uint64_t seed, long block = 1);
 
 /// Where to look: the failing band of the frequency view (views.h Failure) that starts the fit.
 struct NarrowBandStart {

@@ -80,30 +80,55 @@ struct ProfileInterval {
 };
 
 // The log-Tc range where the profiled cost is within `threshold` of its minimum (cost_min at
-// log_tc_min): the outermost grid points under the threshold, widened to where the cost crosses
-// it between them and their outer neighbours (linear in log Tc); the grid's end where the cost
-// never crosses before it.
+// log_tc_min), each edge found by bisection on `cost_at` between a point under the level and one
+// above it: on the lower side the lowest grid point under the level (the minimum itself when no
+// grid point below it is) and its grid neighbour below; the upper side alike. A profile with two
+// valleys under the level gives the range that holds both. The grid's end where the cost never
+// rises above the level before it. (Interpolating the grid instead makes the interval short: the
+// cost is convex between grid points 0.36-0.49 apart in ln Tc, and with no grid point under the
+// level the interval collapsed to Tc itself.)
+template <typename CostAt>
 ProfileInterval ProfileIntervalOf(const std::vector<double>& log_tc,
                                   const std::vector<double>& cost, double log_tc_min,
-                                  double cost_min, double threshold) {
+                                  double cost_min, double threshold, const CostAt& cost_at) {
   const double level = cost_min + threshold;
   const int n = static_cast<int>(log_tc.size());
-  int first = n, last = -1;
+  const auto edge = [&](double inside, double outside) {
+    for (int iteration = 0; iteration < 12; ++iteration) {  // 2^-12 of a grid step
+      const double middle = 0.5 * (inside + outside);
+      (cost_at(middle) <= level ? inside : outside) = middle;
+    }
+    return 0.5 * (inside + outside);
+  };
+  // Grid points below and above the minimum: the outermost one under the level on each side,
+  // and the innermost one on each side (the neighbour of the minimum).
+  int lowest_under = -1, highest_under = -1, below = -1, above = -1;
   for (int i = 0; i < n; ++i) {
-    if (cost[i] <= level) {
-      first = std::min(first, i);
-      last = i;
+    if (log_tc[i] < log_tc_min) {
+      below = i;
+      if (lowest_under < 0 && cost[i] <= level) lowest_under = i;
+    } else if (log_tc[i] > log_tc_min) {
+      if (above < 0) above = i;
+      if (cost[i] <= level) highest_under = i;
     }
   }
   ProfileInterval interval{log_tc_min, log_tc_min};
-  auto crossing = [&](int inside, int outside) {
-    const double t = (level - cost[inside]) / (cost[outside] - cost[inside]);
-    return log_tc[inside] + t * (log_tc[outside] - log_tc[inside]);
-  };
-  if (first < n) {
-    interval.low = std::min(log_tc_min, first == 0 ? log_tc[0] : crossing(first, first - 1));
-    interval.high = std::max(log_tc_min, last == n - 1 ? log_tc[n - 1] : crossing(last, last + 1));
+  if (lowest_under == 0 || (lowest_under < 0 && below < 0)) {
+    interval.low = log_tc[0];
+  } else if (lowest_under > 0) {
+    interval.low = edge(log_tc[lowest_under], log_tc[lowest_under - 1]);
+  } else {
+    interval.low = edge(log_tc_min, log_tc[below]);
   }
+  if (highest_under == n - 1 || (highest_under < 0 && above < 0)) {
+    interval.high = log_tc[n - 1];
+  } else if (highest_under >= 0) {
+    interval.high = edge(log_tc[highest_under], log_tc[highest_under + 1]);
+  } else {
+    interval.high = edge(log_tc_min, log_tc[above]);
+  }
+  interval.low = std::min(interval.low, log_tc_min);
+  interval.high = std::max(interval.high, log_tc_min);
   return interval;
 }
 
@@ -308,7 +333,8 @@ StochasticFit FitStochastic(const std::vector<double>& tau, const std::vector<do
       }
     }
     // Standard error of Tc from the curvature of the cost in log(Tc): a weighted LS cost is a
-    // chi-square, so var(log Tc) ~ 2 / cost''.
+    // chi-square, so var(log Tc) ~ 2 / cost'' (times the dispersion, below), or from the profile
+    // interval where that is wider.
     const double log_step = 0.05, log_tc = std::log(best.tc);
     const Fitted minus =
         FitAt(fit_tau, avar_points, offset, edf, terms, std::exp(log_tc - log_step), floor_squared);
@@ -320,7 +346,11 @@ StochasticFit FitStochastic(const std::vector<double>& tau, const std::vector<do
     const double dispersion = std::max(
         1.0, best.nnls.cost / std::max(1, static_cast<int>(fit_tau.size()) - num_parameters));
     const ProfileInterval interval = ProfileIntervalOf(
-        grid_log_tc, grid_cost, std::log(best.tc), best.nnls.cost, kChiSquare1At95 * dispersion);
+        grid_log_tc, grid_cost, std::log(best.tc), best.nnls.cost, kChiSquare1At95 * dispersion,
+        [&](double log_tc_at) {
+          return FitAt(fit_tau, avar_points, offset, edf, terms, std::exp(log_tc_at), floor_squared)
+              .nnls.cost;
+        });
     const double half_width = (interval.high - interval.low) / (2.0 * kNormal975);
     const double log_tc_variance =
         std::max(curvature > 0 ? 2.0 * dispersion / curvature : 1.0, half_width * half_width);
@@ -330,13 +360,13 @@ StochasticFit FitStochastic(const std::vector<double>& tau, const std::vector<do
     result.model.gm_correlation_time_se = best.tc * std::sqrt(log_tc_variance);
     // The coefficients' standard errors above hold Tc fixed; Tc is estimated too, and sigma^2
     // trades against it along the cost valley. The delta method on the profile (first order, Tc
-    // and the coefficients at fixed Tc independent): var(c) = var(c | Tc) + (dc / dlog Tc)^2
-    // var(log Tc), the slope by central differences of the fits at log Tc +- log_step.
+    // and the coefficients at fixed Tc independent): var(c) = dispersion var(c | Tc) + (dc / dlog
+    // Tc)^2 var(log Tc), the slope by central differences of the fits at log Tc +- log_step.
     for (long j = 0; j < best.nnls.coefficients.size(); ++j) {
       const double slope =
           (plus.nnls.coefficients[j] - minus.nnls.coefficients[j]) / (2.0 * log_step);
-      best.nnls.se[j] =
-          std::sqrt(best.nnls.se[j] * best.nnls.se[j] + slope * slope * log_tc_variance);
+      best.nnls.se[j] = std::sqrt(dispersion * best.nnls.se[j] * best.nnls.se[j] +
+                                  slope * slope * log_tc_variance);
     }
   }
   auto root = [](double coefficient, double se, double* value, double* value_se) {

@@ -49,7 +49,6 @@ struct CompareArguments {
   bool progress = false;
 };
 
-// The IMF view (diagnostic, not part of the error): one line per IMF, '*' where it carries misfit.
 // " (95 % interval LOW .. HIGH UNITS)" for a parameter whose error is not symmetric, else "".
 std::string IntervalText(const model::Parameter& p) {
   if (!std::isfinite(p.low) || !std::isfinite(p.high)) return "";
@@ -59,6 +58,7 @@ std::string IntervalText(const model::Parameter& p) {
   return text;
 }
 
+// The IMF view (diagnostic, not part of the error): one line per IMF, '*' where it carries misfit.
 void PrintImfView(const model::ImfView& v) {
   if (!HasResult(v.summary.termination)) {
     std::printf("IMF view: %s\n", v.summary.message.c_str());

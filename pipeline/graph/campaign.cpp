@@ -59,11 +59,10 @@ struct FileJob {
   std::string sha256;
   std::string start_time_utc;
   /// --model: what model::Compensate adds to every axis, -(the model's effects), rad/s. The
-  /// effects depend on time and on the recording's temperature, not on the axis, so they are
-  /// evaluated once per recording (Compensate of zeros). Empty without --model; on failure empty
-  /// and compensation_error says why.
+  /// effects depend on time and on the recording's aux channels, not on the axis, so they are
+  /// evaluated once per recording (Compensate of zeros). Empty without --model (a recording whose
+  /// compensation fails fails as a whole, PrepareCompensation).
   Eigen::VectorXd compensation_rad_s;
-  std::string compensation_error;
   /// Why an existing results file is replaced (CheckCompletedResults), "" if none or new config.
   std::string rerun_reason;
   Clock::time_point start;
@@ -385,16 +384,14 @@ void RecordEarly(CampaignRunner& runner, std::size_t i, const std::string& input
 }
 
 /// What one recording needs in memory; saturates instead of overflowing (refused either way).
-/// With --model, also the compensation kept for its axes and the aux channels it is evaluated on
-/// (one signal each, PrepareCompensation).
 std::uint64_t RecordingBytes(const io::RecordingInfo& info, const CampaignOptions& options) {
   const std::uint64_t samples = static_cast<std::uint64_t>(std::max(info.samples, 0ll));
-  const std::uint64_t model_signals = options.model ? 1 + options.model->aux_channels.size() : 0;
-  std::uint64_t need = 0, model_need = 0;
+  const std::uint64_t model =
+      options.model ? ModelCompensationBytes(samples, options.model->aux_channels.size()) : 0;
+  std::uint64_t need = 0;
   if (__builtin_mul_overflow(static_cast<std::uint64_t>(std::max(info.axis_count, 1)),
                              BytesPerAxis(samples), &need) ||
-      __builtin_mul_overflow(model_signals * sizeof(double), samples, &model_need) ||
-      __builtin_add_overflow(need, model_need, &need)) {
+      __builtin_add_overflow(need, model, &need)) {
     return UINT64_MAX;
   }
   return need;
@@ -473,28 +470,27 @@ void ReportDryRun(const Jobs& jobs, const CampaignOptions& options, CampaignRepo
   }
 }
 
-/// --model: -(the model's effects) for this recording, in job->compensation_rad_s (or why not,
-/// in job->compensation_error); thermal and aux terms read the recording's /aux channels. Returns
-/// a failure of the whole recording ("" when none).
+/// --model: -(the model's effects) for this recording, in job->compensation_rad_s; thermal and aux
+/// terms read the recording's /aux channels. Returns a failure of the whole recording ("" when
+/// none): a channel that cannot be read, or Compensate's refusal (a channel missing, of another
+/// length or in other units), which names the term and the channel.
 std::string PrepareCompensation(FileJob* job, const CampaignOptions& options) {
   if (!options.model) return "";
   const ModelCompensationOptions& m = *options.model;
+  const std::string failure = job->input.path + ": --model " + m.path + ": ";
   std::vector<Eigen::VectorXd> values(m.aux_channels.size());
   std::vector<model::AuxSeries> aux;
   for (size_t c = 0; c < m.aux_channels.size(); ++c) {
     const std::string& name = m.aux_channels[c];
     const auto info = std::find_if(job->info.aux.begin(), job->info.aux.end(),
                                    [&](const io::AuxChannelInfo& ch) { return ch.name == name; });
-    if (info == job->info.aux.end()) {
-      return job->input.path + ": --model " + m.path + " compensates " + m.terms +
-             ", which reads /aux/" + name + ", but the recording has no /aux/" + name + " channel";
-    }
+    if (info == job->info.aux.end()) continue;  // Compensate says which term needs it
     try {
       io::ReadOptions aux_read = options.read;
       aux_read.reject_constant = false;
       values[c] = io::ReadAuxIsolated(job->info, name, aux_read, nullptr, ReadLimits());
     } catch (const std::exception& e) {
-      return job->input.path + ": --model: reading /aux/" + name + ": " + e.what();
+      return failure + "reading /aux/" + name + ": " + e.what();
     }
     aux.push_back({name, info->units, &values[c]});
   }
@@ -502,22 +498,19 @@ std::string PrepareCompensation(FileJob* job, const CampaignOptions& options) {
   model::Compensation c =
       model::Compensate(Eigen::VectorXd::Zero(job->info.samples), job->info.sample_rate_hz, aux,
                         m.deterministic, model::CompensateOptions());
-  if (HasResult(c.summary.termination)) {
-    job->compensation_rad_s = std::move(c.rate_rad_s);
-  } else {
-    job->compensation_error = c.summary.message;
-  }
+  if (!HasResult(c.summary.termination)) return failure + c.summary.message;
+  job->compensation_rad_s = std::move(c.rate_rad_s);
   return "";
 }
 
 /// --model: rate - effects, as model::Compensate(rate) computes it (rate + (0 - effects) is the
 /// same IEEE operation, equal up to the sign of a zero sample). False with w->error set when the
-/// recording's compensation failed.
+/// compensation does not have the axis's length.
 bool ApplyCompensation(AxisWork* w, const CampaignOptions& options) {
   if (!options.model) return true;
   const FileJob& job = *w->job;
-  std::string error = job.compensation_error;
-  if (error.empty() && job.compensation_rad_s.size() != w->rate_rad_s.size()) {
+  std::string error;
+  if (job.compensation_rad_s.size() != w->rate_rad_s.size()) {
     error = "the compensation has " + std::to_string(job.compensation_rad_s.size()) +
             " samples, the axis " + std::to_string(w->rate_rad_s.size());
   }

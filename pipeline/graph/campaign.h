@@ -85,7 +85,8 @@ struct CampaignReport {
 /// Runs the campaign (or, with dry_run, only reports what would be done). Never throws for
 /// problems of individual files.
 ///
-/// Memory: each recording is estimated to need axes x BytesPerAxis(N) (memory_budget.h); the
+/// Memory: each recording is estimated to need axes x BytesPerAxis(N), plus with --model
+/// ModelCompensationBytes(N, its aux channels) (memory_budget.h); the
 /// process itself FixedBytes(threads). A recording whose estimate exceeds what the budget leaves
 /// after FixedBytes is refused before it is read (status failed; the message says how much it
 /// needs and which --memory-budget would admit it) and the others go on; otherwise at most

@@ -77,6 +77,14 @@ std::uint64_t BytesPerAxis(std::uint64_t num_samples) {
   return bytes;
 }
 
+std::uint64_t ModelCompensationBytes(std::uint64_t num_samples, std::uint64_t aux_channels) {
+  std::uint64_t bytes = 0;
+  if (aux_channels > UINT64_MAX / sizeof(double) - 1 ||
+      __builtin_mul_overflow((1 + aux_channels) * sizeof(double), num_samples, &bytes))
+    return UINT64_MAX;
+  return bytes;
+}
+
 std::uint64_t FixedBytes(int threads) {
   constexpr std::uint64_t kMiB = 1ull << 20;
   return 64 * kMiB + 2 * kMiB * static_cast<std::uint64_t>(std::max(1, threads));

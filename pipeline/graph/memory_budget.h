@@ -36,6 +36,12 @@ std::uint64_t AutoMemoryBudgetBytes();
 constexpr std::uint64_t kDoublesPerSample = 20;
 std::uint64_t BytesPerAxis(std::uint64_t num_samples);
 
+/// What `run --model` adds to a recording of `num_samples` samples: the compensation it keeps for
+/// its axes and each of the `aux_channels` it evaluates the model on (one signal each, read while
+/// the compensation is computed; counted for the whole recording, which is conservative: they are
+/// freed before the axes are read). Saturates at UINT64_MAX.
+std::uint64_t ModelCompensationBytes(std::uint64_t num_samples, std::uint64_t aux_channels);
+
 /// Memory the process needs whatever the recordings: the binary with its libraries, HDF5's and
 /// TBB's own state, the reader's child process, the results writer's chunk buffers
 /// (pipeline/io/column_datasets.h: about 2 MiB per thread), and what the heap keeps between

@@ -459,7 +459,7 @@ Rows AllanAndModelOptions() {
          return std::string();
        },
        "Model file of `compare --save-model`: its deterministic effects are subtracted before the "
-       "EMD (thermal terms use each recording's /aux/temperature)",
+       "EMD (thermal terms use each recording's /aux/temperature, aux terms its /aux/<name>)",
        "",
        {},
        nullptr,

@@ -62,8 +62,6 @@ TEST(NarrowBand, TheAllanVarianceIsThePsdTransferIntegral) {
   }
 }
 
-// Whittle fit of a simulated band (AR(2) resonator in white noise, 6 h at 10 Hz) started from a
-// rough guess: centre within 1 %, damping ratio within 25 %, rms within 10 %.
 // The band's autocovariance in closed form (narrow_band.h): R(u) = Re[C exp(lambda u)],
 // lambda = -zeta w0 + i w_d, C = sigma^2 (1 - i zeta w0 / w_d). Written out here.
 double BandAutocovariance(const NarrowBand& b, double u) {
@@ -92,11 +90,16 @@ TEST(NarrowBand, SimulatedSamplesHaveTheBandsAutocovariance) {
       const double c = x.head(n - h).dot(x.tail(n - h)) / (n - h);
       EXPECT_NEAR(c, BandAutocovariance(band, h / fs), 5 * se) << "zeta " << zeta << " lag " << h;
     }
-    // The same seed gives the same samples.
+    // The same seed gives the same samples, and the block means are those of the samples.
     EXPECT_EQ(SimulateNarrowBand(band, 1000, fs, 17), x.head(1000));
+    const Eigen::VectorXd means = SimulateNarrowBand(band, 250, fs, 17, 4);
+    for (int i = 0; i < 250; ++i)
+      EXPECT_NEAR(means[i], x.segment(4 * i, 4).mean(), 1e-15 * band.sigma_rad_s) << i;
   }
 }
 
+// Whittle fit of a simulated band (AR(2) resonator in white noise, 6 h at 10 Hz) started from a
+// rough guess: centre within 1 %, damping ratio within 25 %, rms within 10 %.
 TEST(NarrowBand, FitRecoversASimulatedBand) {
   const double fs = 10.0, f0 = 1.3, zeta = 0.02, white_psd = 2e-10;
   const long n = static_cast<long>(6 * 3600 * fs);

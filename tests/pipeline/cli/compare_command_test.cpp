@@ -335,7 +335,8 @@ TEST(CompareCommand, NamesFitsAndStoresASimulatedVibrationBand) {
   // 0.06 Hz) and a peak 10x the white floor. The default model's frequency view must fail around
   // it and the verdict name narrow_band; with --add narrow_band its centre, width and rms must
   // be within 3 standard errors of the truth (plus 0.1 % of f0 for the frequency: the discrete
-  // resonator peaks at f0 sqrt(1 - 2 zeta^2), 0.04 % below its pole angle; and the rms against the
+  // resonator's peak is within 0.05 % of its pole angle (zeta^2 / 2 and the
+  // continuous resonance's sqrt(1 - 2 zeta^2)); and the rms against the
   // realised band's, the reference of the algorithm-level calibration), the frequency view pass,
   // and the band land in the history (with the bandwidth's standard error) and the model file.
   const fs::path dir =

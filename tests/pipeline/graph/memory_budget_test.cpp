@@ -40,6 +40,14 @@ TEST(MemoryBudget, ADayAtOneKilohertzFitsATwentyGibibyteBudget) {
   EXPECT_LT(BytesPerAxis(86400000), 20ull << 30);
 }
 
+TEST(MemoryBudget, AModelKeepsItsCompensationAndReadsItsAuxChannels) {
+  // 8.64e6 samples (24 h at 100 Hz): the compensation and two channels, 3 x 8 bytes each.
+  EXPECT_EQ(ModelCompensationBytes(8640000, 2), 3ull * 8 * 8640000);
+  EXPECT_EQ(ModelCompensationBytes(8640000, 0), 8ull * 8640000);
+  EXPECT_EQ(ModelCompensationBytes(UINT64_MAX / 8, 1), UINT64_MAX);
+  EXPECT_EQ(ModelCompensationBytes(1, UINT64_MAX), UINT64_MAX);
+}
+
 TEST(MemoryBudget, ParsesBinaryMultiplesAndRejectsNonsense) {
   EXPECT_EQ(ParseByteSize("2G"), 2ull << 30);
   EXPECT_EQ(ParseByteSize("512M"), 512ull << 20);
