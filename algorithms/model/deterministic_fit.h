@@ -75,6 +75,10 @@ struct DeterministicComponent {
   /// recording gives none).
   double reference = 0.0;
   std::string units;
+  /// bias_levels: the step times, s (ascending; `coefficients` holds the step sizes in the same
+  /// order) and their standard errors (Hinkley's scale, as the bias_step time).
+  std::vector<double> step_times_s;
+  std::vector<double> step_times_se_s;
 };
 
 /// An aux channel as the deterministic fit reads it (non-owning; values of the rate's length).
@@ -121,6 +125,10 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate_rad_s, double samp
                                   const Eigen::VectorXd* temperature_degc,
                                   const std::vector<ModelTerm>& terms,
                                   const DeterministicOptions& options);
+
+/// Long-run to short-run variance ratio of a residual by batch means over 32 contiguous blocks, at
+/// least 1; sigma2 is the short-run (per-sample) variance.
+double LongRunVarianceRatio(const Eigen::VectorXd& residual, double sigma2);
 
 /// The smoothed temperature derivative used by temperature_rate, degC/s.
 Eigen::VectorXd SmoothedDerivative(const Eigen::VectorXd& temperature_degc, double sample_rate_hz,
