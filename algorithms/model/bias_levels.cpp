@@ -207,7 +207,7 @@ LevelsReading DescribeLevels(const std::vector<double>& levels,
     if (i > 0) two_level = two_level && ((levels[i] > threshold) != (levels[i - 1] > threshold));
   }
   char text[400];
-  if (two_level && count >= 3) {
+  if (two_level && count >= 6) {
     reading.telegraph_like = true;
     reading.num_levels = 2;
     reading.half_separation_rad_s = 0.5 * separation;
@@ -218,11 +218,17 @@ LevelsReading DescribeLevels(const std::vector<double>& levels,
                   units::RadPerSecondToDegPerHour(separation), count, reading.mean_dwell_s,
                   units::RadPerSecondToDegPerHour(reading.half_separation_rad_s),
                   reading.gm_correlation_time_s);
+  } else if (two_level) {
+    reading.num_levels = 2;
+    std::snprintf(text, sizeof(text),
+                  "two alternating levels %.3g deg/h apart, but only %zu dwells (mean %.4g s): "
+                  "too few switches to call it a random telegraph process",
+                  units::RadPerSecondToDegPerHour(separation), count, reading.mean_dwell_s);
   } else {
     std::snprintf(text, sizeof(text),
-                  "%zu levels, mean dwell %.4g s: not two alternating levels (not a telegraph "
-                  "process%s)",
-                  count, reading.mean_dwell_s, count < 3 ? ": too few switches to tell" : "");
+                  "%zu levels, mean dwell %.4g s: not two alternating levels (not a random "
+                  "telegraph process)",
+                  count, reading.mean_dwell_s);
   }
   reading.text = text;
   return reading;

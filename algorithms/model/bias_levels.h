@@ -30,9 +30,10 @@
 //   block and the neighbouring ones, by the exact two-segment least squares.
 //
 //   Telegraph reading (DescribeLevels): the fitted segment levels are split into two groups at
-//   the largest gap of their sorted values; the switching is two-level (telegraph-like) when
-//   every level lies within 3 standard errors (plus 10 % of the separation) of its group's mean
-//   and the levels alternate between the groups at every step. Mean dwell = record / (k + 1),
+//   the largest gap of their sorted values; the switching is two-level when every level lies
+//   within 3 standard errors (plus 10 % of the separation) of its group's mean and the levels
+//   alternate between the groups at every step, and read as random telegraph switching from six
+//   dwells on (fewer are a few steps that happen to return). Mean dwell = record / (k + 1),
 //   the equivalent Gauss-Markov correlation time is dwell / 2 and sigma the half separation.
 #pragma once
 
