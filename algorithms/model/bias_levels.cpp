@@ -6,7 +6,6 @@
 #include <limits>
 
 #include "algorithms/common/units.h"
-#include "algorithms/model/deterministic_fit.h"
 
 namespace fogpipe::model {
 namespace {

@@ -1,33 +1,30 @@
-// Several bias levels (catalog term bias_levels): a piecewise-constant bias with k jumps, and the
-// jump test of the time view that shows such a bias where the Allan view cannot.
+// Several bias levels (catalog term bias_levels): a piecewise-constant bias with k >= 2 jumps,
+// and the levels test of the time view that shows such a bias where the Allan view cannot.
 //
-// Why. k jumps of the bias add to the Allan variance the law of a rate random walk (a single step
-// D gives K^2 = D^2 / T, targeted_tests.h), and random telegraph switching (a bias jumping
+// Why. k jumps of the bias add to the Allan variance the law of a rate random walk (K^2 =
+// sum D^2 / T; a single step: targeted_tests.h), and random telegraph switching (a bias jumping
 // between two levels with exponential dwell times, Machlup 1954) has exactly the Lorentzian
 // spectrum and Allan law of a first-order Gauss-Markov process of sigma a / 2 (a the level
 // separation) and correlation time tau_d / 2 (tau_d the mean dwell). The second-order views
-// (Allan, PSD) cannot tell them from those Gaussian terms; the distribution of the increments
-// can: every stochastic term of the catalog is Gaussian, so the differences of adjacent window
-// means of the residual are Gaussian under a right model whatever its power law, while jumps make
-// them a mixture (most windows see no jump, a few see one whole), with excess kurtosis.
+// (Allan, PSD) cannot tell them from those Gaussian terms, and the fitted K grows to absorb them;
+// a segmentation of the residual into constant levels can.
 //
-//   Jump test (IncrementKurtosisZ): the sample kurtosis b2 of the differences of adjacent,
-//   non-overlapping window means at window lengths L = W / 2^j (W the time view's window,
-//   j = 0..levels_scales-1), transformed to N(0, 1) under Gaussian data by Anscombe & Glynn
-//   (1983). Adjacent differences of white-noise means are correlated (-1/2 at lag 1), which
-//   multiplies the variance of b2 by 1 + 2 (1/2)^4 = 1.125 (the variance of a kurtosis estimate
-//   of a Gaussian linear process, sum of rho(h)^4; Bartlett 1946 style), so z is divided by
-//   sqrt(1.125). One-sided: only heavy tails are jumps.
+//   Segmentation (SegmentLevels): the exact optimal partition of the residual's block means
+//   (block_s) by PELT (Killick, Fearnhead & Eckley 2012), cost RSS / (sigma2 lambda) per segment
+//   plus a penalty of penalty_per_step ln n_eff per step, n_eff = m / lambda (m blocks): the
+//   modified BIC of Zhang & Siegmund (2007), 3 ln n per change point (a size, a time, and the
+//   time searched over the record). sigma2 is the block means' short-run variance from their first
+//   differences, robustly (median; jumps are a few outliers there). lambda, the long-run to
+//   short-run variance ratio of the noise at the segments' scale, is either given (the levels test
+//   passes the fitted noise model's, LevelsVarianceRatio) or estimated by batch means of
+//   lambda_batch_s of the residual that the levels found so far leave, from lambda = 1 to a fixed
+//   point (the fit of the term). Each step is then refined to the sample, within its block and the
+//   neighbouring ones, by the exact two-segment least squares.
 //
-//   Segmentation (SegmentLevels): binary segmentation (Scott & Knott 1974; Vostrikova 1981) of
-//   the residual's block means (block_s), each split at the maximum of the CUSUM statistic of
-//   its segment, up to max_steps; the number of steps k by the modified BIC of Zhang & Siegmund
-//   (2007), n_eff ln RSS_k + 3 k ln n_eff (a size and a time per step, the time searched over the
-//   record: 3 ln n per change point instead of 2), with n_eff = m / lambda, lambda the long-run
-//   variance ratio of the residual at max_steps (the noise once every step-like structure is
-//   removed; the same deflation of the sample count as the aux terms' order by BIC,
-//   deterministic_fit.h). Then each step time is refined on the full-rate samples, within its
-//   block and the neighbouring ones, by the exact two-segment least squares.
+//   Levels test (time view, views.h): the segmentation of the model's residual with lambda from
+//   the fitted noise model without rate random walk and rate ramp (the levels inflate exactly
+//   those); two or more steps fail the view with error = their -2 ln L drop over their penalty.
+//   One step is left to the single-step tests (bias_step).
 //
 //   Telegraph reading (DescribeLevels): the fitted segment levels are split into two groups at
 //   the largest gap of their sorted values; the switching is two-level when every level lies

@@ -366,6 +366,10 @@ bool DeterministicOptions::IsValid(std::string* error) const {
   return true;
 }
 
+namespace {
+
+// Long-run to short-run variance ratio of a residual by batch means over kSandwichBlocks blocks,
+// at least 1; sigma2 is the short-run (per-sample) variance.
 double LongRunVarianceRatio(const Eigen::VectorXd& residual, double sigma2) {
   const long n = residual.size(), block = n / kSandwichBlocks;
   if (block < 1) return 1.0;
@@ -379,6 +383,8 @@ double LongRunVarianceRatio(const Eigen::VectorXd& residual, double sigma2) {
       (block_means.array() - block_means.mean()).square().sum() / (kSandwichBlocks - 1);
   return std::max(1.0, block * block_mean_variance / std::max(sigma2, 1e-300));
 }
+
+}  // namespace
 
 Eigen::VectorXd SmoothedDerivative(const Eigen::VectorXd& temp, double fs, double smoothing_s) {
   // Slope of a local least-squares line over the centred window [i - h, i + h], clipped at the

@@ -9,6 +9,8 @@
 //   - warm-up time constant: log-spaced grid then golden-section search on log(tau_w);
 //   - step time: CUSUM scan of the residual (Page 1954; Hinkley 1970), then the exact profile RSS
 //     in a neighbourhood;
+//   - bias_levels (sum_j D_j 1{t >= t_j}, k >= 0 steps): the step times and their number by the
+//     segmentation of the residual (SegmentLevels, bias_levels.h), one bias_step column each;
 //   - sinusoid frequency: the largest peak of the zero-padded periodogram of the residual relative
 //     to a band-median background, then golden-section refinement of the profile RSS (Rife &
 //     Boorstyn 1974: this is the maximum-likelihood frequency in white noise).
@@ -125,10 +127,6 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate_rad_s, double samp
                                   const Eigen::VectorXd* temperature_degc,
                                   const std::vector<ModelTerm>& terms,
                                   const DeterministicOptions& options);
-
-/// Long-run to short-run variance ratio of a residual by batch means over 32 contiguous blocks, at
-/// least 1; sigma2 is the short-run (per-sample) variance.
-double LongRunVarianceRatio(const Eigen::VectorXd& residual, double sigma2);
 
 /// The smoothed temperature derivative used by temperature_rate, degC/s.
 Eigen::VectorXd SmoothedDerivative(const Eigen::VectorXd& temperature_degc, double sample_rate_hz,
