@@ -499,6 +499,7 @@ bool ViewOptions::IsValid(std::string* error) const {
   if (!(relative_floor >= 0 && relative_floor < 1)) return fail("relative_floor in [0, 1)");
   if (!(max_tau_fraction > 0 && max_tau_fraction <= 0.5))
     return fail("max_tau_fraction in (0, 0.5]");
+  if (!(levels_batch_s > 0)) return fail("levels_batch_s must be > 0");
   if (welch_segments < 1 || psd_skip_bins < 1 || time_windows < 4)
     return fail("welch_segments >= 1, psd_skip_bins >= 1, time_windows >= 4");
   if (band_gap_bins < 0 || !(band_gap_fraction >= 0 && band_gap_fraction < 1))
