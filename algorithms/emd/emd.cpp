@@ -19,8 +19,8 @@ class EnvelopeBuffers {
  public:
   // FindExtrema storing the knots; grows the buffers (exactly, with a little slack so a sift that
   // gains a few extrema does not reallocate) and repeats the pass if the counts did not fit.
-  ExtremaCounts Find(const double* x, int n) {
-    ExtremaCounts counts = FindExtrema(x, n, &upper_, &lower_);
+  ExtremaCounts Find(const double* x, int n, const EmdOptions& options) {
+    ExtremaCounts counts = Scan(x, n, options, true);
     if (counts.num_maxima > upper_.interior_capacity() ||
         counts.num_minima > lower_.interior_capacity()) {
       // Interior maxima (or minima) alternate with the other kind and exclude the end samples, so
@@ -37,9 +37,16 @@ class EnvelopeBuffers {
       work_ = std::vector<double>();
       second_work_ = std::vector<double>();
       work_.resize(work);
-      counts = FindExtrema(x, n, &upper_, &lower_);
+      counts = Scan(x, n, options, true);
     }
     return counts;
+  }
+
+  // FindExtrema, in parts when the sift's envelope pass is (the same bounds on the parts).
+  ExtremaCounts Scan(const double* x, int n, const EmdOptions& options, bool store) {
+    const int parts = options.for_each ? std::min(n / kMinPartSamples, kMaxParts) : 1;
+    return FindExtremaInParts(x, n, store ? &upper_ : nullptr, store ? &lower_ : nullptr, parts,
+                              options.for_each, &scratch_);
   }
 
   // One sift of h in place (knots already found on h).
@@ -75,6 +82,7 @@ class EnvelopeBuffers {
   static constexpr int kMaxParts = 16;
 
   EnvelopeKnots upper_, lower_;
+  ExtremaScratch scratch_;  // FindExtremaInParts' per-part knots
   std::vector<double> work_;
   std::vector<double> second_work_;  // the lower spline's, when both are solved at once
 };
@@ -162,7 +170,7 @@ EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions
   const SiftStatisticsKind stats_kind = StatisticsFor(options.stop_rule);
   EnvelopeBuffers buffers;
   double* r = result.residue.data();
-  ExtremaCounts counts = buffers.Find(r, n);
+  ExtremaCounts counts = buffers.Find(r, n, options);
   if (!counts.EnoughToSift()) {
     std::ostringstream msg;
     msg << "input has too few extrema for one IMF (" << counts.num_maxima << " maxima, "
@@ -205,7 +213,8 @@ EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions
       const SiftStatistics stats = buffers.Sift(h, n, options, stats_kind);
       ++sifts;
       // Knots are needed only if another sift may follow.
-      counts = stopper.StopsAt(sifts) ? FindExtrema(h, n, nullptr, nullptr) : buffers.Find(h, n);
+      counts =
+          stopper.StopsAt(sifts) ? buffers.Scan(h, n, options, false) : buffers.Find(h, n, options);
       if (stopper.ShouldStop(sifts, counts, stats, n, &reason)) break;
       if (!counts.EnoughToSift()) {
         reason = SiftStop::kTooFewExtrema;
@@ -242,7 +251,7 @@ EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions
       imf_sum += streamed_imf;
       sink(num_imfs - 1, streamed_imf, info);
     }
-    counts = buffers.Find(r, n);
+    counts = buffers.Find(r, n, options);
   }
   if (sink) {
     result.residue = x - imf_sum;

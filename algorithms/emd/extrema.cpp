@@ -111,28 +111,17 @@ inline void Emit(uint64_t mask, int base, int32_t* pos, int capacity, int* num) 
   *num = count;
 }
 
-}  // namespace
-
-ExtremaCounts FindExtrema(const double* x, int n, EnvelopeKnots* maxima, EnvelopeKnots* minima) {
-  constexpr int kOffset = EnvelopeKnots::kMaxMirrored;
-  int32_t dump[2];
-  const bool store_max = maxima && !maxima->pos2_.empty();
-  const bool store_min = minima && !minima->pos2_.empty();
-  ScanOutput out;
-  out.max_pos = store_max ? maxima->pos2_.data() + kOffset : dump;
-  out.min_pos = store_min ? minima->pos2_.data() + kOffset : dump + 1;
-  out.max_capacity = store_max ? maxima->interior_capacity_ : 0;
-  out.min_capacity = store_min ? minima->interior_capacity_ : 0;
-
-  ScanState st;
-  st.last_sign = n > 0 ? (x[0] > 0.0) - (x[0] < 0.0) : 0;
-  // Blocks of 64 steps as bit masks (on white noise the direction changes at 2 of 3 samples, so a
-  // per-sample branch would mispredict constantly). A block with an equal neighbour pair (a flat
-  // run) or an exact zero, or that starts inside a flat run or before the first step or non-zero
-  // sample, takes the scalar path, which gives the same result on every input.
+// The scan of steps [begin, end) (step i compares x[i] with x[i-1]) from the state *state.
+// Blocks of 64 steps as bit masks (on white noise the direction changes at 2 of 3 samples, so a
+// per-sample branch would mispredict constantly). A block with an equal neighbour pair (a flat
+// run) or an exact zero, or that starts inside a flat run or before the first step or non-zero
+// sample, takes the scalar path, which gives the same result on every input (so neither does it
+// depend on where the blocks start).
+void ScanRange(const double* x, int begin, int end, const ScanOutput& out, ScanState* state) {
   constexpr int kBlock = 64;
-  int i = 1;
-  for (; i + kBlock <= n; i += kBlock) {
+  ScanState& st = *state;
+  int i = begin;
+  for (; i + kBlock <= end; i += kBlock) {
     uint64_t up, down, positive, negative;
     CompareBlock(x + i, &up, &down, &positive, &negative);
     if ((up | down) != ~uint64_t{0} || (positive | negative) != ~uint64_t{0} || st.direction == 0 ||
@@ -151,23 +140,144 @@ ExtremaCounts FindExtrema(const double* x, int n, EnvelopeKnots* maxima, Envelop
     st.run_start = i + kBlock - 1;
     st.last_sign = (positive >> (kBlock - 1)) ? 1 : -1;
   }
-  ScanScalar(x, i, n, out, &st);
+  ScanScalar(x, i, end, out, &st);
+}
 
-  if (maxima) {
-    maxima->num_left_ = maxima->num_right_ = 0;
-    maxima->num_interior_ = std::min(st.num_max, out.max_capacity);
-    maxima->signal_ = x;
+// The state of the scan that started at step 1 when it reaches step `begin` >= 1, with the counts
+// at 0: the sign and index of the last non-zero step before `begin` and the sign of the last
+// non-zero sample before it (sample 0 included), found by looking back from `begin`.
+ScanState StateBefore(const double* x, int begin) {
+  ScanState st;
+  for (int j = begin - 1; j >= 1; --j) {
+    const int step = (x[j] > x[j - 1]) - (x[j] < x[j - 1]);
+    if (step != 0) {
+      st.direction = step;
+      st.run_start = j;
+      break;
+    }
   }
-  if (minima) {
-    minima->num_left_ = minima->num_right_ = 0;
-    minima->num_interior_ = std::min(st.num_min, out.min_capacity);
-    minima->signal_ = x;
+  for (int j = begin - 1; j >= 0; --j) {
+    const int sign = (x[j] > 0.0) - (x[j] < 0.0);
+    if (sign != 0) {
+      st.last_sign = sign;
+      break;
+    }
   }
+  return st;
+}
+
+ExtremaCounts CountsOf(const ScanState& st) {
   ExtremaCounts counts;
   counts.num_maxima = st.num_max;
   counts.num_minima = st.num_min;
   counts.num_zero_crossings = st.num_zc;
   return counts;
+}
+
+// Grows a part's buffer to `needed` knots (and its dump slot), with a little slack.
+void GrowPart(int needed, std::vector<int32_t>* pos) {
+  if (needed + 1 <= static_cast<int>(pos->size())) return;
+  *pos = std::vector<int32_t>();
+  pos->resize(static_cast<size_t>(needed) + needed / 32 + 17);
+}
+
+}  // namespace
+
+ExtremaCounts FindExtrema(const double* x, int n, EnvelopeKnots* maxima, EnvelopeKnots* minima) {
+  return FindExtremaInParts(x, n, maxima, minima, 1, ForEach(), nullptr);
+}
+
+ExtremaCounts FindExtremaInParts(const double* x, int n, EnvelopeKnots* maxima,
+                                 EnvelopeKnots* minima, int parts, const ForEach& for_each,
+                                 ExtremaScratch* scratch) {
+  constexpr int kOffset = EnvelopeKnots::kMaxMirrored;
+  const bool store_max = maxima && !maxima->pos2_.empty();
+  const bool store_min = minima && !minima->pos2_.empty();
+  const bool storing = store_max || store_min;
+  const int max_capacity = store_max ? maxima->interior_capacity_ : 0;
+  const int min_capacity = store_min ? minima->interior_capacity_ : 0;
+  int32_t* max_dest = store_max ? maxima->pos2_.data() + kOffset : nullptr;
+  int32_t* min_dest = store_min ? minima->pos2_.data() + kOffset : nullptr;
+
+  ScanState first;
+  first.last_sign = n > 0 ? (x[0] > 0.0) - (x[0] < 0.0) : 0;
+  const int steps = std::max(n - 1, 0);  // steps 1..n-1
+  if (!for_each || (storing && scratch == nullptr)) parts = 1;
+  parts = std::clamp(parts, 1, std::max(1, steps));
+
+  ScanState total;
+  if (parts == 1) {
+    // Straight into the knot sets; writes past a capacity go to its dump slot (the first
+    // right-mirror slot, rewritten by MirrorEnds) or to a local when only counting.
+    int32_t dump[2];
+    const ScanOutput out{max_dest ? max_dest : dump, min_dest ? min_dest : dump + 1, max_capacity,
+                         min_capacity};
+    total = first;
+    ScanRange(x, 1, std::max(n, 1), out, &total);
+  } else {
+    std::vector<int> begin(parts + 1);
+    for (int p = 0; p <= parts; ++p)
+      begin[p] = 1 + static_cast<int>(static_cast<int64_t>(steps) * p / parts);
+    if (storing) {
+      scratch->max_pos.resize(parts);
+      scratch->min_pos.resize(parts);
+    }
+    std::vector<ScanState> found(parts);
+    for_each(parts, [&](int p) {
+      const ScanState start = p == 0 ? first : StateBefore(x, begin[p]);
+      int32_t dump[2];
+      for (;;) {
+        ScanState st = start;
+        ScanOutput out{dump, dump + 1, 0, 0};
+        if (store_max) {
+          std::vector<int32_t>& pos = scratch->max_pos[p];
+          if (pos.empty()) pos.resize(1);
+          out.max_pos = pos.data();
+          out.max_capacity = static_cast<int>(pos.size()) - 1;
+        }
+        if (store_min) {
+          std::vector<int32_t>& pos = scratch->min_pos[p];
+          if (pos.empty()) pos.resize(1);
+          out.min_pos = pos.data();
+          out.min_capacity = static_cast<int>(pos.size()) - 1;
+        }
+        ScanRange(x, begin[p], begin[p + 1], out, &st);
+        const bool fits = st.num_max <= out.max_capacity || !store_max;
+        const bool fits_min = st.num_min <= out.min_capacity || !store_min;
+        if (fits && fits_min) {
+          found[p] = st;
+          break;
+        }
+        // Rare after the first sifts: the part found more extrema than it had room for.
+        if (store_max) GrowPart(st.num_max, &scratch->max_pos[p]);
+        if (store_min) GrowPart(st.num_min, &scratch->min_pos[p]);
+      }
+    });
+    std::vector<int> max_offset(parts), min_offset(parts);
+    for (int p = 0; p < parts; ++p) {
+      max_offset[p] = total.num_max;
+      min_offset[p] = total.num_min;
+      total.num_max += found[p].num_max;
+      total.num_min += found[p].num_min;
+      total.num_zc += found[p].num_zc;
+    }
+    if (storing) {
+      for_each(parts, [&](int p) {
+        auto place = [](const std::vector<int32_t>& from, int count, int offset, int capacity,
+                        int32_t* to) {
+          const int kept = std::clamp(capacity - offset, 0, count);
+          std::copy(from.begin(), from.begin() + kept, to + offset);
+        };
+        if (store_max)
+          place(scratch->max_pos[p], found[p].num_max, max_offset[p], max_capacity, max_dest);
+        if (store_min)
+          place(scratch->min_pos[p], found[p].num_min, min_offset[p], min_capacity, min_dest);
+      });
+    }
+  }
+  if (maxima) maxima->SetInterior(total.num_max, x);
+  if (minima) minima->SetInterior(total.num_min, x);
+  return CountsOf(total);
 }
 
 namespace {

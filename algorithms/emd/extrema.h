@@ -17,6 +17,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "algorithms/common/for_each.h"
+
 namespace fogpipe::emd {
 
 /// Counts from one pass over a signal.
@@ -67,6 +69,15 @@ class EnvelopeKnots {
  private:
   friend ExtremaCounts FindExtrema(const double* x, int n, EnvelopeKnots* maxima,
                                    EnvelopeKnots* minima);
+  friend ExtremaCounts FindExtremaInParts(const double* x, int n, EnvelopeKnots* maxima,
+                                          EnvelopeKnots* minima, int parts, const ForEach& for_each,
+                                          class ExtremaScratch* scratch);
+  // After a scan that found `count` extrema of this kind (stored as far as the capacity reaches).
+  void SetInterior(int count, const double* x) {
+    num_left_ = num_right_ = 0;
+    num_interior_ = count < interior_capacity_ ? count : interior_capacity_;
+    signal_ = x;
+  }
   friend void MirrorEnds(const double* x, int n, EnvelopeKnots* maxima, EnvelopeKnots* minima);
 
   std::vector<int32_t> pos2_;    // kMaxMirrored + capacity + kMaxMirrored
@@ -82,6 +93,24 @@ class EnvelopeKnots {
 /// a knot set's capacity; the counts are always complete, so the caller compares them with
 /// interior_capacity(), reserves and calls again if needed. Clears any mirrored knots.
 ExtremaCounts FindExtrema(const double* x, int n, EnvelopeKnots* maxima, EnvelopeKnots* minima);
+
+/// The per-part knot positions of FindExtremaInParts, kept between calls so that the sifts of a
+/// decomposition reuse them (about as many int32 as the extrema of the signal).
+class ExtremaScratch {
+ public:
+  std::vector<std::vector<int32_t>> max_pos, min_pos;  // per part; the last slot is a dump
+};
+
+/// FindExtrema split into `parts` contiguous ranges of samples scanned through `for_each`, each
+/// range starting from the scan state the serial pass has there (the last non-zero step and
+/// non-zero sample before it, found by looking back), so the counts and the stored knots are
+/// identical to FindExtrema's whatever the parts and the schedule: extrema and zero crossings are
+/// attributed to the step that completes them, which lies in exactly one range. Each part writes
+/// its knots into `scratch`, and they are then copied into place in order. With parts < 2 or no
+/// for_each: FindExtrema.
+ExtremaCounts FindExtremaInParts(const double* x, int n, EnvelopeKnots* maxima,
+                                 EnvelopeKnots* minima, int parts, const ForEach& for_each,
+                                 ExtremaScratch* scratch);
 
 /// Adds up to two mirrored knots per side and envelope, following Rilling, Flandrin & Goncalves
 /// (2003) and their emd.m `boundary_conditions` (nbsym = 2): the extrema nearest an end are

@@ -103,11 +103,14 @@ class ImfStream {
       : options_(options),
         stream_(stream),
         limiter_(options.band_limit),
-        fits_group_(MakeTaskGroup(stream.tasks)),
-        buffers_(stream.store ? stream.components_in_flight : 0) {}
+        limit_group_(MakeTaskGroup(stream.tasks)),
+        buffers_(stream.store ? stream.components_in_flight : 0) {
+    for (int slot = 0; slot < stream.components_in_flight; ++slot)
+      fit_groups_.push_back(MakeTaskGroup(stream.tasks));
+  }
   ~ImfStream() {
     try {
-      fits_group_->Wait();
+      WaitAll();
     } catch (...) {
     }
   }
@@ -115,29 +118,34 @@ class ImfStream {
   /// On the EMD's thread: copies IMF k and queues its band limit; the sifting of the next IMF
   /// goes on meanwhile.
   void Take(int k, const Eigen::VectorXd& imf, const emd::ImfInfo& info) {
-    if (Failed()) fits_group_->Wait();  // rethrows the failure: the EMD stops here
+    if (Failed()) limit_group_->Wait();  // rethrows the failure: the EMD stops here
     Eigen::VectorXd* c = nullptr;
+    const int slot = k % stream_.components_in_flight;
     if (stream_.store == nullptr) {
       kept_.emplace_back(imf);
       c = &kept_.back();
     } else {
-      const int slot = k % stream_.components_in_flight;
-      // A buffer is reused once the fits of the previous round have finished.
-      if (slot == 0 && k > 0) fits_group_->Wait();
+      // The slot's buffer is reused once its component (k - components_in_flight) is band limited,
+      // stored and fitted; the later components already taken go on meanwhile. The band limits
+      // are waited for first: the one of that component is the task that starts its fit.
+      if (k >= stream_.components_in_flight) {
+        limit_group_->Wait();
+        fit_groups_[slot]->Wait();
+      }
       buffers_[slot] = imf;
       c = &buffers_[slot];
     }
     infos_.push_back(info);
     variances_.push_back(0.0);
     fits_.emplace_back();
-    Queue({k, c, &infos_.back(), &variances_.back(), &fits_.back()});
+    Queue({k, slot, c, &infos_.back(), &variances_.back(), &fits_.back()});
   }
 
   /// After the EMD: every fit finished, and after a decomposition the last IMF's leakage in the
   /// residue.
   void Finish(bool decomposed, Eigen::VectorXd* residue) {
-    fits_group_->Wait();
-    idle_work_.reset();
+    WaitAll();
+    idle_work_.clear();
     if (decomposed) limiter_.Finish(residue);
   }
 
@@ -150,6 +158,7 @@ class ImfStream {
   /// An IMF waiting for its band limit; the pointers stay valid (deques, buffers_).
   struct Pending {
     int k = 0;
+    int slot = 0;  // k % components_in_flight
     Eigen::VectorXd* component = nullptr;
     emd::ImfInfo* info = nullptr;
     double* variance = nullptr;
@@ -168,7 +177,13 @@ class ImfStream {
       if (limiting_) return;  // the running task takes it
       limiting_ = true;
     }
-    fits_group_->Run([this] { LimitQueued(); });
+    limit_group_->Run([this] { LimitQueued(); });
+  }
+
+  /// The band limits first: they start the fits.
+  void WaitAll() {
+    limit_group_->Wait();
+    for (std::unique_ptr<TaskGroup>& group : fit_groups_) group->Wait();
   }
 
   bool Failed() {
@@ -201,7 +216,7 @@ class ImfStream {
         queue_.clear();
         throw;
       }
-      fits_group_->Run([this, c = p.component, fit = p.fit] {
+      fit_groups_[p.slot]->Run([this, c = p.component, fit = p.fit] {
         if (IsConstantComponent(*c)) return;  // ModelComponent passes it through unfitted
         std::unique_ptr<ar::ArWork> work = TakeWork();
         fit->fit = ar::FitAr(*c, options_.component.ar, work.get());
@@ -211,26 +226,30 @@ class ImfStream {
     }
   }
 
-  /// The work arrays of a fit: the set kept from an earlier fit when it is free. Every component
-  /// has the record's length, so the arrays are reused as they are. At most one idle set is kept
-  /// (2 N doubles), so that the fits running at once allocate no more than before, and it is
-  /// released when the EMD ends.
+  /// The work arrays of a fit: a set kept from an earlier fit when one is free. Every component
+  /// has the record's length, so the arrays are reused as they are. At most components_in_flight
+  /// idle sets are kept (2 N doubles each), as many as the fits that run at once would allocate,
+  /// and they are released when the EMD ends.
   std::unique_ptr<ar::ArWork> TakeWork() {
     std::lock_guard<std::mutex> lock(work_mutex_);
-    if (!idle_work_) return std::make_unique<ar::ArWork>();
-    return std::move(idle_work_);
+    if (idle_work_.empty()) return std::make_unique<ar::ArWork>();
+    std::unique_ptr<ar::ArWork> work = std::move(idle_work_.back());
+    idle_work_.pop_back();
+    return work;
   }
   void ReturnWork(std::unique_ptr<ar::ArWork> work) {
     std::lock_guard<std::mutex> lock(work_mutex_);
-    if (!idle_work_) idle_work_ = std::move(work);
+    if (static_cast<int>(idle_work_.size()) < stream_.components_in_flight)
+      idle_work_.push_back(std::move(work));
   }
 
  public:
   const MethodOptions& options_;
   const StreamOptions& stream_;
   BandLimiter limiter_;
-  std::unique_ptr<TaskGroup> fits_group_;
-  std::vector<Eigen::VectorXd> buffers_;  // with a store: one per component in flight
+  std::unique_ptr<TaskGroup> limit_group_;              // the band limit chain (LimitQueued)
+  std::vector<std::unique_ptr<TaskGroup>> fit_groups_;  // the AR fits, one group per slot
+  std::vector<Eigen::VectorXd> buffers_;                // with a store: one per component in flight
   // Deques: the running fits hold pointers into them while more are appended.
   std::deque<Eigen::VectorXd> kept_;  // without a store: every IMF
   std::deque<Prefit> fits_;
@@ -241,7 +260,7 @@ class ImfStream {
   bool limiting_ = false;      // a task is limiting the queue
   bool failed_ = false;        // a component's band limit or store failed
   std::mutex work_mutex_;
-  std::unique_ptr<ar::ArWork> idle_work_;  // of the fits, between fits
+  std::vector<std::unique_ptr<ar::ArWork>> idle_work_;  // of the fits, between fits
 };
 
 /// Step 1 and EMD, the IMFs handed to `imfs` as extracted. False (with the failure in the

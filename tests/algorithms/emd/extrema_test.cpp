@@ -3,6 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
+#include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include "tests/algorithms/emd/test_signals.h"
@@ -124,6 +128,108 @@ TEST(Extrema, AgreesWithARunBasedReferenceOnNoiseWithFlatRunsAndZeros) {
     EXPECT_EQ(got.min_pos2, want.min_pos2) << "quantization step " << step;
     EXPECT_EQ(got.counts.num_zero_crossings, want.counts.num_zero_crossings);
     EXPECT_EQ(got.counts.num_maxima, want.counts.num_maxima);
+  }
+}
+
+// The scan in parts must give exactly the serial scan's counts and knots (the serial scan is held
+// to the run-based reference above) for any split: signals with flat runs and zeros straddling
+// the part boundaries (a boundary inside a plateau, at its first or last sample, inside a run of
+// zeros, on a tie between two samples), constant and monotone signals, tiny signals, more parts
+// than steps, knot sets too small, and the parts run in reverse order or on threads.
+Found FindInParts(const std::vector<double>& x, int capacity, int parts, const ForEach& for_each,
+                  ExtremaScratch* scratch) {
+  EnvelopeKnots maxima, minima;
+  maxima.Reserve(capacity);
+  minima.Reserve(capacity);
+  Found f;
+  f.counts = FindExtremaInParts(x.data(), static_cast<int>(x.size()), &maxima, &minima, parts,
+                                for_each, scratch);
+  for (int k = 0; k < maxima.num_interior(); ++k) f.max_pos2.push_back(maxima.interior_pos2(k));
+  for (int k = 0; k < minima.num_interior(); ++k) f.min_pos2.push_back(minima.interior_pos2(k));
+  return f;
+}
+
+void ExpectSameScan(const Found& got, const Found& want, const std::string& what) {
+  EXPECT_EQ(got.max_pos2, want.max_pos2) << what;
+  EXPECT_EQ(got.min_pos2, want.min_pos2) << what;
+  EXPECT_EQ(got.counts.num_maxima, want.counts.num_maxima) << what;
+  EXPECT_EQ(got.counts.num_minima, want.counts.num_minima) << what;
+  EXPECT_EQ(got.counts.num_zero_crossings, want.counts.num_zero_crossings) << what;
+}
+
+TEST(Extrema, ScanInPartsEqualsTheSerialScanForEverySplitAndSchedule) {
+  const ForEach in_order = [](int n, const std::function<void(int)>& body) {
+    for (int i = 0; i < n; ++i) body(i);
+  };
+  const ForEach reversed = [](int n, const std::function<void(int)>& body) {
+    for (int i = n - 1; i >= 0; --i) body(i);
+  };
+  const ForEach threaded = [](int n, const std::function<void(int)>& body) {
+    std::vector<std::thread> threads;
+    for (int i = 0; i < n; ++i) threads.emplace_back([&body, i] { body(i); });
+    for (std::thread& t : threads) t.join();
+  };
+  std::vector<std::pair<std::string, std::vector<double>>> signals;
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
+    const int n = 3000 + 517 * static_cast<int>(seed);
+    const Eigen::VectorXd w = testing::WhiteNoise(n, seed);
+    std::vector<double> plain(w.data(), w.data() + n), plateaus(n);
+    for (int i = 0; i < n; ++i) {
+      // Coarse quantization: ties between neighbours and exact zeros everywhere.
+      plateaus[i] = (seed % 2 ? 0.5 : 1.0) * std::round(w[i] / (seed % 2 ? 0.5 : 1.0));
+    }
+    // Plateaus and zero runs of several lengths centred on the boundaries of 2..8 parts.
+    std::vector<double> boundaries = plain;
+    for (int parts = 2; parts <= 8; ++parts) {
+      for (int p = 1; p < parts; ++p) {
+        const int b = 1 + static_cast<int>(static_cast<int64_t>(n - 1) * p / parts);
+        const int half = (parts + p + static_cast<int>(seed)) % 5;  // 0..4 samples either side
+        const double level = (p % 3 == 0) ? 0.0 : (p % 3 == 1 ? 3.0 : -3.0);
+        for (int i = std::max(0, b - half); i <= std::min(n - 1, b + half - (p % 2)); ++i)
+          boundaries[i] = level;
+      }
+    }
+    signals.push_back({"white noise " + std::to_string(seed), plain});
+    signals.push_back({"quantized noise " + std::to_string(seed), plateaus});
+    signals.push_back({"plateaus on part boundaries " + std::to_string(seed), boundaries});
+  }
+  signals.push_back({"constant", std::vector<double>(1000, 2.0)});
+  signals.push_back({"zeros", std::vector<double>(1000, 0.0)});
+  std::vector<double> ramp(1000);
+  for (int i = 0; i < 1000; ++i) ramp[i] = i < 500 ? i : 1000 - i;  // one maximum, at 500
+  signals.push_back({"tent", ramp});
+  const std::vector<double> tiny = {1.0, -1.0, 2.0, 2.0, 0.0};
+  for (int n = 0; n <= 5; ++n)
+    signals.push_back({"tiny " + std::to_string(n), {tiny.begin(), tiny.begin() + n}});
+
+  for (const auto& [name, x] : signals) {
+    const int n = static_cast<int>(x.size());
+    for (const int capacity : {std::max(n, 1), 7}) {
+      EnvelopeKnots maxima, minima;
+      maxima.Reserve(capacity);
+      minima.Reserve(capacity);
+      Found want;
+      want.counts = FindExtrema(x.data(), n, &maxima, &minima);
+      for (int k = 0; k < maxima.num_interior(); ++k)
+        want.max_pos2.push_back(maxima.interior_pos2(k));
+      for (int k = 0; k < minima.num_interior(); ++k)
+        want.min_pos2.push_back(minima.interior_pos2(k));
+      ExtremaScratch scratch;  // reused across splits, as the EMD reuses it across sifts
+      // More parts than steps only where that stays a few threads.
+      for (int parts : {2, 3, 5, 8, 16, 17, n < 50 ? n + 3 : 4}) {
+        for (const ForEach* each : {&in_order, &reversed, &threaded}) {
+          const std::string what = name + ", capacity " + std::to_string(capacity) + ", " +
+                                   std::to_string(parts) + " parts";
+          ExpectSameScan(FindInParts(x, capacity, parts, *each, &scratch), want, what);
+        }
+      }
+      // Counting alone, in parts.
+      const ExtremaCounts counted =
+          FindExtremaInParts(x.data(), n, nullptr, nullptr, 5, threaded, nullptr);
+      EXPECT_EQ(counted.num_maxima, want.counts.num_maxima) << name;
+      EXPECT_EQ(counted.num_minima, want.counts.num_minima) << name;
+      EXPECT_EQ(counted.num_zero_crossings, want.counts.num_zero_crossings) << name;
+    }
   }
 }
 
