@@ -87,7 +87,7 @@ TEST(Compensate, RefusesAnAuxTermWhoseChannelIsMissingShortOrInOtherUnits) {
       {{{"temperature", "degC", &volts}}, "which is not there"},
       {{{"supply_voltage", "V", &short_volts}}, "it has 99"},
       {{{"supply_voltage", "mV", &volts}},
-       "fitted on 'supply_voltage' in V, but the channel here is in mV"},
+       "fitted on /aux/supply_voltage in V, but the channel here is in mV"},
   };
   for (const Case& k : cases) {
     const Compensation c = Compensate(rate, 1.0, k.aux, m, {});
