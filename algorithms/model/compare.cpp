@@ -8,7 +8,6 @@
 #include <numeric>
 
 #include "algorithms/common/units.h"
-#include "algorithms/model/bias_levels.h"
 #include "algorithms/model/spectrum.h"
 
 namespace fogpipe::model {
@@ -27,25 +26,7 @@ double DegH(double rad_s) { return units::RadPerSecondToDegPerHour(rad_s); }
 // Rate-fitted terms with a nonlinear parameter found by a search (frequency, step time, time
 // constant).
 bool HasNonlinearParameter(const ModelTerm& term) {
-  return term == Term::kSinusoid || term == Term::kBiasStep || term == Term::kBiasLevels ||
-         term == Term::kWarmup;
-}
-
-// True when the base model's time view shows several levels (bias_levels.h).
-bool LevelsShow(const TimeView& view) { return view.levels_ratio > 1.0; }
-
-// The segment levels of a bias_levels component (bias + the sizes so far), rad/s, and their
-// standard errors (the step size's: a level is known at least as well as the jump into it).
-void SegmentLevelsOf(double bias_rad_s, const DeterministicComponent& component,
-                     std::vector<double>* levels, std::vector<double>* levels_se) {
-  double level = bias_rad_s;
-  levels->assign(1, level);
-  levels_se->assign(1, component.coefficients_se.empty() ? 0.0 : component.coefficients_se[0]);
-  for (size_t j = 0; j < component.coefficients.size(); ++j) {
-    level += component.coefficients[j];
-    levels->push_back(level);
-    levels_se->push_back(component.coefficients_se[j]);
-  }
+  return term == Term::kSinusoid || term == Term::kBiasStep || term == Term::kWarmup;
 }
 
 std::string Format(const char* fmt, double a, double b = 0, double c = 0, double d = 0,
@@ -118,16 +99,6 @@ std::vector<Parameter> ParametersOfComponent(const DeterministicComponent& compo
       parameters.push_back({"time", component.nonlinear, component.nonlinear_se, "s"});
       parameters.push_back(
           {"size", DegH(component.coefficients[0]), DegH(component.coefficients_se[0]), "deg/h"});
-      break;
-    case Term::kBiasLevels:
-      parameters.push_back({"steps", static_cast<double>(component.step_times_s.size()), 0.0, "1"});
-      for (size_t j = 0; j < component.step_times_s.size(); ++j) {
-        const std::string index = std::to_string(j + 1);
-        parameters.push_back(
-            {"time_" + index, component.step_times_s[j], component.step_times_se_s[j], "s"});
-        parameters.push_back({"size_" + index, DegH(component.coefficients[j]),
-                              DegH(component.coefficients_se[j]), "deg/h"});
-      }
       break;
     case Term::kWarmup:
       parameters.push_back({"amplitude", DegH(component.coefficients[0]),
@@ -270,20 +241,10 @@ std::string Evidence(const Evaluation& base, const Evaluation& trial, const Mode
     case Term::kGaussMarkov: {
       const double correlation_time_s = val("correlation_time");
       return Format(
-                 "the Allan curve bulges near tau = 1.89 Tc = %.4g s where the power-law terms "
-                 "cannot follow: correlated (Gauss-Markov) noise, sigma = %.3g deg/h, "
-                 "Tc = %.4g s (error %.3g -> %.3g)",
-                 1.89 * correlation_time_s, val("sigma"), correlation_time_s, error_before,
-                 error_after) +
-             // Random telegraph switching has the same Lorentzian spectrum (bias_levels.h); only
-             // the levels test can tell it, and says so when it cannot.
-             (LevelsShow(base.views.time)
-                  ? std::string()
-                  : Format(
-                        "; random telegraph switching between two levels %.3g deg/h apart with "
-                        "mean dwell %.4g s would have the same spectrum, and the levels test finds "
-                        "no levels: this record cannot tell them apart",
-                        2 * val("sigma"), 2 * correlation_time_s));
+          "the Allan curve bulges near tau = 1.89 Tc = %.4g s where the power-law terms "
+          "cannot follow: correlated (Gauss-Markov) noise, sigma = %.3g deg/h, "
+          "Tc = %.4g s (error %.3g -> %.3g)",
+          1.89 * correlation_time_s, val("sigma"), correlation_time_s, error_before, error_after);
     }
     case Term::kBiasStep: {
       const double step_time_s = val("time");
@@ -291,26 +252,6 @@ std::string Evidence(const Evaluation& base, const Evaluation& trial, const Mode
           "the windowed mean jumps by %.3g deg/h at t = %.5g s (%.3g h into the "
           "record): a bias step (error %.3g -> %.3g)",
           val("size"), step_time_s, step_time_s / 3600.0, error_before, error_after);
-    }
-    case Term::kBiasLevels: {
-      const DeterministicComponent* component = LastComponent(trial, Term::kBiasLevels);
-      if (component == nullptr) return "";
-      std::vector<double> levels, levels_se;
-      SegmentLevelsOf(trial.deterministic.model.bias_rad_s, *component, &levels, &levels_se);
-      // The time view's windows tile the record (up to less than one window at its end).
-      const TimeView& time = base.views.time;
-      const double record_s =
-          time.center_s.empty() ? 0.0 : time.center_s.back() + 0.5 * time.window_s;
-      return Format(
-                 "the residual falls into constant levels (%.0f steps, -2 ln L drop %.3g times "
-                 "their penalty), which no Gaussian noise term makes (error %.3g -> %.3g); ",
-                 val("steps"), base.views.time.levels_ratio, error_before, error_after) +
-             Format(
-                 "without them the jumps pass for rate random walk (K %.3g -> %.3g "
-                 "deg/h/sqrt(h)); ",
-                 units::RrwToDegPerHourSqrtHour(base.stochastic.model.k_rad_s_sqrt_s),
-                 units::RrwToDegPerHourSqrtHour(trial.stochastic.model.k_rad_s_sqrt_s)) +
-             DescribeLevels(levels, levels_se, record_s).text;
     }
     case Term::kWarmup:
       return Format(
@@ -571,13 +512,6 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
     if (!AuxViewSupports(base, term)) continue;
     if (term == thermal_polynomial && temperature_trialled && polynomial_order <= 1) continue;
     if (term == Term::kTemperature && polynomial_order >= 2) continue;
-    // bias_levels only where the base model's levels test shows levels, and with at least two
-    // steps (one is bias_step's; bias_levels.h).
-    if (term == Term::kBiasLevels) {
-      const DeterministicComponent* levels = LastComponent(trial, Term::kBiasLevels);
-      if (!LevelsShow(base.views.time) || levels == nullptr || levels->step_times_s.size() < 2)
-        continue;
-    }
     Suggestion suggestion;
     suggestion.term = term;
     suggestion.error_after = trial.views.error;
@@ -588,9 +522,6 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
     } else if (term == Term::kWarmup && time_view.warmup_critical > 0) {
       suggestion.delta_bic = time_view.warmup_critical * time_view.warmup_critical -
                              time_view.warmup_z * time_view.warmup_z;
-    } else if (term == Term::kBiasLevels) {
-      // The segmentation's own modified BIC (bias_levels.h): penalty - (-2 ln L drop).
-      suggestion.delta_bic = time_view.levels_penalty * (1.0 - time_view.levels_ratio);
     } else if (term == Term::kNarrowBand &&
                trial.stochastic.model.bands.size() > base.stochastic.model.bands.size()) {
       // Whittle -2 ln L drop of the new band over the window it was fitted in (the rest of the
@@ -637,19 +568,6 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
       return lhs.delta_bic < rhs.delta_bic;
     });
     first = last;
-  }
-  // bias_levels is the explanation of last resort: constant levels approximate any slow effect
-  // (a temperature cycle, a warm-up, a Gauss-Markov wander) piece by piece, and its segmentation
-  // BIC is not on the scale of the other terms' delta_bic. When another candidate that BIC
-  // accepts makes the model consistent, that term (a few parameters, a physical cause) leads;
-  // bias_step excepted: it is the one-step case, which the segmentation's BIC has rejected.
-  if (!suggestions.empty() && suggestions.front().term == Term::kBiasLevels) {
-    const auto other =
-        std::find_if(suggestions.begin() + 1, suggestions.end(), [](const Suggestion& suggestion) {
-          return suggestion.term != Term::kBiasStep && !suggestion.bic_rejects &&
-                 suggestion.error_after <= 1.0;
-        });
-    if (other != suggestions.end()) std::rotate(suggestions.begin(), other, other + 1);
   }
   // A term that reads an aux channel, behind a leader that reads another channel or none, must
   // still be supported once the leader is in the model: a large step or warm-up leaves

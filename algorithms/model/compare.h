@@ -30,9 +30,7 @@
 // model without the term, so it is never ranked first, whatever it does to the error). Within a
 // group they are sorted by error_after; those within 15 % (+0.05) of the group's best error_after
 // are statistically indistinguishable on the error, and are ordered among themselves by delta_bic
-// (the simpler explanation first, Schwarz 1978). bias_levels, which can approximate any slow
-// effect piece by piece, never leads while another candidate BIC accepts makes the model
-// consistent. The first suggestion is the one to add.
+// (the simpler explanation first, Schwarz 1978). The first suggestion is the one to add.
 //
 // Verdict. "consistent" when the base model is; "inconsistent" with the first suggestion when it
 // makes a failing view pass (and, if the model with it still fails somewhere, the ranges that still
@@ -53,9 +51,7 @@
 // the look-elsewhere cost of the scan (c^2 ~ 2 ln of the number of effectively distinct
 // alternatives; Davies 1987, Siegmund 1988) in place of ln n. An early step and a warm-up explain
 // the start of a record about equally well; the step scan searches many more distinct
-// alternatives than the smooth warm-up family, and pays for it here. bias_levels: its
-// segmentation's modified BIC on the base residual (bias_levels.h), penalty - (-2 ln L drop), for
-// the same reason (its step times are searched).
+// alternatives than the smooth warm-up family, and pays for it here.
 #pragma once
 
 #include <Eigen/Core>

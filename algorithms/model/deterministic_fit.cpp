@@ -5,10 +5,8 @@
 #include <cmath>
 #include <complex>
 #include <limits>
-#include <numeric>
 
 #include "algorithms/common/units.h"
-#include "algorithms/model/bias_levels.h"
 #include "algorithms/model/spectrum.h"
 
 namespace fogpipe::model {
@@ -53,13 +51,6 @@ Eigen::MatrixXd Columns(const Context& ctx, Term term, double nonlinear);
 // Columns of one component: (x - x_ref)^k, k = 1..order for aux:<x>; dx/dt for aux_rate:<x>.
 Eigen::MatrixXd ComponentColumns(const Context& ctx, const DeterministicComponent& component,
                                  int order) {
-  if (component.term == Term::kBiasLevels) {
-    // One bias_step column per step.
-    Eigen::MatrixXd columns(ctx.n, static_cast<long>(component.step_times_s.size()));
-    for (long j = 0; j < columns.cols(); ++j)
-      columns.col(j) = Columns(ctx, Term::kBiasStep, component.step_times_s[j]);
-    return columns;
-  }
   if (!component.term.IsAux()) return Columns(ctx, component.term.term, component.nonlinear);
   if (component.term.aux == AuxForm::kRate) {
     for (const auto& [channel, derivative] : ctx.aux_rate)
@@ -121,14 +112,12 @@ Eigen::MatrixXd Columns(const Context& ctx, Term term, double nonlinear) {
 }
 
 bool HasNonlinear(const ModelTerm& term) {
-  return term == Term::kSinusoid || term == Term::kBiasStep || term == Term::kBiasLevels ||
-         term == Term::kWarmup;
+  return term == Term::kSinusoid || term == Term::kBiasStep || term == Term::kWarmup;
 }
 
 // The number of linear coefficients of a component.
 long Width(const DeterministicComponent& component) {
   if (component.term == Term::kSinusoid) return 2;
-  if (component.term == Term::kBiasLevels) return static_cast<long>(component.step_times_s.size());
   if (component.term.aux == AuxForm::kValue)
     return std::max<long>(1, static_cast<long>(component.coefficients.size()));
   return 1;
@@ -342,7 +331,6 @@ int InitOrder(const ModelTerm& term) {
     case Term::kWarmup:
       return 2;
     case Term::kBiasStep:
-    case Term::kBiasLevels:
       return 3;
     default:
       return 4;
@@ -365,26 +353,6 @@ bool DeterministicOptions::IsValid(std::string* error) const {
   if (max_aux_order < 1) return fail("max_aux_order must be >= 1");
   return true;
 }
-
-namespace {
-
-// Long-run to short-run variance ratio of a residual by batch means over kSandwichBlocks blocks,
-// at least 1; sigma2 is the short-run (per-sample) variance.
-double LongRunVarianceRatio(const Eigen::VectorXd& residual, double sigma2) {
-  const long n = residual.size(), block = n / kSandwichBlocks;
-  if (block < 1) return 1.0;
-  Eigen::VectorXd block_means(kSandwichBlocks);
-  for (int block_index = 0; block_index < kSandwichBlocks; ++block_index) {
-    const long start = block_index * block,
-               length = (block_index == kSandwichBlocks - 1) ? n - start : block;
-    block_means[block_index] = residual.segment(start, length).mean();
-  }
-  const double block_mean_variance =
-      (block_means.array() - block_means.mean()).square().sum() / (kSandwichBlocks - 1);
-  return std::max(1.0, block * block_mean_variance / std::max(sigma2, 1e-300));
-}
-
-}  // namespace
 
 Eigen::VectorXd SmoothedDerivative(const Eigen::VectorXd& temp, double fs, double smoothing_s) {
   // Slope of a local least-squares line over the centred window [i - h, i + h], clipped at the
@@ -419,6 +387,21 @@ Eigen::VectorXd SmoothedDerivative(const Eigen::VectorXd& temp, double fs, doubl
 }
 
 namespace {
+
+// Long-run to short-run variance ratio of a residual by batch means over kSandwichBlocks blocks,
+// at least 1; sigma2 is the short-run (per-sample) variance.
+double LongRunVarianceRatio(const Eigen::VectorXd& residual, double sigma2) {
+  const long n = residual.size(), block = n / kSandwichBlocks;
+  Eigen::VectorXd block_means(kSandwichBlocks);
+  for (int block_index = 0; block_index < kSandwichBlocks; ++block_index) {
+    const long start = block_index * block,
+               length = (block_index == kSandwichBlocks - 1) ? n - start : block;
+    block_means[block_index] = residual.segment(start, length).mean();
+  }
+  const double block_mean_variance =
+      (block_means.array() - block_means.mean()).square().sum() / (kSandwichBlocks - 1);
+  return std::max(1.0, block * block_mean_variance / std::max(sigma2, 1e-300));
+}
 
 // The components of `terms` that are fitted on the rate, or an error message.
 std::string MakeComponents(const Context& ctx, const std::vector<ModelTerm>& terms,
@@ -563,13 +546,6 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
       }
       const Eigen::MatrixXd fixed = Design(ctx, placed, -1);
       const Profiler profiler(fixed, rate);
-      if (components[i].term == Term::kBiasLevels) {
-        const LevelsSegmentation segmentation =
-            SegmentLevels(profiler.FixedResidual(), fs, LevelsOptions{});
-        components[i].step_times_s.clear();
-        for (long index : segmentation.step_index) components[i].step_times_s.push_back(index / fs);
-        continue;
-      }
       components[i].nonlinear =
           SearchNonlinear(ctx, profiler, options, components[i], pass > 0, taken_hz);
     }
@@ -636,10 +612,6 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
     se[j] = std::sqrt(std::max(cov_hac(j, j), sigma2 * bread(j, j)));
   fit.long_run_variance_ratio = LongRunVarianceRatio(fit.residual, sigma2);
 
-  // Hinkley's (1970) scale of a change-point time: sigma_lr^2 / D^2, in s.
-  const auto StepTimeSe = [&](double step_size) {
-    return fit.long_run_variance_ratio * sigma2 / std::max(step_size * step_size, 1e-300) / fs;
-  };
   fit.model.bias_rad_s = beta[0];
   fit.model.bias_se_rad_s = se[0];
   long column = 1, jacobian_column = num_linear;
@@ -650,25 +622,17 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
     if (component.term == Term::kSinusoid || component.term == Term::kWarmup) {
       component.nonlinear_se = se[jacobian_column++];
     } else if (component.term == Term::kBiasStep) {
-      component.nonlinear_se = StepTimeSe(beta[column]);
-    } else if (component.term == Term::kBiasLevels) {
-      component.step_times_se_s.clear();
-      for (long j = 0; j < width; ++j)
-        component.step_times_se_s.push_back(StepTimeSe(beta[column + j]));
+      const double step_size = beta[column];
+      component.nonlinear_se =
+          fit.long_run_variance_ratio * sigma2 / std::max(step_size * step_size, 1e-300) / fs;
     }
     column += width;
   }
   fit.model.components = components;
   fit.summary.num_parameters = static_cast<int>(
       num_linear + num_jacobian +
-      std::accumulate(components.begin(), components.end(), 0L,
-                      [](long sum, const auto& component) {
-                        // The step times are parameters too.
-                        if (component.term == Term::kBiasStep) return sum + 1;
-                        if (component.term == Term::kBiasLevels)
-                          return sum + static_cast<long>(component.step_times_s.size());
-                        return sum;
-                      }));
+      std::count_if(components.begin(), components.end(),
+                    [](const auto& component) { return component.term == Term::kBiasStep; }));
   fit.summary.message =
       "fitted " + std::to_string(components.size()) + " deterministic component(s)";
   return fit;
