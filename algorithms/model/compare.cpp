@@ -329,7 +329,7 @@ void FitBands(int count, double fs, int num_views, const CompareOptions& options
 
 bool CompareOptions::IsValid(std::string* error) const {
   if (!deterministic.IsValid(error) || !stochastic.IsValid(error) || !views.IsValid(error) ||
-      !imf.IsValid(error))
+      !imf.IsValid(error) || !long_tau.IsValid(error))
     return false;
   if (!(min_improvement > 0 && min_improvement <= 1) || !(tie_ratio >= 1) || !(tie_offset >= 0)) {
     if (error) *error = "min_improvement in (0, 1], tie_ratio >= 1, tie_offset >= 0";
@@ -408,6 +408,8 @@ Evaluation EvaluateModel(const CompareInput& input, const std::vector<ModelTerm>
                                           options.stochastic.relative_floor);
   evaluation.views = ComputeViews(evaluation.deterministic.residual, fs, *prepared,
                                   evaluation.stochastic.model, evaluation.allan, options.views);
+  evaluation.long_tau = CheckLongTauTerms(evaluation.deterministic.residual, fs,
+                                          evaluation.stochastic.model, options.long_tau);
   FittedTerm bias{"bias",
                   {{"bias", DegH(evaluation.deterministic.model.bias_rad_s),
                     DegH(evaluation.deterministic.model.bias_se_rad_s), "deg/h"}}};
@@ -725,10 +727,12 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
     return HasNonlinearParameter(trial_terms[i]) || trial_terms[i] == Term::kNarrowBand;
   });
   const int count = 1 + static_cast<int>(trial_terms.size());
-  // The trials' own step and warm-up scans would never be read (RankSuggestions uses the base
-  // model's), so they are skipped: a FitDeterministic scan and a noise refit each, per trial.
+  // The trials' own step and warm-up scans and long-tau checks would never be read
+  // (RankSuggestions and the verdict use the base model's), so they are skipped: a
+  // FitDeterministic scan and a noise refit each, and a pass per tested tau, per trial.
   CompareOptions trial_options = options;
   trial_options.views.targeted_scans = false;
+  trial_options.long_tau.enabled = false;
   const auto task = [&](int task_index) {
     if (task_index == count - 1) {
       result.base.imf = ComputeImfView(result.base.deterministic.residual, input.sample_rate_hz,
@@ -745,10 +749,16 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
   } else {
     for (int task_index = 0; task_index < count; ++task_index) task(task_index);
   }
-  if (result.base.views.consistent) return result;
-  result.summary.num_trials = static_cast<int>(trial_terms.size());
-  result.suggestions = RankSuggestions(result.base, trial_terms, result.trials, options);
-  result.verdict = MakeVerdict(result.base, trial_terms, result.trials, result.suggestions);
+  if (!result.base.views.consistent) {
+    result.summary.num_trials = static_cast<int>(trial_terms.size());
+    result.suggestions = RankSuggestions(result.base, trial_terms, result.trials, options);
+    result.verdict = MakeVerdict(result.base, trial_terms, result.trials, result.suggestions);
+  }
+  // Whatever the views say: a consistent model whose K absorbs a step is the case this warns of.
+  if (result.base.long_tau.flagged) {
+    result.verdict.absorbing_slow_effect = true;
+    result.verdict.text += "; warning: " + result.base.long_tau.message;
+  }
   return result;
 }
 

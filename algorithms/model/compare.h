@@ -67,6 +67,7 @@
 #include "algorithms/model/catalog.h"
 #include "algorithms/model/deterministic_fit.h"
 #include "algorithms/model/imf_view.h"
+#include "algorithms/model/long_tau_check.h"
 #include "algorithms/model/stochastic_fit.h"
 #include "algorithms/model/views.h"
 
@@ -86,6 +87,7 @@ struct CompareOptions {
   StochasticFitOptions stochastic;
   ViewOptions views;
   ImfViewOptions imf;  ///< the IMF view (base model only; diagnostic, not part of the error)
+  LongTauCheckOptions long_tau;  ///< the long-tau terms' check (diagnostic, not in the error)
   double min_improvement = 0.9;  ///< a suggestion must bring error_after <= this * error
   double tie_ratio = 1.15;       ///< error_after within tie_ratio * best + tie_offset ...
   double tie_offset = 0.05;      ///< ... are ranked by delta_bic
@@ -122,6 +124,9 @@ struct Evaluation {
   /// five-term fit's reliability checks on the residual's Allan table, with that table's slope
   /// read-offs (allan::AssessNoiseTerms; the Gauss-Markov term counts as part of the model).
   allan::NoiseFitResult noise_check;
+  /// Do the long-tau data behave as the fitted B, K and R say, or do they absorb a slow effect
+  /// (long_tau_check.h)? A diagnostic: not part of `views.error`.
+  LongTauCheck long_tau;
   Termination termination = Termination::kSuccess;
   std::string message;
 };
@@ -149,6 +154,9 @@ struct Verdict {
   /// The base model's failures in the failing views that no candidate BIC accepts makes pass:
   /// what the catalog cannot explain (all failures when the status is "unexplained").
   std::vector<Failure> unexplained;
+  /// The base model's long-tau check flags B, K or R as absorbing a slow effect (Evaluation::
+  /// long_tau); `text` then ends with "; warning: " and its finding, whatever the status.
+  bool absorbing_slow_effect = false;
   std::string text = "consistent";  ///< one line, e.g. "unexplained: ... failing: frequency ..."
 };
 

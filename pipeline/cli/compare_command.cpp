@@ -82,6 +82,20 @@ void PrintImfView(const model::ImfView& v) {
   }
 }
 
+// The long-tau terms' check (diagnostic, not part of the error), one line per tested tau.
+void PrintLongTauCheck(const model::LongTauCheck& c) {
+  std::printf("long-tau check (do B, K and R fit the block means' increments?): %s\n",
+              c.message.c_str());
+  if (c.points.empty()) return;
+  std::printf("  %-10s %-7s %-18s %-6s %-16s %-16s %-20s\n", "tau [s]", "blocks", "dominant",
+              "share", "kurtosis z/crit", "Ljung-Box/crit", "low-freq ratio [band]");
+  for (const auto& p : c.points)
+    std::printf("%s %-10.4g %-7d %-18s %-6.2f %6.3g / %-7.3g %6.3g / %-7.3g %.3g [%.3g, %.3g]\n",
+                p.flagged ? " *" : "  ", p.tau_s, p.blocks, p.dominant_term.c_str(), p.share,
+                p.kurtosis_z, p.kurtosis_critical, p.portmanteau, p.portmanteau_critical,
+                p.low_frequency, p.low_frequency_low, p.low_frequency_high);
+}
+
 void PrintText(const model::CompareResult& r) {
   const auto& v = r.base.views;
   std::printf("error %.3g (%s; 1 = the family-wise 95 %% band)\n", v.error,
@@ -119,6 +133,7 @@ void PrintText(const model::CompareResult& r) {
                   p.units.c_str(), IntervalText(p).c_str());
   }
   PrintImfView(r.base.imf);
+  PrintLongTauCheck(r.base.long_tau);
   std::printf("model:\n");
   for (const auto& ft : r.base.fitted)
     for (const auto& p : ft.parameters)

@@ -218,6 +218,31 @@ json ImfJson(const model::ImfView& v) {
           {"message", v.summary.message},     {"imfs", imfs}};
 }
 
+json LongTauJson(const model::LongTauCheck& c) {
+  json points = json::array();
+  for (const auto& p : c.points)
+    points.push_back(
+        {{"tau_s", Number(p.tau_s)},
+         {"blocks", p.blocks},
+         {"dominant_term", p.dominant_term},
+         {"share", Number(p.share)},
+         {"kurtosis_z", Number(p.kurtosis_z)},
+         {"kurtosis_critical", Number(p.kurtosis_critical)},
+         {"largest_jump", Number(p.jump)},
+         {"largest_jump_time_s", Number(p.jump_time_s)},
+         {"ljung_box", Number(p.portmanteau)},
+         {"ljung_box_lags", p.lags},
+         {"ljung_box_critical", Number(p.portmanteau_critical)},
+         {"low_frequency_ratio", Number(p.low_frequency)},
+         {"low_frequency_bins", p.low_bins},
+         {"low_frequency_band", {Number(p.low_frequency_low), Number(p.low_frequency_high)}},
+         {"flagged", p.flagged}});
+  return {{"evaluated", c.evaluated},
+          {"flagged", c.flagged},
+          {"message", c.message},
+          {"points", points}};
+}
+
 json ModelJson(const model::Evaluation& e) {
   json terms = json::array();
   for (const model::ModelTerm& t : e.terms) terms.push_back(model::ToString(t));
@@ -277,6 +302,7 @@ json CompareJson(const model::CompareResult& r) {
   // `compare --json` (error, consistent, view_errors, verdict, failures, suggestions, model), which
   // scripts rely on.
   model["imf"] = ImfJson(r.base.imf);
+  model["long_tau_check"] = LongTauJson(r.base.long_tau);
   json suggestions = json::array();
   for (const auto& s : r.suggestions)
     suggestions.push_back({{"term", model::ToString(s.term)},
@@ -293,6 +319,7 @@ json CompareJson(const model::CompareResult& r) {
       {"suggestion", v.suggestion ? json(model::ToString(*v.suggestion)) : json(nullptr)},
       {"fixes", DomainNames(v.fixes)},
       {"consistent_with_suggestion", v.consistent_with_suggestion},
+      {"absorbing_slow_effect", v.absorbing_slow_effect},
       {"still_failing", FailuresJson(v.still_failing)},
       {"unexplained", FailuresJson(v.unexplained)},
       {"text", v.text}};

@@ -23,6 +23,9 @@ nlohmann::json ModelJson(const model::Evaluation& evaluation);
 /// The IMF view (compare's "model"."imf" object): decimation, sample_rate_hz, critical_z,
 /// message and one object per IMF (schemas/model-history.md).
 nlohmann::json ImfJson(const model::ImfView& view);
+/// The long-tau terms' check (model::LongTauCheck) as `compare --json` prints it under
+/// "model"."long_tau_check".
+nlohmann::json LongTauJson(const model::LongTauCheck& check);
 
 /// A model file: the terms, the SI deterministic model (enough to compensate) and the fitted
 /// parameters for people.

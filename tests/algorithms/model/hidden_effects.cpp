@@ -1,5 +1,6 @@
 #include "hidden_effects.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -361,6 +362,67 @@ Chirp AddChirp(double k, std::uint64_t seed, HiddenCase* c) {
   chirp.amplitude_rad_s = std::abs(SizeBySignature(shape, k, seed, 0xC41ACULL, *c));
   c->recording.rate_rad_s += chirp.amplitude_rad_s * shape;
   return chirp;
+}
+
+namespace {
+
+// The piecewise-constant shape with unit-scale jumps at `times` of sizes `sizes`.
+Eigen::VectorXd LevelsShape(const std::vector<double>& times, const std::vector<double>& sizes,
+                            long n, double fs) {
+  Eigen::VectorXd shape = Eigen::VectorXd::Zero(n);
+  for (size_t j = 0; j < times.size(); ++j)
+    for (long i = static_cast<long>(std::ceil(times[j] * fs)); i < n; ++i) shape[i] += sizes[j];
+  return shape;
+}
+
+// Scales the jumps to the signature k, adds the bias to the rate and returns the truth.
+BiasLevels AddLevels(const std::vector<double>& times, std::vector<double> sizes, double k,
+                     std::uint64_t seed, std::uint64_t stream, HiddenCase* c) {
+  const long n = c->recording.rate_rad_s.size();
+  const double fs = c->input.sample_rate_hz;
+  Eigen::VectorXd shape = LevelsShape(times, sizes, n, fs);
+  const double scale = std::abs(SizeBySignature(shape, k, seed, stream, *c));
+  for (double& size : sizes) size *= scale;
+  c->recording.rate_rad_s += scale * shape;
+  return {times, sizes};
+}
+
+}  // namespace
+
+BiasLevels AddBiasSteps(double k, std::uint64_t seed, HiddenCase* c) {
+  const double record = c->recording.rate_rad_s.size() / c->input.sample_rate_hz;
+  std::mt19937_64 g(seed * 0x9E3779B97F4A7C15ULL + 0x57E95ULL);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const int count = 3 + static_cast<int>(g() % 3);
+  std::vector<double> times;
+  while (static_cast<int>(times.size()) < count) {
+    const double t = record * (0.05 + 0.9 * u(g));
+    bool apart = true;
+    for (double other : times) apart = apart && std::abs(other - t) >= record / 20;
+    if (apart) times.push_back(std::round(t * c->input.sample_rate_hz) / c->input.sample_rate_hz);
+  }
+  std::sort(times.begin(), times.end());
+  std::vector<double> sizes;
+  for (int j = 0; j < count; ++j) sizes.push_back(((g() & 1) ? 1.0 : -1.0) * (0.6 + 0.8 * u(g)));
+  return AddLevels(times, sizes, k, seed, 0x57E96ULL, c);
+}
+
+BiasLevels AddTelegraph(double k, double dwell_s, std::uint64_t seed, HiddenCase* c) {
+  const double fs = c->input.sample_rate_hz;
+  const double record = c->recording.rate_rad_s.size() / fs;
+  std::mt19937_64 g(seed * 0x9E3779B97F4A7C15ULL + 0x7E1EULL);
+  std::exponential_distribution<double> dwell(1.0 / dwell_s);
+  double state = (g() & 1) ? 0.5 : -0.5;
+  std::vector<double> times, sizes;
+  // Start from the stationary chain: the first dwell is exponential too (memoryless).
+  for (double t = dwell(g); t < record; t += dwell(g)) {
+    const double at = std::ceil(t * fs) / fs;
+    if (at >= record) break;
+    times.push_back(at);
+    sizes.push_back(-2 * state);
+    state = -state;
+  }
+  return AddLevels(times, sizes, k, seed, 0x7E1FULL, c);
 }
 
 }  // namespace fogpipe::model::testing

@@ -162,6 +162,22 @@ double AddSupplyVoltageBias(double k, std::uint64_t seed, HiddenCase* c);
 /// Returns {c1 rad/s/degC, c2 rad/s/degC^2}.
 std::pair<double, double> AddQuadraticTemperatureBias(double k, std::uint64_t seed, HiddenCase* c);
 
+/// Piecewise-constant bias: the times (s) and sizes (rad/s) of its jumps, in time order.
+struct BiasLevels {
+  std::vector<double> step_time_s, step_size_rad_s;
+};
+/// Adds 3-5 bias steps (count drawn uniformly) at times drawn uniformly in [0.05, 0.95] of the
+/// record, at least record / 20 apart, each of size U(0.6, 1.4) in units of their common scale
+/// and a random sign, the scale sized so that the whole piecewise-constant bias' peak Allan
+/// signature (PeakAllanSignatureOfSeries) is k. Its own random stream (seed).
+BiasLevels AddBiasSteps(double k, std::uint64_t seed, HiddenCase* c);
+/// Adds random telegraph switching: a bias that jumps between two levels +-a/2 with
+/// exponentially distributed dwell times of mean dwell_s in both states (a symmetric two-state
+/// Markov chain, random first state), a sized so that its peak Allan signature is k. Its
+/// Lorentzian spectrum is that of a Gauss-Markov process of sigma a / 2 and correlation time
+/// dwell_s / 2. Its own random stream (seed).
+BiasLevels AddTelegraph(double k, double dwell_s, std::uint64_t seed, HiddenCase* c);
+
 /// The analysis' name of a simulator term (same catalog names).
 Term AnalysisTerm(simulation::Term t);
 

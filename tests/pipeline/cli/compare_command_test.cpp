@@ -76,6 +76,11 @@ TEST(CompareCommand, FindsAHiddenThermalEffectAndRecordsTheHistory) {
   for (const auto& f : j["failures"])
     aux_failure |= f["domain"] == "aux" && f["channel"] == "temperature";
   EXPECT_TRUE(aux_failure);
+  // Without the thermal term, the fitted rate random walk absorbs the temperature cycle, and the
+  // long-tau check says so in the verdict (algorithms/model/long_tau_check.h).
+  EXPECT_TRUE(j["verdict"]["absorbing_slow_effect"].get<bool>()) << j["verdict"]["text"];
+  EXPECT_TRUE(j["model"]["long_tau_check"]["flagged"].get<bool>());
+  EXPECT_NE(j["verdict"]["text"].get<std::string>().find("warning: "), std::string::npos);
 
   const std::string model = (dir / "m.json").string();
   const nlohmann::json j2 = nlohmann::json::parse(RunFogpipe(
@@ -84,6 +89,7 @@ TEST(CompareCommand, FindsAHiddenThermalEffectAndRecordsTheHistory) {
   ASSERT_EQ(code, 0);
   EXPECT_TRUE(j2["consistent"].get<bool>());
   EXPECT_EQ(j2["verdict"]["status"], "consistent");
+  EXPECT_FALSE(j2["verdict"]["absorbing_slow_effect"].get<bool>()) << j2["verdict"]["text"];
   EXPECT_LE(3.0 * j2["error"].get<double>(), j["error"].get<double>());
   EXPECT_TRUE(j2["suggestions"].empty());
 

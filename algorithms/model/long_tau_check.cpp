@@ -1,0 +1,297 @@
+#include "algorithms/model/long_tau_check.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "algorithms/ar/diagnostics.h"
+#include "algorithms/common/chi_square.h"
+#include "algorithms/model/spectrum.h"
+
+namespace fogpipe::model {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Normal deviate of the sample kurtosis b2 of m normal values (Anscombe & Glynn 1983; the
+// kurtosis part of D'Agostino's K^2 test), positive for heavy tails.
+double KurtosisZ(double b2, int m) {
+  const double n = m;
+  const double mean = 3 * (n - 1) / (n + 1);
+  const double variance = 24 * n * (n - 2) * (n - 3) / ((n + 1) * (n + 1) * (n + 3) * (n + 5));
+  const double x = (b2 - mean) / std::sqrt(variance);
+  const double root_beta1 = 6 * (n * n - 5 * n + 2) / ((n + 7) * (n + 9)) *
+                            std::sqrt(6 * (n + 3) * (n + 5) / (n * (n - 2) * (n - 3)));
+  const double a =
+      6 + 8 / root_beta1 * (2 / root_beta1 + std::sqrt(1 + 4 / (root_beta1 * root_beta1)));
+  const double denominator = 1 + x * std::sqrt(2 / (a - 4));
+  const double cube = std::cbrt((1 - 2 / a) / denominator);
+  return (1 - 2 / (9 * a) - cube) / std::sqrt(2 / (9 * a));
+}
+
+// Innovations of a zero-mean stationary sequence with autocovariances gamma (Durbin-Levinson;
+// Brockwell & Davis 1991, 5.2), each divided by its standard deviation. False when gamma is not
+// positive definite to working precision.
+bool Whiten(const std::vector<double>& d, const std::vector<double>& gamma,
+            std::vector<double>* e) {
+  const int m = static_cast<int>(d.size());
+  e->assign(m, 0.0);
+  std::vector<double> phi, previous;
+  double v = gamma[0];
+  if (!(v > 0)) return false;
+  (*e)[0] = d[0] / std::sqrt(v);
+  for (int t = 1; t < m; ++t) {
+    double numerator = gamma[t];
+    for (int i = 1; i < t; ++i) numerator -= phi[i - 1] * gamma[t - i];
+    const double reflection = numerator / v;
+    previous = phi;
+    phi.resize(t);
+    phi[t - 1] = reflection;
+    for (int i = 1; i < t; ++i) phi[i - 1] = previous[i - 1] - reflection * previous[t - i - 1];
+    v *= 1.0 - reflection * reflection;
+    if (!(v > 1e-12 * gamma[0])) return false;
+    double prediction = 0;
+    for (int i = 1; i <= t; ++i) prediction += phi[i - 1] * d[t - i];
+    (*e)[t] = (d[t] - prediction) / std::sqrt(v);
+  }
+  return true;
+}
+
+struct Statistics {
+  double jump = 0;  // largest |e_j - mean| / sd
+  int jump_index = 0;
+  double kurtosis_z = 0;
+  double portmanteau = 0;
+  double low_frequency = 0;
+};
+
+Statistics Compute(const std::vector<double>& e, int lags, int low_bins) {
+  const int m = static_cast<int>(e.size());
+  double mean = 0;
+  for (double x : e) mean += x;
+  mean /= m;
+  double ss = 0;
+  for (double x : e) ss += (x - mean) * (x - mean);
+  Statistics s;
+  const double sd = std::sqrt(ss / (m - 1));
+  for (int j = 0; j < m; ++j) {
+    const double g = std::abs(e[j] - mean) / sd;
+    if (g > s.jump) {
+      s.jump = g;
+      s.jump_index = j;
+    }
+  }
+  double fourth = 0;
+  for (double x : e) fourth += std::pow(x - mean, 4);
+  s.kurtosis_z = KurtosisZ(m * fourth / (ss * ss), m);
+  s.portmanteau = ar::LjungBox(Eigen::Map<const Eigen::VectorXd>(e.data(), m), lags, 0).statistic;
+  // Periodogram ordinates I_k = |sum e_j exp(-2 pi i j k / m)|^2 / m at the lowest Fourier
+  // frequencies, over the sample variance.
+  for (int k = 1; k <= low_bins; ++k) {
+    double re = 0, im = 0;
+    for (int j = 0; j < m; ++j) {
+      const double angle = 2 * kPi * static_cast<double>(j) * k / m;
+      re += (e[j] - mean) * std::cos(angle);
+      im -= (e[j] - mean) * std::sin(angle);
+    }
+    s.low_frequency += (re * re + im * im) / m;
+  }
+  s.low_frequency /= low_bins * ss / (m - 1);
+  return s;
+}
+
+// How far outside its band the low-frequency ratio is (1 on the edge), on a log scale.
+double LowFrequencyExcess(const LongTauPoint& p) {
+  const double ratio = std::max(p.low_frequency, 1e-300);
+  return ratio < 1 ? std::log(ratio) / std::log(p.low_frequency_low)
+                   : std::log(ratio) / std::log(p.low_frequency_high);
+}
+
+// The largest of the three statistics over its critical value.
+double Excess(const LongTauPoint& p) {
+  return std::max({p.kurtosis_z / p.kurtosis_critical, p.portmanteau / p.portmanteau_critical,
+                   LowFrequencyExcess(p)});
+}
+
+}  // namespace
+
+bool LongTauCheckOptions::IsValid(std::string* error) const {
+  auto fail = [&](const char* message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (!(alpha > 0 && alpha < 1)) return fail("long_tau.alpha must be in (0, 1)");
+  if (!(min_share > 0 && min_share <= 1)) return fail("long_tau.min_share must be in (0, 1]");
+  if (min_blocks < 8) return fail("long_tau.min_blocks must be >= 8");
+  if (max_blocks < min_blocks) return fail("long_tau.max_blocks must be >= min_blocks");
+  if (max_lags < 1) return fail("long_tau.max_lags must be >= 1");
+  return true;
+}
+
+double AngleGeneralisedCovariance(const StochasticModel& model, double h) {
+  double c = 0;
+  if (model.Has(Term::kQuantization) && h == 0) c += model.q_rad * model.q_rad;
+  if (model.Has(Term::kWhite)) c -= 0.5 * model.n_rad_sqrt_s * model.n_rad_sqrt_s * h;
+  if (model.Has(Term::kBiasInstability) && h > 0)
+    c += model.b_rad_s * model.b_rad_s * h * h * std::log(h) / (2 * kPi);
+  if (model.Has(Term::kRateRandomWalk))
+    c += model.k_rad_s_sqrt_s * model.k_rad_s_sqrt_s * h * h * h / 12.0;
+  if (model.Has(Term::kGaussMarkov) && model.gm_correlation_time_s > 0) {
+    const double tc = model.gm_correlation_time_s;
+    // u - 1 + exp(-u) - u^2 / 2 (u = h / Tc): the quadratic part, which second differences
+    // annihilate, is left out (a generalised covariance of order 1 is defined up to a + b h^2),
+    // so that the u^3 term that remains is not lost to rounding at h << Tc.
+    const double u = h / tc;
+    double shape = 0;
+    if (u < 0.5) {
+      double term = -u * u * u / 6;
+      for (int k = 3; k < 30 && term != 0; ++k) {
+        shape += term;
+        term *= -u / (k + 1);
+      }
+    } else {
+      shape = u + std::expm1(-u) - u * u / 2;
+    }
+    c -= model.gm_sigma_rad_s * model.gm_sigma_rad_s * tc * tc * shape;
+  }
+  return c;
+}
+
+std::vector<double> BlockDifferenceAutocovariance(const StochasticModel& model, double tau,
+                                                  int count) {
+  static constexpr double a[3] = {1, -2, 1};
+  std::vector<double> gamma(count, 0.0);
+  const double ramp =
+      model.Has(Term::kRateRamp) ? model.r_rad_s2 * model.r_rad_s2 * tau * tau : 0.0;
+  for (int k = 0; k < count; ++k) {
+    double sum = 0;
+    for (int p = 0; p < 3; ++p)
+      for (int q = 0; q < 3; ++q)
+        sum += a[p] * a[q] * AngleGeneralisedCovariance(model, std::abs(k + q - p) * tau);
+    gamma[k] = sum / (tau * tau) + ramp;
+  }
+  return gamma;
+}
+
+LongTauCheck CheckLongTauTerms(const Eigen::VectorXd& residual, double fs,
+                               const StochasticModel& model, const LongTauCheckOptions& options) {
+  LongTauCheck check;
+  std::string err;
+  if (!options.IsValid(&err) || !(fs > 0)) {
+    check.message = fs > 0 ? err : "sample_rate_hz must be > 0";
+    return check;
+  }
+  if (!options.enabled) {
+    check.message = "not run";
+    return check;
+  }
+  const long n = residual.size();
+  struct Candidate {
+    long length;
+    int blocks;
+  };
+  std::vector<Candidate> candidates;
+  for (long length = 1; n / length >= options.min_blocks; length *= 2) {
+    const int blocks = static_cast<int>(n / length);
+    if (blocks > options.max_blocks) continue;
+    const double tau = length / fs;
+    const double total = ModelAllanVariance(model, tau);
+    const double slow = TermAllanVariance(model, Term::kBiasInstability, tau) +
+                        TermAllanVariance(model, Term::kRateRandomWalk, tau) +
+                        TermAllanVariance(model, Term::kRateRamp, tau);
+    if (total > 0 && slow >= options.min_share * total) candidates.push_back({length, blocks});
+  }
+  if (candidates.empty()) {
+    check.message =
+        "not evaluated: bias instability, rate random walk and rate ramp carry less than half "
+        "the model's Allan variance at every tau with enough blocks";
+    return check;
+  }
+  // Three statistics per tau, one family.
+  const double alpha = options.alpha / (3.0 * candidates.size());
+  std::vector<double> d, e;
+  for (const Candidate& candidate : candidates) {
+    const double tau = candidate.length / fs;
+    std::vector<double> means(candidate.blocks);
+    for (int j = 0; j < candidate.blocks; ++j)
+      means[j] = residual.segment(j * candidate.length, candidate.length).mean();
+    d.resize(candidate.blocks - 1);
+    for (int j = 0; j + 1 < candidate.blocks; ++j) d[j] = means[j + 1] - means[j];
+    const int m = static_cast<int>(d.size());
+    const std::vector<double> gamma = BlockDifferenceAutocovariance(model, tau, m);
+    if (!Whiten(d, gamma, &e)) continue;
+    LongTauPoint point;
+    point.tau_s = tau;
+    point.blocks = candidate.blocks;
+    const double b = TermAllanVariance(model, Term::kBiasInstability, tau);
+    const double k = TermAllanVariance(model, Term::kRateRandomWalk, tau);
+    const double r = TermAllanVariance(model, Term::kRateRamp, tau);
+    point.dominant_term = ToString(k >= b && k >= r ? Term::kRateRandomWalk
+                                   : b >= r         ? Term::kBiasInstability
+                                                    : Term::kRateRamp);
+    point.share = (b + k + r) / ModelAllanVariance(model, tau);
+    point.lags = std::min(options.max_lags, std::max(2, m / 4));
+    point.low_bins = std::min(16, std::max(2, m / 8));
+    const Statistics s = Compute(e, point.lags, point.low_bins);
+    point.jump = s.jump;
+    point.jump_time_s = (s.jump_index + 1) * tau;
+    point.kurtosis_z = s.kurtosis_z;
+    point.kurtosis_critical = UpperTailZ(alpha);
+    point.portmanteau = s.portmanteau;
+    point.portmanteau_critical = stats::ChiSquareQuantile(1.0 - alpha, point.lags);
+    point.low_frequency = s.low_frequency;
+    const double nu = 2.0 * point.low_bins;
+    point.low_frequency_low = stats::ChiSquareQuantile(alpha / 2, nu) / nu;
+    point.low_frequency_high = stats::ChiSquareQuantile(1.0 - alpha / 2, nu) / nu;
+    point.flagged = point.kurtosis_z > point.kurtosis_critical ||
+                    point.portmanteau > point.portmanteau_critical ||
+                    point.low_frequency < point.low_frequency_low ||
+                    point.low_frequency > point.low_frequency_high;
+    check.flagged = check.flagged || point.flagged;
+    check.points.push_back(point);
+  }
+  if (check.points.empty()) {
+    check.message = "not evaluated: the model's block-difference covariance is singular";
+    return check;
+  }
+  check.evaluated = true;
+  const auto worst = std::max_element(
+      check.points.begin(), check.points.end(),
+      [](const LongTauPoint& x, const LongTauPoint& y) { return Excess(x) < Excess(y); });
+  char text[400];
+  const double from = check.points.front().tau_s, to = check.points.back().tau_s;
+  if (!check.flagged) {
+    std::snprintf(text, sizeof(text),
+                  "the increments of the block means at tau %.4g-%.4g s behave as the fitted "
+                  "noise predicts",
+                  from, to);
+  } else if (Excess(*worst) == worst->kurtosis_z / worst->kurtosis_critical) {
+    std::snprintf(text, sizeof(text),
+                  "%s may be absorbing a slow effect: the %.4g s block means move in jumps "
+                  "(kurtosis z %.3g, critical %.3g under the fitted noise; the largest, %.3g "
+                  "standard deviations, at %.5g s)",
+                  worst->dominant_term.c_str(), worst->tau_s, worst->kurtosis_z,
+                  worst->kurtosis_critical, worst->jump, worst->jump_time_s);
+  } else if (Excess(*worst) == LowFrequencyExcess(*worst)) {
+    std::snprintf(text, sizeof(text),
+                  "%s may be absorbing a slow effect: the %.4g s block means %s (their "
+                  "increments' power at the lowest %d frequencies is %.3g of the fitted noise's, "
+                  "95 %% band %.3g-%.3g)",
+                  worst->dominant_term.c_str(), worst->tau_s,
+                  worst->low_frequency < 1 ? "return to their levels more than a random walk does"
+                                           : "drift more smoothly than the fitted noise does",
+                  worst->low_bins, worst->low_frequency, worst->low_frequency_low,
+                  worst->low_frequency_high);
+  } else {
+    std::snprintf(text, sizeof(text),
+                  "%s may be absorbing a slow effect: the increments of the %.4g s block means "
+                  "are correlated (Ljung-Box %.3g over %d lags, critical %.3g under the fitted "
+                  "noise)",
+                  worst->dominant_term.c_str(), worst->tau_s, worst->portmanteau, worst->lags,
+                  worst->portmanteau_critical);
+  }
+  check.message = text;
+  return check;
+}
+
+}  // namespace fogpipe::model
