@@ -113,18 +113,43 @@ std::vector<double> WhittleWeights(const StochasticModel& model, long n, double 
 // E|R_k|^2 = w_k = n fs S(f_k) / 2 (S one-sided), U = sum_k Re(R_k conj X_k) / w_k has variance
 // sum_k |X_k|^2 / (2 w_k), and z = U / sd(U) ~ N(0, 1). This is the generalised least-squares
 // t-statistic of c with the noise covariance of the fitted model: coloured noise (bias
-// instability, rate random walk) is down-weighted where the model says it is strong.
+// instability, rate random walk) is down-weighted where the model says it is strong. With a
+// nuisance regressor L: U = <R, X> - <R, L> <L, X> / <L, L>, variance (<X, X> - <L, X>^2 /
+// <L, L>) / 2 (the efficient score; Cox & Hinkley 1974, 9.3).
 double WhittleScoreZ(const std::vector<std::complex<double>>& series_dft,
                      const std::vector<std::complex<double>>& regressor_dft,
-                     const std::vector<double>& weights) {
-  double score = 0, score_variance = 0;
-  const size_t num_bins = std::min({weights.size(), series_dft.size(), regressor_dft.size()});
+                     const std::vector<double>& weights,
+                     const std::vector<std::complex<double>>* nuisance) {
+  size_t num_bins = std::min({weights.size(), series_dft.size(), regressor_dft.size()});
+  if (nuisance) num_bins = std::min(num_bins, nuisance->size());
+  // <a, b> = sum_k Re(a_k conj b_k) / w_k: the GLS inner product (E|R_k|^2 = w_k); a score
+  // <R, X> has variance <X, X> / 2.
+  double rx = 0, xx = 0, rl = 0, lx = 0, ll = 0;
   for (size_t k = 1; k < num_bins; ++k) {
     if (!(weights[k] > 0)) continue;
-    score += (series_dft[k] * std::conj(regressor_dft[k])).real() / weights[k];
-    score_variance += std::norm(regressor_dft[k]) / (2.0 * weights[k]);
+    rx += (series_dft[k] * std::conj(regressor_dft[k])).real() / weights[k];
+    xx += std::norm(regressor_dft[k]) / weights[k];
+    if (nuisance) {
+      const std::complex<double> l = (*nuisance)[k];
+      rl += (series_dft[k] * std::conj(l)).real() / weights[k];
+      lx += (l * std::conj(regressor_dft[k])).real() / weights[k];
+      ll += std::norm(l) / weights[k];
+    }
   }
-  return score_variance > 0 ? score / std::sqrt(score_variance) : 0.0;
+  double score = rx, information = xx;
+  if (nuisance && ll > 0) {
+    score -= rl * lx / ll;
+    information -= lx * lx / ll;
+  }
+  return information > 0 ? score / std::sqrt(information / 2.0) : 0.0;
+}
+
+std::vector<std::complex<double>> TrendDft(long n) {
+  std::vector<std::complex<double>> dft(n / 2 + 1, 0.0);
+  for (long k = 1; k <= n / 2; ++k)
+    dft[k] = -static_cast<double>(n) /
+             (1.0 - std::polar(1.0, -2.0 * units::kPi * static_cast<double>(k) / n));
+  return dft;
 }
 
 double BridgeSupremumCritical(double alpha, double margin) {

@@ -58,10 +58,24 @@ std::vector<std::complex<double>> MeanRemovedDft(const Eigen::VectorXd& x);
 std::vector<double> WhittleWeights(const StochasticModel& model, long n, double sample_rate_hz);
 
 /// GLS t-statistic (Whittle score) of "x += c * regressor" given the DFTs of the series and the
-/// regressor (bins 1 .. weights.size() - 1 are used).
+/// regressor (bins 1 .. weights.size() - 1 are used). With `nuisance` (a DFT), the score of c
+/// after the nuisance's coefficient is profiled out (partial GLS).
 double WhittleScoreZ(const std::vector<std::complex<double>>& series_dft,
                      const std::vector<std::complex<double>>& regressor_dft,
-                     const std::vector<double>& weights);
+                     const std::vector<double>& weights,
+                     const std::vector<std::complex<double>>* nuisance = nullptr);
+
+/// DFT of the linear trend t = 0 .. n - 1 at bins 0 .. n/2 (bin 0 left at 0, the mean is not
+/// tested): -n / (1 - e^{-2 pi i k / n}) (summation by parts).
+/// Why it is the aux score's nuisance: the DFT of a finite rate random walk carries its
+/// end-to-end difference into every low bin with exactly this shape, x_{n-1} - x_0 times
+/// 1 / (1 - e^{-i w_k}) (the jump at the wrap of the periodic extension), and so does that of any
+/// smooth channel. The Whittle approximation, bins independent with E|R_k|^2 = w_k, ignores this
+/// common term; the score of a temperature cycle against a strong random walk then scatters many
+/// times its nominal sd. Profiling out a trend absorbs the common term (first differences would
+/// too, but they over-difference the white noise, whose periodogram at the lowest bins is then
+/// ruled by the two end samples).
+std::vector<std::complex<double>> TrendDft(long n);
 
 /// Critical value c of the two-sided supremum of a standardised Brownian bridge over
 /// [margin, 1 - margin] at level alpha (James, James & Siegmund 1987 approximation).

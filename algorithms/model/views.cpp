@@ -401,6 +401,9 @@ void AuxStatistics(const Eigen::VectorXd& residual, double fs, const Decimated& 
                           : model;
   const std::vector<double> whittle_weights =
       WhittleWeights(block_model, decimated.x.size(), decimated.sample_rate_hz);
+  // A linear trend is profiled out of each score (TrendDft: a random walk's end-to-end leakage
+  // would otherwise correlate with any slow channel).
+  const std::vector<std::complex<double>> trend = TrendDft(decimated.x.size());
   for (const PreparedAux& prepared : aux) {
     const AuxChannel& channel = *prepared.channel;
     AuxChannelView channel_view;
@@ -414,9 +417,9 @@ void AuxStatistics(const Eigen::VectorXd& residual, double fs, const Decimated& 
     CorrelationWithEffectiveDof(residual_lowpass, channel_lowpass, &channel_view.r, &unused_n_eff);
     CorrelationWithEffectiveDof(residual_lowpass, derivative_lowpass, &channel_view.r_derivative,
                                 &unused_n_eff);
-    channel_view.z = WhittleScoreZ(decimated.dft, prepared.dft, whittle_weights);
+    channel_view.z = WhittleScoreZ(decimated.dft, prepared.dft, whittle_weights, &trend);
     channel_view.z_derivative =
-        WhittleScoreZ(decimated.dft, prepared.dft_derivative, whittle_weights);
+        WhittleScoreZ(decimated.dft, prepared.dft_derivative, whittle_weights, &trend);
     view->channels.push_back(channel_view);
   }
   view->critical = BonferroniCriticalZ(

@@ -24,7 +24,9 @@
 //     and warm-up scans (targeted_tests.h) are reported here too, for ranking only (not scored).
 //   - Aux ("aux"): for each aux channel and its smoothed derivative, the score test of "rate +=
 //     c * channel" under the fitted noise model, in the frequency domain (Whittle 1953): the
-//     generalised least-squares t-statistic of c. Records longer than 2^18 samples are tested on
+//     generalised least-squares t-statistic of c, with a linear trend profiled out (a random
+//     walk's end-to-end leakage otherwise correlates with any slow channel; targeted_tests.h,
+//     TrendDft). Records longer than 2^18 samples are tested on
 //     block means (B = ceil(n / 2^18), the time view's scans too) under the noise model refitted
 //     on them: a thermal effect varies over minutes, not within B / fs (0.33 s at 24 h, 100 Hz).
 //     For display and the evidence sentences, Pearson r of the low-frequency residual (block means)

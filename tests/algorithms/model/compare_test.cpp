@@ -1,11 +1,10 @@
 // The hidden-effect proof of `fogpipe compare` on simulated navigation-grade recordings (6 h at
 // 10 Hz, aux temperature cycling 6-12 degC with a 1-2 h period in every file). Effect sizes:
-// hidden_effects.h. Seeds: 101-103 for each effect, 201-220 for the control, 301-302 for two
-// effects, 401-418 for thermal innocence, 711-714 and 721-723 for the aux terms, 801-830 for the
-// aux controls. The development runs that chose the design used seeds 1-20 (each effect, each aux
-// effect), 500-539 (effect-free: 2 of 40 inconsistent, none with a suggestion) and 850-889 (aux
-// controls).
-// The truth is read only to score.
+// hidden_effects.h. Seeds: 101-110 for each effect (101-103 for its size), 201-220 for the control,
+// 301-302 for two effects, 401-418 for thermal innocence, 711-714 and 721-723 for the aux terms,
+// 801-830 for the aux controls. The development runs that chose the design used seeds 1-20 (each
+// effect, each aux effect), 500-539 (effect-free: 2 of 40 inconsistent, none with a suggestion) and
+// 850-889 (aux controls). The truth is read only to score.
 #include "algorithms/model/compare.h"
 
 #include <gtest/gtest.h>
@@ -172,34 +171,50 @@ ProofScore ScoreProof(sim::Term effect, const testing::HiddenCase& c) {
   return s;
 }
 
-class HiddenEffect : public ::testing::TestWithParam<std::tuple<sim::Term, int>> {};
+// The proof on CI seeds 101-110, as rates (statistics over seeds, not single cases). On design
+// seeds (hidden_effects.h, docs/compare.md) the weakest criteria pass at about 0.9 (temperature
+// over seeds 1-60: parameters 53 of 60, error falls 3x 57, consistent after 57; the others 19-20
+// of 20 on seeds 1-20) and Gauss-Markov's parameters and consistency after at 0.8 (17 and 16 of
+// 20). At a pass rate of 0.9 at least 7 of 10 CI seeds must pass (P(X <= 6) = 1.3 % for
+// Binomial(10, 0.9)); at 0.8, at least 6 of 10 (P(X <= 5) = 3.3 %).
+class HiddenEffect : public ::testing::TestWithParam<sim::Term> {};
 
-TEST_P(HiddenEffect, IsFoundNamedEstimatedAndFixed) {
-  const auto [effect, seed] = GetParam();
-  const auto c = MakeHiddenCase(seed, {effect});
-  const ProofScore s = ScoreProof(effect, c);
-  EXPECT_TRUE(s.default_inconsistent) << "error " << s.error_before;
-  EXPECT_TRUE(s.first_is_hidden) << "first: " << s.first;
-  EXPECT_FALSE(s.parameter_errors.empty());
-  for (const auto& [name, x] : s.parameter_errors)
-    EXPECT_LT(x, 1.0) << name << ": error " << x << " x its tolerance";
-  EXPECT_TRUE(s.failures_point_at_it) << "no failure at the hidden " << sim::ToString(effect);
-  EXPECT_TRUE(s.error_falls_3x) << s.error_before << " -> " << s.error_after;
-  EXPECT_TRUE(s.consistent_after) << "error after " << s.error_after;
+TEST_P(HiddenEffect, IsFoundNamedEstimatedAndFixedOnMostSeeds) {
+  const sim::Term effect = GetParam();
+  int inconsistent = 0, first = 0, parameters = 0, pointed = 0, falls = 0, consistent = 0;
+  for (int seed = 101; seed <= 110; ++seed) {
+    const ProofScore s = ScoreProof(effect, MakeHiddenCase(seed, {effect}));
+    inconsistent += s.default_inconsistent;
+    first += s.first_is_hidden;
+    parameters += s.ParametersNearTruth();
+    pointed += s.failures_point_at_it;
+    falls += s.error_falls_3x;
+    consistent += s.consistent_after;
+    std::printf(
+        "%s seed %d: inconsistent %d first %d (%s) parameters %d pointed %d error %.3g -> "
+        "%.3g consistent %d\n",
+        sim::ToString(effect), seed, s.default_inconsistent, s.first_is_hidden, s.first.c_str(),
+        s.ParametersNearTruth(), s.failures_point_at_it, s.error_before, s.error_after,
+        s.consistent_after);
+  }
+  const bool gauss_markov = effect == sim::Term::kGaussMarkov;
+  EXPECT_GE(inconsistent, 7);
+  EXPECT_GE(first, 7);
+  EXPECT_GE(parameters, gauss_markov ? 6 : 7);
+  EXPECT_GE(pointed, 7);
+  EXPECT_GE(falls, 7);
+  EXPECT_GE(consistent, gauss_markov ? 6 : 7);
 }
 
-std::string Name(const ::testing::TestParamInfo<std::tuple<sim::Term, int>>& info) {
-  return std::string(sim::ToString(std::get<0>(info.param))) + "_seed" +
-         std::to_string(std::get<1>(info.param));
+std::string Name(const ::testing::TestParamInfo<sim::Term>& info) {
+  return sim::ToString(info.param);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Compare, HiddenEffect,
-    ::testing::Combine(::testing::Values(sim::Term::kTemperature, sim::Term::kTemperatureRate,
-                                         sim::Term::kSinusoid, sim::Term::kGaussMarkov,
-                                         sim::Term::kBiasStep, sim::Term::kWarmup),
-                       ::testing::Values(101, 102, 103)),
-    Name);
+INSTANTIATE_TEST_SUITE_P(Compare, HiddenEffect,
+                         ::testing::Values(sim::Term::kTemperature, sim::Term::kTemperatureRate,
+                                           sim::Term::kSinusoid, sim::Term::kGaussMarkov,
+                                           sim::Term::kBiasStep, sim::Term::kWarmup),
+                         Name);
 
 // The size claim of hidden_effects.h, measured: each hidden effect's peak Allan signature over
 // the noise model's Allan deviation (PeakAllanSignature), for the CI seeds. The ranges are the
