@@ -6,16 +6,12 @@
 
 #include "algorithms/ar/diagnostics.h"
 #include "algorithms/common/chi_square.h"
+#include "algorithms/common/units.h"
 #include "algorithms/model/spectrum.h"
 
 namespace fogpipe::model {
-namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-// Normal deviate of the sample kurtosis b2 of m normal values (Anscombe & Glynn 1983; the
-// kurtosis part of D'Agostino's K^2 test), positive for heavy tails.
-double KurtosisZ(double b2, int m) {
+double KurtosisNormalDeviate(double b2, int m) {
   const double n = m;
   const double mean = 3 * (n - 1) / (n + 1);
   const double variance = 24 * n * (n - 2) * (n - 3) / ((n + 1) * (n + 1) * (n + 3) * (n + 5));
@@ -29,11 +25,30 @@ double KurtosisZ(double b2, int m) {
   return (1 - 2 / (9 * a) - cube) / std::sqrt(2 / (9 * a));
 }
 
-// Innovations of a zero-mean stationary sequence with autocovariances gamma (Durbin-Levinson;
-// Brockwell & Davis 1991, 5.2), each divided by its standard deviation. False when gamma is not
-// positive definite to working precision.
-bool Whiten(const std::vector<double>& d, const std::vector<double>& gamma,
-            std::vector<double>* e) {
+// P(Binomial(a + b - 1, x) >= a) (Abramowitz & Stegun 26.5.24), summed in logs.
+double BetaCdf(double x, int a, int b) {
+  if (x <= 0) return 0;
+  if (x >= 1) return 1;
+  const int n = a + b - 1;
+  double sum = 0;
+  for (int i = a; i <= n; ++i)
+    sum += std::exp(std::lgamma(n + 1.0) - std::lgamma(i + 1.0) - std::lgamma(n - i + 1.0) +
+                    i * std::log(x) + (n - i) * std::log1p(-x));
+  return std::min(1.0, sum);
+}
+
+// Bisection to 2^-60.
+double BetaQuantile(double p, int a, int b) {
+  double lo = 0, hi = 1;
+  for (int iteration = 0; iteration < 60; ++iteration) {
+    const double mid = 0.5 * (lo + hi);
+    (BetaCdf(mid, a, b) < p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+bool WhitenedInnovations(const std::vector<double>& d, const std::vector<double>& gamma,
+                         std::vector<double>* e) {
   const int m = static_cast<int>(d.size());
   e->assign(m, 0.0);
   std::vector<double> phi, previous;
@@ -56,6 +71,8 @@ bool Whiten(const std::vector<double>& d, const std::vector<double>& gamma,
   }
   return true;
 }
+
+namespace {
 
 struct Statistics {
   double jump = 0;  // largest |e_j - mean| / sd
@@ -83,20 +100,21 @@ Statistics Compute(const std::vector<double>& e, int lags, int low_bins) {
   }
   double fourth = 0;
   for (double x : e) fourth += std::pow(x - mean, 4);
-  s.kurtosis_z = KurtosisZ(m * fourth / (ss * ss), m);
+  s.kurtosis_z = KurtosisNormalDeviate(m * fourth / (ss * ss), m);
   s.portmanteau = ar::LjungBox(Eigen::Map<const Eigen::VectorXd>(e.data(), m), lags, 0).statistic;
-  // Periodogram ordinates I_k = |sum e_j exp(-2 pi i j k / m)|^2 / m at the lowest Fourier
-  // frequencies, over the sample variance.
-  for (int k = 1; k <= low_bins; ++k) {
-    double re = 0, im = 0;
-    for (int j = 0; j < m; ++j) {
-      const double angle = 2 * kPi * static_cast<double>(j) * k / m;
-      re += (e[j] - mean) * std::cos(angle);
-      im -= (e[j] - mean) * std::sin(angle);
-    }
-    s.low_frequency += (re * re + im * im) / m;
+  // The share of the periodogram's first M = (m - 1) / 2 ordinates (k = 1 .. M: independent
+  // exponentials for white e, the mean and the Nyquist ordinate left out) in the lowest J, over
+  // J / M: 1 expected, (M / J) Beta(J, M - J) distributed.
+  std::vector<double> centred(m);
+  for (int j = 0; j < m; ++j) centred[j] = e[j] - mean;
+  const std::vector<std::complex<double>> dft = RealDftHalf(centred);
+  const int half = (m - 1) / 2;
+  double low = 0, all = 0;
+  for (int k = 1; k <= half; ++k) {
+    all += std::norm(dft[k]);
+    if (k <= low_bins) low += std::norm(dft[k]);
   }
-  s.low_frequency /= low_bins * ss / (m - 1);
+  s.low_frequency = all > 0 ? (low / low_bins) / (all / half) : 1.0;
   return s;
 }
 
@@ -122,7 +140,8 @@ bool LongTauCheckOptions::IsValid(std::string* error) const {
   };
   if (!(alpha > 0 && alpha < 1)) return fail("long_tau.alpha must be in (0, 1)");
   if (!(min_share > 0 && min_share <= 1)) return fail("long_tau.min_share must be in (0, 1]");
-  if (min_blocks < 8) return fail("long_tau.min_blocks must be >= 8");
+  // Anscombe & Glynn's kurtosis deviate is for 20 values or more.
+  if (min_blocks < 21) return fail("long_tau.min_blocks must be >= 21");
   if (max_blocks < min_blocks) return fail("long_tau.max_blocks must be >= min_blocks");
   if (max_lags < 1) return fail("long_tau.max_lags must be >= 1");
   return true;
@@ -133,7 +152,7 @@ double AngleGeneralisedCovariance(const StochasticModel& model, double h) {
   if (model.Has(Term::kQuantization) && h == 0) c += model.q_rad * model.q_rad;
   if (model.Has(Term::kWhite)) c -= 0.5 * model.n_rad_sqrt_s * model.n_rad_sqrt_s * h;
   if (model.Has(Term::kBiasInstability) && h > 0)
-    c += model.b_rad_s * model.b_rad_s * h * h * std::log(h) / (2 * kPi);
+    c += model.b_rad_s * model.b_rad_s * h * h * std::log(h) / (2 * units::kPi);
   if (model.Has(Term::kRateRandomWalk))
     c += model.k_rad_s_sqrt_s * model.k_rad_s_sqrt_s * h * h * h / 12.0;
   if (model.Has(Term::kGaussMarkov) && model.gm_correlation_time_s > 0) {
@@ -185,33 +204,45 @@ LongTauCheck CheckLongTauTerms(const Eigen::VectorXd& residual, double fs,
     check.message = "not run";
     return check;
   }
-  const long n = residual.size();
+  const Eigen::Index n = residual.size();
+  if (!residual.allFinite()) {
+    check.message = "not evaluated: the residual has non-finite samples";
+    return check;
+  }
   struct Candidate {
-    long length;
+    Eigen::Index length;
     int blocks;
+    double b, k, r, share;  // B, K, R Allan variances at tau, (rad/s)^2, and their share
   };
   std::vector<Candidate> candidates;
-  for (long length = 1; n / length >= options.min_blocks; length *= 2) {
+  for (Eigen::Index length = 1; n / length >= options.min_blocks; length *= 2) {
+    if (n / length > options.max_blocks) continue;
     const int blocks = static_cast<int>(n / length);
-    if (blocks > options.max_blocks) continue;
-    const double tau = length / fs;
+    const double tau = static_cast<double>(length) / fs;
     const double total = ModelAllanVariance(model, tau);
-    const double slow = TermAllanVariance(model, Term::kBiasInstability, tau) +
-                        TermAllanVariance(model, Term::kRateRandomWalk, tau) +
-                        TermAllanVariance(model, Term::kRateRamp, tau);
-    if (total > 0 && slow >= options.min_share * total) candidates.push_back({length, blocks});
+    const double b = TermAllanVariance(model, Term::kBiasInstability, tau);
+    const double k = TermAllanVariance(model, Term::kRateRandomWalk, tau);
+    const double r = TermAllanVariance(model, Term::kRateRamp, tau);
+    // The narrow bands are not in the increments' covariance (their Allan variance is negligible
+    // at the long taus this check is for): a tau where they are not is skipped.
+    const double bands = TermAllanVariance(model, Term::kNarrowBand, tau);
+    if (total > 0 && b + k + r >= options.min_share * total && bands <= 0.01 * total)
+      candidates.push_back({length, blocks, b, k, r, (b + k + r) / total});
   }
   if (candidates.empty()) {
-    check.message =
-        "not evaluated: bias instability, rate random walk and rate ramp carry less than half "
-        "the model's Allan variance at every tau with enough blocks";
+    char text[200];
+    std::snprintf(text, sizeof(text),
+                  "not evaluated: bias instability, rate random walk and rate ramp carry less "
+                  "than %.3g of the model's Allan variance at every tau with %d blocks or more",
+                  options.min_share, options.min_blocks);
+    check.message = text;
     return check;
   }
   // Three statistics per tau, one family.
   const double alpha = options.alpha / (3.0 * candidates.size());
   std::vector<double> d, e;
   for (const Candidate& candidate : candidates) {
-    const double tau = candidate.length / fs;
+    const double tau = static_cast<double>(candidate.length) / fs;
     std::vector<double> means(candidate.blocks);
     for (int j = 0; j < candidate.blocks; ++j)
       means[j] = residual.segment(j * candidate.length, candidate.length).mean();
@@ -219,20 +250,22 @@ LongTauCheck CheckLongTauTerms(const Eigen::VectorXd& residual, double fs,
     for (int j = 0; j + 1 < candidate.blocks; ++j) d[j] = means[j + 1] - means[j];
     const int m = static_cast<int>(d.size());
     const std::vector<double> gamma = BlockDifferenceAutocovariance(model, tau, m);
-    if (!Whiten(d, gamma, &e)) continue;
+    if (!WhitenedInnovations(d, gamma, &e)) continue;
     LongTauPoint point;
     point.tau_s = tau;
     point.blocks = candidate.blocks;
-    const double b = TermAllanVariance(model, Term::kBiasInstability, tau);
-    const double k = TermAllanVariance(model, Term::kRateRandomWalk, tau);
-    const double r = TermAllanVariance(model, Term::kRateRamp, tau);
+    const double b = candidate.b, k = candidate.k, r = candidate.r;
     point.dominant_term = ToString(k >= b && k >= r ? Term::kRateRandomWalk
                                    : b >= r         ? Term::kBiasInstability
                                                     : Term::kRateRamp);
-    point.share = (b + k + r) / ModelAllanVariance(model, tau);
+    point.share = candidate.share;
     point.lags = std::min(options.max_lags, std::max(2, m / 4));
-    point.low_bins = std::min(16, std::max(2, m / 8));
+    const int half = (m - 1) / 2;
+    point.low_bins = std::min({16, std::max(2, m / 8), half - 1});
     const Statistics s = Compute(e, point.lags, point.low_bins);
+    if (!std::isfinite(s.kurtosis_z) || !std::isfinite(s.portmanteau) ||
+        !std::isfinite(s.low_frequency))
+      continue;
     point.jump = s.jump;
     point.jump_time_s = (s.jump_index + 1) * tau;
     point.kurtosis_z = s.kurtosis_z;
@@ -240,9 +273,12 @@ LongTauCheck CheckLongTauTerms(const Eigen::VectorXd& residual, double fs,
     point.portmanteau = s.portmanteau;
     point.portmanteau_critical = stats::ChiSquareQuantile(1.0 - alpha, point.lags);
     point.low_frequency = s.low_frequency;
-    const double nu = 2.0 * point.low_bins;
-    point.low_frequency_low = stats::ChiSquareQuantile(alpha / 2, nu) / nu;
-    point.low_frequency_high = stats::ChiSquareQuantile(1.0 - alpha / 2, nu) / nu;
+    const double scale = static_cast<double>(half) / point.low_bins;
+    point.low_frequency_level = 1.0 - alpha;
+    point.low_frequency_low =
+        scale * BetaQuantile(alpha / 2, point.low_bins, half - point.low_bins);
+    point.low_frequency_high =
+        scale * BetaQuantile(1.0 - alpha / 2, point.low_bins, half - point.low_bins);
     point.flagged = point.kurtosis_z > point.kurtosis_critical ||
                     point.portmanteau > point.portmanteau_critical ||
                     point.low_frequency < point.low_frequency_low ||
@@ -251,7 +287,9 @@ LongTauCheck CheckLongTauTerms(const Eigen::VectorXd& residual, double fs,
     check.points.push_back(point);
   }
   if (check.points.empty()) {
-    check.message = "not evaluated: the model's block-difference covariance is singular";
+    check.message =
+        "not evaluated: the model's block-difference covariance is singular or the statistics "
+        "are not finite";
     return check;
   }
   check.evaluated = true;
@@ -276,12 +314,13 @@ LongTauCheck CheckLongTauTerms(const Eigen::VectorXd& residual, double fs,
     std::snprintf(text, sizeof(text),
                   "%s may be absorbing a slow effect: the %.4g s block means %s (their "
                   "increments' power at the lowest %d frequencies is %.3g of the fitted noise's, "
-                  "95 %% band %.3g-%.3g)",
+                  "%.4g %% band %.3g-%.3g)",
                   worst->dominant_term.c_str(), worst->tau_s,
-                  worst->low_frequency < 1 ? "return to their levels more than a random walk does"
-                                           : "drift more smoothly than the fitted noise does",
-                  worst->low_bins, worst->low_frequency, worst->low_frequency_low,
-                  worst->low_frequency_high);
+                  worst->low_frequency < 1
+                      ? "return to their levels more than the fitted noise does"
+                      : "drift more smoothly than the fitted noise does",
+                  worst->low_bins, worst->low_frequency, 100 * worst->low_frequency_level,
+                  worst->low_frequency_low, worst->low_frequency_high);
   } else {
     std::snprintf(text, sizeof(text),
                   "%s may be absorbing a slow effect: the increments of the %.4g s block means "

@@ -24,20 +24,21 @@
 // random walk. The sequence is whitened by its innovations (Durbin-Levinson), e_j ~ N(0, 1)
 // independent under the model, and three scale-free statistics are computed per tau:
 //   - jumps: the sample kurtosis of e, one-sided, by Anscombe & Glynn's (1983) normal deviate (a
-//     few steps or switches among m increments give heavy tails; the largest jump's time is
-//     reported; Grubbs' maximum normed residual was masked by 3-5 steps);
+//     few steps or switches among m increments give heavy tails, and unlike the largest
+//     normed residual (Grubbs) it is not masked when there are several; the largest jump's time
+//     is reported);
 //   - smoothness: Ljung & Box's (1978) portmanteau m (m + 2) sum_{h=1..H} r_h^2 / (m - h) against
 //     chi-square(H);
-//   - levels or drift: the mean periodogram of e at the lowest J Fourier frequencies over the
-//     variance of e, two-sided against chi-square(2J) / 2J (the periodogram ordinates of white
-//     noise are independent exponentials; Brockwell & Davis 1991, 10.3). A random walk's block
+//   - levels or drift: the mean periodogram of e at the lowest J Fourier frequencies over its
+//     mean over the first M = (m - 1) / 2, two-sided: the ordinates of white noise are
+//     independent exponentials (Brockwell & Davis 1991, 10.3), so the ratio is (M / J) Beta(J,
+//     M - J) (a sum of J of them over a sum of M), exactly. A random walk's block
 //     means wander; levels that the record keeps returning to (a telegraph, a cycle) leave too
 //     little power at the lowest frequencies of the increments, a smooth drift too much. This
 //     is the frequency-domain form of a variance-ratio test (Lo & MacKinlay 1988).
 // All three are self-normalised, so a level the Allan fit got slightly wrong does not trip them;
-// they
-// are judged at alpha' = alpha / (3 x taus tested) (Bonferroni over the family). A flag says the
-// increments at those taus are not those of the fitted noise: the term that dominates there may
+// they are judged at alpha' = alpha / (3 x taus tested) (Bonferroni over the family). A flag says
+// the increments at those taus are not those of the fitted noise: the term that dominates there may
 // be absorbing a slow effect (a step, levels, a thermal dependence), and its value is then an
 // upper bound, not an estimate.
 #pragma once
@@ -54,12 +55,12 @@ struct LongTauCheckOptions {
   /// Run the check. Only the base model's is read (compare.h), so Compare turns it off for its
   /// trial fits.
   bool enabled = true;
-  /// Family-wise level of the flag per record, nominal. The parameters are fitted on the same
-  /// record, which makes the statistics scatter more than their laws say: at 0.05 the measured
-  /// rate on effect-free records was twice that, at 0.02 it is 5 % (docs/compare.md).
+  /// Family-wise level of the flag per record, nominal. Below the usual 0.05 because the noise
+  /// parameters are fitted on the same record, which widens the statistics' scatter beyond their
+  /// laws (docs/compare.md has the measured rates).
   double alpha = 0.02;
   double min_share = 0.5;  ///< a tau is tested where B + K + R carry this share of the model AVAR
-  int min_blocks = 16;     ///< non-overlapping blocks needed at a tested tau
+  int min_blocks = 21;     ///< non-overlapping blocks needed at a tested tau (>= 21)
   /// Taus with more blocks than this are skipped (the smaller taus): the long-tau terms are
   /// judged where they dominate, and the Durbin-Levinson recursion is O(blocks^2).
   int max_blocks = 4096;
@@ -81,10 +82,11 @@ struct LongTauPoint {
   int lags = 0;
   double portmanteau_critical = 0;
   /// The mean periodogram of the whitened increments at the lowest low_bins Fourier frequencies
-  /// over their variance (1 expected) and its two-sided band.
+  /// over its mean at the first (m - 1) / 2 (1 expected) and its two-sided band.
   double low_frequency = 0;
   int low_bins = 0;
   double low_frequency_low = 0, low_frequency_high = 0;
+  double low_frequency_level = 0;  ///< the band's coverage (1 - alpha / (3 x taus tested))
   bool flagged = false;
 };
 
@@ -103,6 +105,21 @@ double AngleGeneralisedCovariance(const StochasticModel& model, double h_s);
 /// `model`, (rad/s)^2.
 std::vector<double> BlockDifferenceAutocovariance(const StochasticModel& model, double tau_s,
                                                   int count);
+
+/// Normal deviate of the sample kurtosis b2 of m normal values (Anscombe & Glynn 1983, the
+/// kurtosis part of D'Agostino's K^2), positive for heavy tails.
+double KurtosisNormalDeviate(double b2, int m);
+
+/// P(Beta(a, b) <= x) and its p-quantile, for integer a, b >= 1 (the binomial sum).
+double BetaCdf(double x, int a, int b);
+double BetaQuantile(double p, int a, int b);
+
+/// The innovations of d (zero-mean, stationary, autocovariances gamma_0 .. gamma_{m-1}) by the
+/// Durbin-Levinson recursion (Brockwell & Davis 1991, 5.2), each divided by its standard
+/// deviation: L^-1 d with L L^T the Toeplitz covariance. False when it is not positive definite
+/// to working precision.
+bool WhitenedInnovations(const std::vector<double>& d, const std::vector<double>& gamma,
+                         std::vector<double>* e);
 
 /// The check on the residual of the deterministic fit and the stochastic model fitted to it.
 LongTauCheck CheckLongTauTerms(const Eigen::VectorXd& residual, double sample_rate_hz,

@@ -141,7 +141,9 @@ double WhittleScoreZ(const std::vector<std::complex<double>>& series_dft,
     score -= rl * lx / ll;
     information -= lx * lx / ll;
   }
-  return information > 0 ? score / std::sqrt(information / 2.0) : 0.0;
+  // A regressor that is (nearly) the nuisance itself, e.g. a channel ramping linearly through
+  // the record, carries no information of its own: z = 0, not rounding noise.
+  return information > 1e-8 * xx ? score / std::sqrt(information / 2.0) : 0.0;
 }
 
 std::vector<std::complex<double>> TrendDft(long n) {

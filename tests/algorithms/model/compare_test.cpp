@@ -171,12 +171,11 @@ ProofScore ScoreProof(sim::Term effect, const testing::HiddenCase& c) {
   return s;
 }
 
-// The proof on CI seeds 101-110, as rates (statistics over seeds, not single cases). On design
-// seeds (hidden_effects.h, docs/compare.md) the weakest criteria pass at about 0.9 (temperature
-// over seeds 1-60: parameters 53 of 60, error falls 3x 57, consistent after 57; the others 19-20
-// of 20 on seeds 1-20) and Gauss-Markov's parameters and consistency after at 0.8 (17 and 16 of
-// 20). At a pass rate of 0.9 at least 7 of 10 CI seeds must pass (P(X <= 6) = 1.3 % for
-// Binomial(10, 0.9)); at 0.8, at least 6 of 10 (P(X <= 5) = 3.3 %).
+// The proof on CI seeds 101-110, as rates (statistics over seeds, not single cases), each
+// criterion bounded from its own design rate (hidden_effects.h, docs/compare.md): most passed on
+// 19-20 of 20 design seeds (0.95: at least 8 of 10, P(X <= 7) = 1.2 % for Binomial(10, 0.95));
+// temperature's parameters on 53 of 60 (0.88: at least 7, P(X <= 6) = 2.4 %); Gauss-Markov's
+// parameters and consistency after on 17 and 16 of 20 (0.8: at least 6, P(X <= 5) = 3.3 %).
 class HiddenEffect : public ::testing::TestWithParam<sim::Term> {};
 
 TEST_P(HiddenEffect, IsFoundNamedEstimatedAndFixedOnMostSeeds) {
@@ -198,12 +197,12 @@ TEST_P(HiddenEffect, IsFoundNamedEstimatedAndFixedOnMostSeeds) {
         s.consistent_after);
   }
   const bool gauss_markov = effect == sim::Term::kGaussMarkov;
-  EXPECT_GE(inconsistent, 7);
-  EXPECT_GE(first, 7);
-  EXPECT_GE(parameters, gauss_markov ? 6 : 7);
-  EXPECT_GE(pointed, 7);
-  EXPECT_GE(falls, 7);
-  EXPECT_GE(consistent, gauss_markov ? 6 : 7);
+  EXPECT_GE(inconsistent, 8);
+  EXPECT_GE(first, 8);
+  EXPECT_GE(parameters, gauss_markov ? 6 : effect == sim::Term::kTemperature ? 7 : 8);
+  EXPECT_GE(pointed, 8);
+  EXPECT_GE(falls, 8);
+  EXPECT_GE(consistent, gauss_markov ? 6 : 8);
 }
 
 std::string Name(const ::testing::TestParamInfo<sim::Term>& info) {
