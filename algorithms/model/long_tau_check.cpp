@@ -30,10 +30,12 @@ double BetaCdf(double x, int a, int b) {
   if (x <= 0) return 0;
   if (x >= 1) return 1;
   const int n = a + b - 1;
+  const double log_n_factorial = std::lgamma(n + 1.0), log_x = std::log(x),
+               log_1mx = std::log1p(-x);
   double sum = 0;
   for (int i = a; i <= n; ++i)
-    sum += std::exp(std::lgamma(n + 1.0) - std::lgamma(i + 1.0) - std::lgamma(n - i + 1.0) +
-                    i * std::log(x) + (n - i) * std::log1p(-x));
+    sum += std::exp(log_n_factorial - std::lgamma(i + 1.0) - std::lgamma(n - i + 1.0) + i * log_x +
+                    (n - i) * log_1mx);
   return std::min(1.0, sum);
 }
 
@@ -87,26 +89,26 @@ Statistics Compute(const std::vector<double>& e, int lags, int low_bins) {
   double mean = 0;
   for (double x : e) mean += x;
   mean /= m;
+  std::vector<double> centred(m);
+  for (int j = 0; j < m; ++j) centred[j] = e[j] - mean;
   double ss = 0;
-  for (double x : e) ss += (x - mean) * (x - mean);
+  for (double x : centred) ss += x * x;
   Statistics s;
   const double sd = std::sqrt(ss / (m - 1));
   for (int j = 0; j < m; ++j) {
-    const double g = std::abs(e[j] - mean) / sd;
+    const double g = std::abs(centred[j]) / sd;
     if (g > s.jump) {
       s.jump = g;
       s.jump_index = j;
     }
   }
   double fourth = 0;
-  for (double x : e) fourth += std::pow(x - mean, 4);
+  for (double x : centred) fourth += std::pow(x, 4);
   s.kurtosis_z = KurtosisNormalDeviate(m * fourth / (ss * ss), m);
   s.portmanteau = ar::LjungBox(Eigen::Map<const Eigen::VectorXd>(e.data(), m), lags, 0).statistic;
   // The share of the periodogram's first M = (m - 1) / 2 ordinates (k = 1 .. M: independent
   // exponentials for white e, the mean and the Nyquist ordinate left out) in the lowest J, over
   // J / M: 1 expected, (M / J) Beta(J, M - J) distributed.
-  std::vector<double> centred(m);
-  for (int j = 0; j < m; ++j) centred[j] = e[j] - mean;
   const std::vector<std::complex<double>> dft = RealDftHalf(centred);
   const int half = (m - 1) / 2;
   double low = 0, all = 0;
@@ -182,11 +184,14 @@ std::vector<double> BlockDifferenceAutocovariance(const StochasticModel& model, 
   std::vector<double> gamma(count, 0.0);
   const double ramp =
       model.Has(Term::kRateRamp) ? model.r_rad_s2 * model.r_rad_s2 * tau * tau : 0.0;
+  // C at the lags 0 .. count + 1 (in units of tau), each evaluated once: gamma_k reads C at
+  // |k + q - p| for p, q in 0..2.
+  std::vector<double> c(count + 2);
+  for (int j = 0; j < count + 2; ++j) c[j] = AngleGeneralisedCovariance(model, j * tau);
   for (int k = 0; k < count; ++k) {
     double sum = 0;
     for (int p = 0; p < 3; ++p)
-      for (int q = 0; q < 3; ++q)
-        sum += a[p] * a[q] * AngleGeneralisedCovariance(model, std::abs(k + q - p) * tau);
+      for (int q = 0; q < 3; ++q) sum += a[p] * a[q] * c[std::abs(k + q - p)];
     gamma[k] = sum / (tau * tau) + ramp;
   }
   return gamma;
