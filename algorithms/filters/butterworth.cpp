@@ -4,6 +4,7 @@
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <stdexcept>
 #include <unsupported/Eigen/FFT>
 
 #include "algorithms/filters/search.h"
@@ -25,22 +26,37 @@ double StartSection(const Biquad& s, double u, double* z1, double* z2) {
   return y;
 }
 
-/// Runs one section over d in place, forward or backward, started in the steady state of its
-/// first input.
+/// The recursion state of one pass of one or two sections: a pass may run over several segments
+/// (RunPassSegment), each continuing where the one before stopped, with the arithmetic of a single
+/// run over their concatenation.
+struct PassState {
+  double az1 = 0, az2 = 0, bz1 = 0, bz2 = 0;
+  bool started = false;
+};
+
+/// Runs one section over the segment d in place, forward or backward; the pass starts in the
+/// steady state of its first input.
 /// (Sections are taken by value: the coefficients then stay in registers, as the stores into d
 /// cannot alias them.)
 template <bool kForward>
-void RunSection(const Biquad s, double* d, Eigen::Index n) {
-  double z1, z2;
-  double& first = d[kForward ? 0 : n - 1];
-  first = StartSection(s, first, &z1, &z2);
-  for (Eigen::Index i = 1; i < n; ++i) {
+void RunSection(const Biquad s, PassState* state, double* d, Eigen::Index n) {
+  double z1 = state->az1, z2 = state->az2;
+  Eigen::Index i = 0;
+  if (!state->started && n > 0) {
+    double& first = d[kForward ? 0 : n - 1];
+    first = StartSection(s, first, &z1, &z2);
+    state->started = true;
+    i = 1;
+  }
+  for (; i < n; ++i) {
     double& x = d[kForward ? i : n - 1 - i];
     const double y = s.b0 * x + z1;
     z1 = s.b1 * x - s.a1 * y + z2;
     z2 = s.b2 * x - s.a2 * y;
     x = y;
   }
+  state->az1 = z1;
+  state->az2 = z2;
 }
 
 /// Two sections in one pass, sample by sample: each does the arithmetic of a pass of its own over
@@ -48,11 +64,16 @@ void RunSection(const Biquad s, double* d, Eigen::Index n) {
 /// first output), but the two recurrences, each bound by the latency of its multiplies and adds,
 /// overlap. Half the time of two passes.
 template <bool kForward>
-void RunSectionPair(const Biquad a, const Biquad b, double* d, Eigen::Index n) {
-  double az1, az2, bz1, bz2;
-  double& first = d[kForward ? 0 : n - 1];
-  first = StartSection(b, StartSection(a, first, &az1, &az2), &bz1, &bz2);
-  for (Eigen::Index i = 1; i < n; ++i) {
+void RunSectionPair(const Biquad a, const Biquad b, PassState* state, double* d, Eigen::Index n) {
+  double az1 = state->az1, az2 = state->az2, bz1 = state->bz1, bz2 = state->bz2;
+  Eigen::Index i = 0;
+  if (!state->started && n > 0) {
+    double& first = d[kForward ? 0 : n - 1];
+    first = StartSection(b, StartSection(a, first, &az1, &az2), &bz1, &bz2);
+    state->started = true;
+    i = 1;
+  }
+  for (; i < n; ++i) {
     double& x = d[kForward ? i : n - 1 - i];
     const double w = x;
     const double ya = a.b0 * w + az1;
@@ -63,15 +84,19 @@ void RunSectionPair(const Biquad a, const Biquad b, double* d, Eigen::Index n) {
     bz2 = b.b2 * ya - b.a2 * yb;
     x = yb;
   }
+  *state = {az1, az2, bz1, bz2, state->started};
 }
 
-/// The sections over d in place, in order, forward or backward (two at a time).
+/// One segment of a pass of at most two sections (the cascades of ButterworthSections, order 2 or
+/// 4), in place: forward, the segments in order; backward, the later segment first.
 template <bool kForward>
-void RunSections(const std::vector<Biquad>& sections, double* d, Eigen::Index n) {
-  std::size_t j = 0;
-  for (; j + 2 <= sections.size(); j += 2)
-    RunSectionPair<kForward>(sections[j], sections[j + 1], d, n);
-  if (j < sections.size()) RunSection<kForward>(sections[j], d, n);
+void RunPassSegment(const std::vector<Biquad>& sections, PassState* state, double* d,
+                    Eigen::Index n) {
+  if (sections.size() == 2) {
+    RunSectionPair<kForward>(sections[0], sections[1], state, d, n);
+  } else if (sections.size() == 1) {
+    RunSection<kForward>(sections[0], state, d, n);
+  }
 }
 
 /// |H|^2 of the zero-phase cascade from u = (tan(pi f / fs) / tan(pi fc / fs))^2.
@@ -120,25 +145,35 @@ Eigen::VectorXd FilterForwardBackward(const std::vector<Biquad>& sections, const
 void FilterForwardBackward(const std::vector<Biquad>& sections, const Eigen::VectorXd& x,
                            Eigen::Index pad_samples, std::vector<double>* work,
                            Eigen::VectorXd* out) {
+  if (sections.size() > 2) throw std::invalid_argument("FilterForwardBackward: at most 2 sections");
   const Eigen::Index n = x.size();
   if (n < 2) {
     *out = x;
     return;
   }
+  // The series filtered is x extended by odd reflection about both end samples, pad samples each
+  // side. It is never built: the forward pass runs over the left extension (generated a block at
+  // a time; its outputs are not needed, as the backward pass ends at x[0]), then over x in *out,
+  // then over the right extension in *work, whose forward outputs the backward pass starts from.
+  // Memory: N + pad doubles instead of 2 (N + pad); the same arithmetic in the same order.
   const Eigen::Index pad = std::clamp<Eigen::Index>(pad_samples, 1, n - 1);
-  // Odd reflection about both end samples.
-  const Eigen::Index length = n + 2 * pad;
-  if (static_cast<Eigen::Index>(work->size()) < length) work->resize(length);
-  double* ext = work->data();
-  for (Eigen::Index i = 0; i < pad; ++i) {
-    ext[i] = 2.0 * x[0] - x[pad - i];
-    ext[n + pad + i] = 2.0 * x[n - 1] - x[n - 2 - i];
+  PassState forward;
+  constexpr Eigen::Index kBlock = 1024;
+  double block[kBlock];
+  for (Eigen::Index i0 = 0; i0 < pad; i0 += kBlock) {
+    const Eigen::Index count = std::min(kBlock, pad - i0);
+    for (Eigen::Index i = 0; i < count; ++i) block[i] = 2.0 * x[0] - x[pad - (i0 + i)];
+    RunPassSegment<true>(sections, &forward, block, count);
   }
-  std::copy(x.data(), x.data() + n, ext + pad);
-  RunSections<true>(sections, ext, length);
-  RunSections<false>(sections, ext, length);
-  out->resize(n);
-  std::copy(ext + pad, ext + pad + n, out->data());
+  *out = x;
+  RunPassSegment<true>(sections, &forward, out->data(), n);
+  if (static_cast<Eigen::Index>(work->size()) < pad) work->resize(pad);
+  double* right = work->data();
+  for (Eigen::Index i = 0; i < pad; ++i) right[i] = 2.0 * x[n - 1] - x[n - 2 - i];
+  RunPassSegment<true>(sections, &forward, right, pad);
+  PassState backward;
+  RunPassSegment<false>(sections, &backward, right, pad);
+  RunPassSegment<false>(sections, &backward, out->data(), n);
 }
 
 bool ButterworthOptions::IsValid(std::string* error) const {

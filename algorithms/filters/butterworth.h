@@ -44,12 +44,13 @@ double ZeroPhaseButterworthResponse(int order, double cutoff_hz, double sample_r
                                     double f_hz);
 
 /// Forward-backward filtering of x with the sections (odd-reflection ends, steady-state starts).
-/// Same length as x; x shorter than 2 samples is returned unchanged.
+/// Same length as x; x shorter than 2 samples is returned unchanged. At most two sections (the
+/// cascades of ButterworthSections); more throw std::invalid_argument.
 Eigen::VectorXd FilterForwardBackward(const std::vector<Biquad>& sections, const Eigen::VectorXd& x,
                                       Eigen::Index pad_samples);
-/// The same into *out, with *work holding the padded series: both are reused across calls and grow
-/// only when they must (fresh pages cost more than the filtering on long records). Equal to the
-/// allocating form to the last bit.
+/// The same into *out, with *work holding the right end's extension (pad samples): both are reused
+/// across calls and grow only when they must (fresh pages cost more than the filtering on long
+/// records). Equal to the allocating form to the last bit. *out must not be x.
 void FilterForwardBackward(const std::vector<Biquad>& sections, const Eigen::VectorXd& x,
                            Eigen::Index pad_samples, std::vector<double>* work,
                            Eigen::VectorXd* out);

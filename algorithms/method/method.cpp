@@ -266,8 +266,11 @@ class ImfStream {
 /// Step 1 and EMD, the IMFs handed to `imfs` as extracted. False (with the failure in the
 /// summary) when no decomposition came out.
 bool DecomposeStreamed(const Eigen::VectorXd& x, double sample_rate_hz,
-                       const MethodOptions& options, ImfStream* imfs, MethodResult* result) {
-  if (!PreprocessStep(x, sample_rate_hz, options, result)) return false;
+                       const MethodOptions& options, const StreamOptions& stream, ImfStream* imfs,
+                       MethodResult* result) {
+  const bool preprocessed = PreprocessStep(x, sample_rate_hz, options, result);
+  if (stream.on_preprocessed) stream.on_preprocessed();  // x is not read after this
+  if (!preprocessed) return false;
   result->decomposition =
       emd::Decompose(result->preprocessed.signal, options.emd,
                      [imfs](int k, const Eigen::VectorXd& imf, const emd::ImfInfo& info) {
@@ -334,7 +337,10 @@ void FilterComponents(double sample_rate_hz, const MethodOptions& options,
       c.kalman.smoothed = Eigen::VectorXd();
     }
   }
-  if (store) d.residue = Eigen::VectorXd();
+  if (store) {
+    d.residue = Eigen::VectorXd();
+    for (Eigen::VectorXd& buffer : imfs->buffers_) buffer = Eigen::VectorXd();
+  }
   // Then method 2 beside the reference filters: after the components rather than beside them,
   // so that the peak memory is the larger of the two phases, not their sum.
   if (failure.empty()) {
@@ -365,7 +371,7 @@ void DecomposeAndModel(const Eigen::VectorXd& x, double sample_rate_hz,
   if (!options.IsValid(&error)) return Fail(result, Termination::kInvalidOptions, error);
   if (!stream.IsValid(&error)) return Fail(result, Termination::kInvalidOptions, error);
   ImfStream imfs(options, stream);
-  const bool decomposed = DecomposeStreamed(x, sample_rate_hz, options, &imfs, result);
+  const bool decomposed = DecomposeStreamed(x, sample_rate_hz, options, stream, &imfs, result);
   if (stream.on_decomposed) stream.on_decomposed();
   if (decomposed) FilterComponents(sample_rate_hz, options, stream, &imfs, result);
 }

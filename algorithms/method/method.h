@@ -111,6 +111,9 @@ struct StreamOptions {
   TaskGroupFactory tasks;
   /// The filters of one batch of components; empty: in order.
   ForEach for_each;
+  /// Called once the input x has been preprocessed and is no longer read: a caller that owns x
+  /// may release it there (one signal's worth of memory less during the EMD).
+  std::function<void()> on_preprocessed;
   /// Called once the decomposition is done (the pipeline times its stages with it).
   std::function<void()> on_decomposed;
 

@@ -582,10 +582,11 @@ void AnalyseAxis(AxisWork* w, const CampaignOptions& options,
       stream.tasks = MakeTbbTaskGroup;
       stream.for_each = TbbForEach;
       const auto start = Clock::now();
+      // The preprocessed copy is what is kept.
+      stream.on_preprocessed = [&] { w->rate_rad_s = Eigen::VectorXd(); };
       stream.on_decomposed = [&] {
         w->stage_seconds[kDecompose] += Seconds(start);
         w->stage_seconds[kModels] -= Seconds(start);
-        w->rate_rad_s = Eigen::VectorXd();  // the preprocessed copy is what is kept
       };
       method::DecomposeAndModel(w->rate_rad_s, w->job->info.sample_rate_hz, method_options, stream,
                                 &w->result);
