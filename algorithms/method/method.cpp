@@ -103,10 +103,11 @@ class ImfStream {
       : options_(options),
         stream_(stream),
         limiter_(options.band_limit),
-        limit_group_(MakeTaskGroup(stream.tasks)),
         buffers_(stream.store ? stream.components_in_flight : 0) {
-    for (int slot = 0; slot < stream.components_in_flight; ++slot)
+    for (int slot = 0; slot < stream.components_in_flight; ++slot) {
+      limit_groups_.push_back(MakeTaskGroup(stream.tasks));
       fit_groups_.push_back(MakeTaskGroup(stream.tasks));
+    }
   }
   ~ImfStream() {
     try {
@@ -118,7 +119,7 @@ class ImfStream {
   /// On the EMD's thread: copies IMF k and queues its band limit; the sifting of the next IMF
   /// goes on meanwhile.
   void Take(int k, const Eigen::VectorXd& imf, const emd::ImfInfo& info) {
-    if (Failed()) limit_group_->Wait();  // rethrows the failure: the EMD stops here
+    if (Failed()) WaitAll();  // rethrows the failure: the EMD stops here
     Eigen::VectorXd* c = nullptr;
     const int slot = k % stream_.components_in_flight;
     if (stream_.store == nullptr) {
@@ -126,10 +127,10 @@ class ImfStream {
       c = &kept_.back();
     } else {
       // The slot's buffer is reused once its component (k - components_in_flight) is band limited,
-      // stored and fitted; the later components already taken go on meanwhile. The band limits
-      // are waited for first: the one of that component is the task that starts its fit.
+      // stored and fitted; the later components already taken go on meanwhile. Its band limit is
+      // waited for first: that is the task that starts its fit.
       if (k >= stream_.components_in_flight) {
-        limit_group_->Wait();
+        WaitLimited(k - stream_.components_in_flight);
         fit_groups_[slot]->Wait();
       }
       buffers_[slot] = imf;
@@ -166,23 +167,51 @@ class ImfStream {
   };
 
   /// The band limit is a chain (IMF k receives the leakage of IMF k - 1), so the pending IMFs are
-  /// limited in order by one task at a time, while the EMD's thread sifts the next IMF; each
-  /// limited component's AR fit is then a task of its own. The order of the arithmetic is that
-  /// of a serial run, so the results do not depend on the schedule.
+  /// limited in order, one task each, each task starting the next (in the group of the next
+  /// one's slot, so that a wait for one component's band limit is a wait on its slot's group),
+  /// while the EMD's thread sifts the next IMF; each limited component's AR fit is then a task of
+  /// its own. The order of the arithmetic is that of a serial run, so the results do not depend
+  /// on the schedule.
   void Queue(const Pending& pending) {
     {
       std::lock_guard<std::mutex> lock(queue_mutex_);
       if (failed_) return;
       queue_.push_back(pending);
-      if (limiting_) return;  // the running task takes it
+      if (limiting_) return;  // the running chain takes it
       limiting_ = true;
+      chain_slot_ = pending.slot;
     }
-    limit_group_->Run([this] { LimitQueued(); });
+    limit_groups_[pending.slot]->Run([this] { LimitNext(); });
   }
 
-  /// The band limits first: they start the fits.
+  /// Returns once component k is band limited (and its fit started), or the chain failed. Waits
+  /// on the group of the component the chain is at, as often as the chain moves on: a wait on a
+  /// task group runs other tasks meanwhile, where a blocking wait could hold the last free thread.
+  void WaitLimited(int k) {
+    for (;;) {
+      int slot = 0;
+      {
+        std::lock_guard<std::mutex> lock(queue_mutex_);
+        if (failed_ || limited_ > k || !limiting_) return;
+        slot = chain_slot_;
+      }
+      limit_groups_[slot]->Wait();
+    }
+  }
+
+  /// The band limit chain to its end first: it starts the fits. Then every group, which rethrows
+  /// a failure.
   void WaitAll() {
-    limit_group_->Wait();
+    for (;;) {
+      int slot = 0;
+      {
+        std::lock_guard<std::mutex> lock(queue_mutex_);
+        if (!limiting_) break;
+        slot = chain_slot_;
+      }
+      limit_groups_[slot]->Wait();
+    }
+    for (std::unique_ptr<TaskGroup>& group : limit_groups_) group->Wait();
     for (std::unique_ptr<TaskGroup>& group : fit_groups_) group->Wait();
   }
 
@@ -191,39 +220,45 @@ class ImfStream {
     return failed_;
   }
 
-  void LimitQueued() {
-    for (;;) {
-      Pending p;
-      {
-        std::lock_guard<std::mutex> lock(queue_mutex_);
-        if (queue_.empty()) {
-          limiting_ = false;
-          return;
-        }
-        p = queue_.front();
-        queue_.pop_front();
-      }
-      try {
-        limiter_.Next(p.component, p.info);
-        *p.variance = ComponentVariance(*p.component);
-        if (stream_.store) stream_.store->Put(ComponentStore::Kind::kComponent, p.k, *p.component);
-      } catch (...) {
-        // A failed component fails the decomposition (the task group rethrows at the next Wait):
-        // nothing more is queued or limited, and the EMD stops at its next IMF (Take).
-        std::lock_guard<std::mutex> lock(queue_mutex_);
-        failed_ = true;
-        limiting_ = false;
-        queue_.clear();
-        throw;
-      }
-      fit_groups_[p.slot]->Run([this, c = p.component, fit = p.fit] {
-        if (IsConstantComponent(*c)) return;  // ModelComponent passes it through unfitted
-        std::unique_ptr<ar::ArWork> work = TakeWork();
-        fit->fit = ar::FitAr(*c, options_.component.ar, work.get());
-        fit->done = true;
-        ReturnWork(std::move(work));
-      });
+  /// The chain's task for the component at the front of the queue.
+  void LimitNext() {
+    Pending p;
+    {
+      std::lock_guard<std::mutex> lock(queue_mutex_);
+      p = queue_.front();
+      queue_.pop_front();
     }
+    try {
+      limiter_.Next(p.component, p.info);
+      *p.variance = ComponentVariance(*p.component);
+      if (stream_.store) stream_.store->Put(ComponentStore::Kind::kComponent, p.k, *p.component);
+    } catch (...) {
+      // A failed component fails the decomposition (its task group rethrows at the next Wait):
+      // nothing more is queued or limited, and the EMD stops at its next IMF (Take).
+      std::lock_guard<std::mutex> lock(queue_mutex_);
+      failed_ = true;
+      limiting_ = false;
+      queue_.clear();
+      throw;
+    }
+    fit_groups_[p.slot]->Run([this, c = p.component, fit = p.fit] {
+      if (IsConstantComponent(*c)) return;  // ModelComponent passes it through unfitted
+      std::unique_ptr<ar::ArWork> work = TakeWork();
+      fit->fit = ar::FitAr(*c, options_.component.ar, work.get());
+      fit->done = true;
+      ReturnWork(std::move(work));
+    });
+    int next_slot = -1;
+    {
+      std::lock_guard<std::mutex> lock(queue_mutex_);
+      ++limited_;
+      if (queue_.empty()) {
+        limiting_ = false;
+      } else {
+        next_slot = chain_slot_ = queue_.front().slot;
+      }
+    }
+    if (next_slot >= 0) limit_groups_[next_slot]->Run([this] { LimitNext(); });
   }
 
   /// The work arrays of a fit: a set kept from an earlier fit when one is free. Every component
@@ -247,9 +282,9 @@ class ImfStream {
   const MethodOptions& options_;
   const StreamOptions& stream_;
   BandLimiter limiter_;
-  std::unique_ptr<TaskGroup> limit_group_;              // the band limit chain (LimitQueued)
-  std::vector<std::unique_ptr<TaskGroup>> fit_groups_;  // the AR fits, one group per slot
-  std::vector<Eigen::VectorXd> buffers_;                // with a store: one per component in flight
+  std::vector<std::unique_ptr<TaskGroup>> limit_groups_;  // the band limit chain, per slot
+  std::vector<std::unique_ptr<TaskGroup>> fit_groups_;    // the AR fits, one group per slot
+  std::vector<Eigen::VectorXd> buffers_;  // with a store: one per component in flight
   // Deques: the running fits hold pointers into them while more are appended.
   std::deque<Eigen::VectorXd> kept_;  // without a store: every IMF
   std::deque<Prefit> fits_;
@@ -257,7 +292,9 @@ class ImfStream {
   std::deque<double> variances_;    // the components' (ComponentVariance)
   std::mutex queue_mutex_;
   std::deque<Pending> queue_;  // IMFs taken, not yet band limited
-  bool limiting_ = false;      // a task is limiting the queue
+  bool limiting_ = false;      // the chain is running (its task is in limit_groups_[chain_slot_])
+  int chain_slot_ = 0;         // the slot of the component the chain is at
+  int limited_ = 0;            // components band limited (in order), their fits started
   bool failed_ = false;        // a component's band limit or store failed
   std::mutex work_mutex_;
   std::vector<std::unique_ptr<ar::ArWork>> idle_work_;  // of the fits, between fits

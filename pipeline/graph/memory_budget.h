@@ -25,14 +25,15 @@ std::uint64_t AutoMemoryBudgetBytes();
 /// The method streams the components (method.h DecomposeAndModel with a scratch-file store,
 /// io/spill_store.h), so the need no longer grows with the number of IMFs; what is held at once
 /// is, by phase: during the EMD the signal, the running remainder, the IMF being sifted, the
-/// running sum of the IMFs, the envelope knots, the band limit's low-pass work and leakage, and
-/// two IMFs with their AR fits (about 15 N doubles); during the filters the signal, the residue,
-/// method 1 and two components with their filters; then method 2 beside the reference filters
-/// (the Butterworth's GCV spectrum is the largest part); then the Allan tables of the seven
-/// outputs. Measured peak RSS minus FixedBytes(2), `run` with 2 threads and default options:
-/// 17.1 doubles per sample at 3.6e5 samples (1 h at 100 Hz) and 17.8 at 8.64e6 (24 h at 100 Hz);
-/// 20 leaves a margin for other signals' extrema counts. Saturates at UINT64_MAX instead of
-/// overflowing; never 0.
+/// running sum of the IMFs, the envelope knots, the band limit's low-pass output and its right end
+/// extension, and two IMFs with their AR fits (about 13 N doubles; the axis as read is released
+/// once preprocessed); during the filters the signal, the residue, method 1 and two components
+/// with their filters; then method 2 beside the reference filters (the Butterworth's GCV spectrum
+/// is the largest part); then the Allan tables of the seven outputs. Measured peak RSS minus
+/// FixedBytes(2), `run` with 2 threads and default options: 14.9 doubles per sample at 8.64e6
+/// samples (24 h at 100 Hz; docs/performance.md); 20 leaves a margin for other signals' extrema
+/// counts and for options that keep more (smoothing, stored filtered components). Saturates at
+/// UINT64_MAX instead of overflowing; never 0.
 constexpr std::uint64_t kDoublesPerSample = 20;
 std::uint64_t BytesPerAxis(std::uint64_t num_samples);
 
