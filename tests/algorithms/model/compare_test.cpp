@@ -2,9 +2,10 @@
 // 10 Hz, aux temperature cycling 6-12 degC with a 1-2 h period in every file). Effect sizes:
 // hidden_effects.h. Seeds: 101-110 for each effect (101-103 for its size), 201-220 for the control,
 // 301-302 for two effects, 401-418 for thermal innocence, 711-714 and 721-723 for the aux terms,
-// 801-830 for the aux controls. The development runs that chose the design used seeds 1-20 (each
-// effect, each aux effect), 500-539 (effect-free: 2 of 40 inconsistent, none with a suggestion) and
-// 850-889 (aux controls). The truth is read only to score.
+// 801-830 for the aux controls, 101-110 for the thermal hysteresis (4x and 8x) and its K-30x
+// control. The development runs that chose the design used seeds 1-20 (each effect, each aux
+// effect, the hysteresis), 500-539 (effect-free: 2 of 40 inconsistent, none with a suggestion),
+// 850-889 (aux controls) and 1-40 (K-30x control). The truth is read only to score.
 #include "algorithms/model/compare.h"
 
 #include <gtest/gtest.h>
