@@ -7,6 +7,7 @@ namespace {
 
 constexpr std::string_view kAuxPrefix = "aux:";
 constexpr std::string_view kAuxRatePrefix = "aux_rate:";
+constexpr std::string_view kAuxHysteresisPrefix = "aux_hysteresis:";
 
 // A channel name as input contract v1 allows it under /aux: non-empty, no '/' and no ','
 // (the term list separator).
@@ -34,6 +35,8 @@ std::string ToString(const ModelTerm& term) {
       return std::string(kAuxPrefix) + term.channel;
     case AuxForm::kRate:
       return std::string(kAuxRatePrefix) + term.channel;
+    case AuxForm::kHysteresis:
+      return std::string(kAuxHysteresisPrefix) + term.channel;
     case AuxForm::kNone:
       break;
   }
@@ -41,8 +44,9 @@ std::string ToString(const ModelTerm& term) {
 }
 
 std::optional<ModelTerm> ParseModelTerm(std::string_view name) {
-  for (auto [prefix, form] : {std::make_pair(kAuxPrefix, AuxForm::kValue),
-                              std::make_pair(kAuxRatePrefix, AuxForm::kRate)}) {
+  for (auto [prefix, form] :
+       {std::make_pair(kAuxPrefix, AuxForm::kValue), std::make_pair(kAuxRatePrefix, AuxForm::kRate),
+        std::make_pair(kAuxHysteresisPrefix, AuxForm::kHysteresis)}) {
     if (name.substr(0, prefix.size()) != prefix) continue;
     const std::string_view channel = name.substr(prefix.size());
     if (!ValidChannel(channel)) return std::nullopt;
@@ -66,7 +70,8 @@ std::string AuxChannelOf(const ModelTerm& term) {
 }
 
 bool UsesDerivative(const ModelTerm& term) {
-  return term.IsAux() ? term.aux == AuxForm::kRate : term.term == Term::kTemperatureRate;
+  return term.IsAux() ? term.aux == AuxForm::kRate || term.aux == AuxForm::kHysteresis
+                      : term.term == Term::kTemperatureRate;
 }
 
 std::vector<ModelTerm> DefaultTerms() {
@@ -83,7 +88,7 @@ bool ParseTermList(const std::string& text, std::vector<ModelTerm>* terms, std::
     if (!term) {
       if (error) {
         *error = "unknown term '" + item + "'";
-        if (item == "aux" || item == "aux_rate")
+        if (item == "aux" || item == "aux_rate" || item == "aux_hysteresis")
           *error += " (aux terms name their channel: " + item + ":<channel>)";
       }
       return false;
@@ -94,7 +99,8 @@ bool ParseTermList(const std::string& text, std::vector<ModelTerm>* terms, std::
 }
 
 std::optional<Term> ThermalTermWithin(const ModelTerm& term) {
-  if (!term.IsAux() || term.channel != "temperature") return std::nullopt;
+  if (!term.IsAux() || term.channel != "temperature" || term.aux == AuxForm::kHysteresis)
+    return std::nullopt;
   return term.aux == AuxForm::kRate ? Term::kTemperatureRate : Term::kTemperature;
 }
 

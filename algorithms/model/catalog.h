@@ -14,12 +14,18 @@
 // v1), named after the channel:
 //   aux:<name>       bias polynomial in the channel's value, sum_k c_k (x - x_ref)^k, x_ref the
 //                    record's mean, order k = 1..3 chosen by BIC (deterministic_fit.h);
-//   aux_rate:<name>  bias proportional to the smoothed derivative dx/dt.
+//   aux_rate:<name>  bias proportional to the smoothed derivative dx/dt;
+//   aux_hysteresis:<name>  bias c h(t), h = +1 while the channel rises and -1 while it falls
+//                    (thermal hysteresis for the temperature: heating against cooling), decided
+//                    from the smoothed derivative with a dead band (deterministic_fit.h).
 // They are not in the shared catalog because their names depend on the recording, and the
 // simulator has no aux channel but the temperature. `temperature` and `temperature_rate` keep their
 // names, parameters and numbers (model files written before aux terms read the same): for the
 // channel "temperature" they are the linear and rate terms, aux:temperature adds orders 2-3 to
 // them as one polynomial, and aux_rate:temperature is temperature_rate under another name.
+// aux_hysteresis:temperature has no catalog alias (no temperature_hysteresis): the catalog names
+// exist for the simulator and for model files older than aux terms, and a hysteresis term has
+// neither, so it keeps the one name.
 #pragma once
 
 #include <optional>
@@ -37,7 +43,7 @@ using catalog::Term;
 using catalog::ToString;
 
 /// What an aux term is a function of (kNone: a fixed catalog term).
-enum class AuxForm { kNone, kValue, kRate };
+enum class AuxForm { kNone, kValue, kRate, kHysteresis };
 
 /// One term of a model: a fixed catalog term, or an aux term on a named channel.
 struct ModelTerm {
@@ -52,9 +58,10 @@ struct ModelTerm {
 bool operator==(const ModelTerm& lhs, const ModelTerm& rhs);
 inline bool operator!=(const ModelTerm& lhs, const ModelTerm& rhs) { return !(lhs == rhs); }
 
-/// "white", ..., "aux:supply_voltage", "aux_rate:supply_voltage".
+/// "white", ..., "aux:supply_voltage", "aux_rate:supply_voltage", "aux_hysteresis:temperature".
 std::string ToString(const ModelTerm& term);
-/// Parses a catalog name or "aux:<channel>" / "aux_rate:<channel>"; nullopt for anything else.
+/// Parses a catalog name or "aux:<channel>" / "aux_rate:<channel>" / "aux_hysteresis:<channel>";
+/// nullopt for anything else.
 std::optional<ModelTerm> ParseModelTerm(std::string_view name);
 
 /// Every term of the fixed catalog, in catalog order.
@@ -64,7 +71,8 @@ inline const std::vector<Term>& CatalogTerms() { return catalog::AllTerms(); }
 bool IsFittedOnRate(const ModelTerm& term);
 /// The aux channel a term reads ("temperature" for the thermal terms), "" for none.
 std::string AuxChannelOf(const ModelTerm& term);
-/// True when the term reads the channel's smoothed derivative (temperature_rate, aux_rate).
+/// True when the term reads the channel's smoothed derivative (temperature_rate, aux_rate,
+/// aux_hysteresis: the sign of it).
 bool UsesDerivative(const ModelTerm& term);
 /// The fixed-catalog term that an aux term of the temperature channel holds: aux:temperature
 /// contains temperature (its linear coefficient), aux_rate:temperature is temperature_rate (the

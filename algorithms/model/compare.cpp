@@ -48,12 +48,18 @@ const DeterministicComponent* LastComponent(const Evaluation& evaluation, const 
 std::string PerAuxUnit(const std::string& units, int power, bool rate) {
   const std::string unit = units.empty() ? "1" : units;
   if (rate) return "deg/h/(" + unit + "/s)";
+  if (power == 0) return "deg/h";
   const bool compound = unit.find_first_of("/^* ") != std::string::npos;
   const std::string base = compound ? "(" + unit + ")" : unit;
   return "deg/h/" + base + (power > 1 ? "^" + std::to_string(power) : "");
 }
 
 std::vector<Parameter> AuxParameters(const DeterministicComponent& component) {
+  if (component.term.aux == AuxForm::kHysteresis)
+    return {{"coefficient", DegH(component.coefficients[0]), DegH(component.coefficients_se[0]),
+             PerAuxUnit(component.units, 0, false)},
+            {"dead_band", component.reference, 0.0,
+             (component.units.empty() ? "1" : component.units) + "/s"}};
   if (component.term.aux == AuxForm::kRate)
     return {{"coefficient", DegH(component.coefficients[0]), DegH(component.coefficients_se[0]),
              PerAuxUnit(component.units, 1, true)}};
@@ -189,6 +195,11 @@ std::string AuxEvidence(const Evaluation& base, const Evaluation& trial, const M
   for (const auto& parameter : parameters)
     if (parameter.name == "coefficient") coefficient = &parameter;
   const double error_before = base.views.error, error_after = trial.views.error;
+  if (term.aux == AuxForm::kHysteresis)
+    return "the bias differs between rising and falling " + term.channel +
+           Format(" (r = %.2f with its derivative): +-%.3g deg/h, a hysteresis",
+                  channel ? channel->r_derivative : 0.0, coefficient ? coefficient->value : 0.0) +
+           Format(" (error %.3g -> %.3g)", error_before, error_after);
   if (term.aux == AuxForm::kRate)
     return "the residual follows d(" + term.channel + ")/dt" +
            Format(", r = %.2f: ", channel ? channel->r_derivative : 0.0) +
@@ -467,6 +478,30 @@ std::vector<ModelTerm> TrialTerms(const CompareInput& input, const std::vector<M
   return trial_terms;
 }
 
+namespace {
+
+// Terms that could explain a slow effect (SlowEffectTrialTerms).
+bool ExplainsSlowEffect(const ModelTerm& term) {
+  return term.IsAux() || term == Term::kBiasStep || term == Term::kWarmup ||
+         term == Term::kTemperature || term == Term::kTemperatureRate;
+}
+
+}  // namespace
+
+std::vector<ModelTerm> SlowEffectTrialTerms(const CompareInput& input,
+                                            const std::vector<ModelTerm>& terms) {
+  std::vector<ModelTerm> trial_terms;
+  for (const ModelTerm& term : TrialTerms(input, terms))
+    if (ExplainsSlowEffect(term)) trial_terms.push_back(term);
+  for (const AuxChannel& channel : input.aux) {
+    if (FindAux(input, channel.name) != &channel) continue;  // other length, or a repeated name
+    const ModelTerm hysteresis = ModelTerm::Aux(AuxForm::kHysteresis, channel.name);
+    if (std::find(terms.begin(), terms.end(), hysteresis) == terms.end())
+      trial_terms.push_back(hysteresis);
+  }
+  return trial_terms;
+}
+
 bool AuxViewSupports(const Evaluation& evaluation, const ModelTerm& term) {
   const std::string channel = AuxChannelOf(term);
   if (channel.empty()) return true;
@@ -481,7 +516,8 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
                                         const std::vector<Evaluation>& trials,
                                         const CompareOptions& options) {
   std::vector<Suggestion> suggestions;
-  if (!HasResult(base.termination) || base.views.consistent) return suggestions;
+  const bool flagged = base.long_tau.flagged;
+  if (!HasResult(base.termination) || (base.views.consistent && !flagged)) return suggestions;
   const double base_error = base.views.error;
   // temperature and aux:temperature are one nested family (catalog.h): the polynomial fit's BIC
   // (deterministic_fit.h) chooses between them, with the long-run variance of the residual once
@@ -510,8 +546,13 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
     std::vector<ViewDomain> fixes;
     for (ViewDomain domain : failing)
       if (ViewErrorOf(trial.views, domain) <= 1.0) fixes.push_back(domain);
-    if (!(trial.views.error <= options.min_improvement * base_error) && fixes.empty()) continue;
-    if (!AuxViewSupports(base, term)) continue;
+    const bool improves =
+        !base.views.consistent &&
+        (trial.views.error <= options.min_improvement * base_error || !fixes.empty());
+    // Clears the flag, BIC permitting (checked below).
+    const bool unflags = flagged && trial.long_tau.run && !trial.long_tau.flagged;
+    if (!improves && !unflags) continue;
+    if (!unflags && !AuxViewSupports(base, term)) continue;
     if (term == thermal_polynomial && temperature_trialled && polynomial_order <= 1) continue;
     if (term == Term::kTemperature && polynomial_order >= 2) continue;
     Suggestion suggestion;
@@ -548,11 +589,18 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
     suggestion.view_errors_after = trial.views.view_errors;
     suggestion.fixes = fixes;
     suggestion.bic_rejects = suggestion.delta_bic > 0;
+    suggestion.clears_long_tau = unflags && suggestion.delta_bic < 0;
+    // A term that only clears the flag is offered when BIC accepts it; one the aux view does not
+    // support, only then.
+    if (!suggestion.clears_long_tau && (!improves || !AuxViewSupports(base, term))) continue;
     suggestions.push_back(suggestion);
   }
-  // Groups (compare.h): fixes a failing view, only lowers the error, rejected by BIC.
+  // Groups (compare.h): fixes a failing view, clears the long-tau flag without fixing one, only
+  // lowers the error, rejected by BIC.
   const auto group = [](const Suggestion& suggestion) {
-    return suggestion.bic_rejects ? 2 : suggestion.fixes.empty() ? 1 : 0;
+    if (suggestion.bic_rejects) return 3;
+    if (!suggestion.fixes.empty()) return 0;
+    return suggestion.clears_long_tau ? 1 : 2;
   };
   std::sort(suggestions.begin(), suggestions.end(),
             [&](const Suggestion& lhs, const Suggestion& rhs) {
@@ -567,6 +615,7 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
     const auto lead_end = std::find_if(
         first, last, [&](const Suggestion& suggestion) { return suggestion.error_after > limit; });
     std::stable_sort(first, lead_end, [](const Suggestion& lhs, const Suggestion& rhs) {
+      if (lhs.clears_long_tau != rhs.clears_long_tau) return lhs.clears_long_tau;
       return lhs.delta_bic < rhs.delta_bic;
     });
     first = last;
@@ -586,6 +635,7 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
         std::remove_if(suggestions.begin() + 1, suggestions.end(),
                        [&](const Suggestion& suggestion) {
                          const std::string channel = AuxChannelOf(suggestion.term);
+                         if (suggestion.clears_long_tau) return false;  // its own evidence
                          if (channel.empty() || channel == leader_channel || leader == nullptr)
                            return false;
                          return !AuxViewSupports(*leader, suggestion.term);
@@ -693,6 +743,32 @@ Verdict MakeVerdict(const Evaluation& base, const std::vector<ModelTerm>& trial_
   return verdict;
 }
 
+namespace {
+
+// The terms Compare trials: those of TrialTerms when the base model is not consistent (aux terms
+// where the aux view supports them), and when its long-tau check flags, the SlowEffectTrialTerms
+// too (also in *slow_terms: their trials run the check).
+std::vector<ModelTerm> TrialsToRun(const CompareInput& input, const std::vector<ModelTerm>& terms,
+                                   const Evaluation& base, std::vector<ModelTerm>* slow_terms) {
+  std::vector<ModelTerm> trial_terms;
+  if (!base.views.consistent) {
+    for (const ModelTerm& term : TrialTerms(input, terms))
+      if (!term.IsAux() || AuxViewSupports(base, term)) trial_terms.push_back(term);
+  }
+  if (base.long_tau.flagged) *slow_terms = SlowEffectTrialTerms(input, terms);
+  for (const ModelTerm& term : *slow_terms)
+    if (std::find(trial_terms.begin(), trial_terms.end(), term) == trial_terms.end())
+      trial_terms.push_back(term);
+  // A narrow band is fitted at a failing frequency band (FitBands): without one its trial would
+  // be the base model again.
+  if (ViewErrorOf(base.views, ViewDomain::kFrequency) <= 1.0)
+    trial_terms.erase(std::remove(trial_terms.begin(), trial_terms.end(), Term::kNarrowBand),
+                      trial_terms.end());
+  return trial_terms;
+}
+
+}  // namespace
+
 CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& terms,
                       const CompareOptions& options, const ForEach& for_each) {
   CompareResult result;
@@ -708,18 +784,11 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
   result.summary.message = result.base.message;
   if (!HasResult(result.base.termination)) return result;
   // Tasks: the trials, those with a nonlinear search (the longest) first so that a parallel
-  // ForEach finishes together, then the base model's IMF view (one EMD per compare). Trials are
-  // needed only when the base model is not consistent. Each task writes only its own slot.
-  std::vector<ModelTerm> trial_terms;
-  if (!result.base.views.consistent) {
-    for (const ModelTerm& term : TrialTerms(input, terms))
-      if (!term.IsAux() || AuxViewSupports(result.base, term)) trial_terms.push_back(term);
-  }
-  // A narrow band is fitted at a failing frequency band (FitBands): without one its trial would
-  // be the base model again.
-  if (ViewErrorOf(result.base.views, ViewDomain::kFrequency) <= 1.0)
-    trial_terms.erase(std::remove(trial_terms.begin(), trial_terms.end(), Term::kNarrowBand),
-                      trial_terms.end());
+  // ForEach finishes together, then the base model's IMF view (one EMD per compare). Each task
+  // writes only its own slot.
+  const bool flagged = result.base.long_tau.flagged;
+  std::vector<ModelTerm> slow_terms;
+  const std::vector<ModelTerm> trial_terms = TrialsToRun(input, terms, result.base, &slow_terms);
   result.trials.resize(trial_terms.size());
   std::vector<int> order(trial_terms.size());
   std::iota(order.begin(), order.end(), 0);
@@ -727,12 +796,15 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
     return HasNonlinearParameter(trial_terms[i]) || trial_terms[i] == Term::kNarrowBand;
   });
   const int count = 1 + static_cast<int>(trial_terms.size());
-  // The trials' own step and warm-up scans and long-tau checks would never be read
-  // (RankSuggestions and the verdict use the base model's), so they are skipped: a
-  // FitDeterministic scan and a noise refit each, and a pass per tested tau, per trial.
+  // The trials' own step and warm-up scans would never be read (RankSuggestions and the verdict
+  // use the base model's), so they are skipped: a FitDeterministic scan and a noise refit each per
+  // trial. So is their long-tau check (a pass per tested tau), but on the slow-effect trials of a
+  // flagged base model, where it is what RankSuggestions reads.
   CompareOptions trial_options = options;
   trial_options.views.targeted_scans = false;
   trial_options.long_tau.enabled = false;
+  CompareOptions slow_trial_options = trial_options;
+  slow_trial_options.long_tau.enabled = options.long_tau.enabled;
   const auto task = [&](int task_index) {
     if (task_index == count - 1) {
       result.base.imf = ComputeImfView(result.base.deterministic.residual, input.sample_rate_hz,
@@ -742,22 +814,29 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
     const int i = order[task_index];
     std::vector<ModelTerm> with_term = terms;
     with_term.push_back(trial_terms[i]);
-    result.trials[i] = EvaluateModel(input, with_term, trial_options, &prepared);
+    const bool slow =
+        std::find(slow_terms.begin(), slow_terms.end(), trial_terms[i]) != slow_terms.end();
+    result.trials[i] =
+        EvaluateModel(input, with_term, slow ? slow_trial_options : trial_options, &prepared);
   };
   if (for_each) {
     for_each(count, task);
   } else {
     for (int task_index = 0; task_index < count; ++task_index) task(task_index);
   }
-  if (!result.base.views.consistent) {
+  if (!result.base.views.consistent || flagged) {
     result.summary.num_trials = static_cast<int>(trial_terms.size());
     result.suggestions = RankSuggestions(result.base, trial_terms, result.trials, options);
     result.verdict = MakeVerdict(result.base, trial_terms, result.trials, result.suggestions);
   }
   // Whatever the views say: a consistent model whose K absorbs a step is the case this warns of.
-  if (result.base.long_tau.flagged) {
+  if (flagged) {
     result.verdict.absorbing_slow_effect = true;
     result.verdict.text += "; warning: " + result.base.long_tau.message;
+    const auto clears = std::find_if(result.suggestions.begin(), result.suggestions.end(),
+                                     [](const Suggestion& s) { return s.clears_long_tau; });
+    if (clears != result.suggestions.end())
+      result.verdict.text += "; adding " + ToString(clears->term) + " clears it";
   }
   return result;
 }

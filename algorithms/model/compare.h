@@ -13,6 +13,16 @@
 // thermal terms (below): aux:<x> needs the residual to follow x, aux_rate:<x> its derivative. The
 // polynomial's order is part of its fit (deterministic_fit.h), so its trial costs one evaluation.
 //
+// Slow effects. When the base model's long-tau check flags (B, K or R absorbing a slow effect,
+// long_tau_check.h), the views may all pass: a thermal hysteresis, a square wave at the thermal
+// period, is absorbed by the fitted B and K. Compare then also trials every term that could
+// explain a slow effect (SlowEffectTrialTerms: bias_step, warmup, the thermal terms and, per aux
+// channel, aux, aux_rate and aux_hysteresis, whatever the aux view says) and runs the long-tau
+// check on those trials only (it costs a pass per tested tau). A trial `clears_long_tau` when its
+// check runs and does not flag and BIC accepts its term (delta_bic < 0, below); such a term is a
+// candidate even when the views pass or the aux view does not support it. Without a flag nothing
+// of this runs: the trials, their order and the ranking are those described below.
+//
 // Ranking. A trial is a candidate when the model is not consistent and the trial lowers the error
 // by at least 10 % (`min_improvement`) or makes a failing view pass (`fixes`: a view with error
 // above 1 in the base model and at most 1 in the trial; Views::view_errors). The error is the
@@ -25,12 +35,14 @@
 // trial's aux view): a large step or warm-up otherwise leaks into the aux score. temperature and
 // aux:temperature are nested (catalog.h): only the one whose order the polynomial fit's BIC
 // chooses is listed (temperature for order 1).
-// Candidates are ranked in three groups: those that make a failing view pass, then those that
-// only lower the error, then those whose delta_bic is positive (`bic_rejects`: BIC prefers the
-// model without the term, so it is never ranked first, whatever it does to the error). Within a
-// group they are sorted by error_after; those within 15 % (+0.05) of the group's best error_after
-// are statistically indistinguishable on the error, and are ordered among themselves by delta_bic
-// (the simpler explanation first, Schwarz 1978). The first suggestion is the one to add.
+// Candidates are ranked in groups: those that make a failing view pass, then those that clear the
+// long-tau flag without (the views pass, or the trial fixes none), then those that only lower the
+// error, then those whose delta_bic is positive (`bic_rejects`: BIC prefers the model without the
+// term, so it is never ranked first, whatever it does to the error). Within a group they are
+// sorted by error_after; those within 15 % (+0.05) of the group's best error_after are
+// statistically indistinguishable on the error, and are ordered among themselves by delta_bic (the
+// simpler explanation first, Schwarz 1978), those that clear the long-tau flag first. The first
+// suggestion is the one to add.
 //
 // Verdict. "consistent" when the base model is; "inconsistent" with the first suggestion when it
 // makes a failing view pass (and, if the model with it still fails somewhere, the ranges that still
@@ -140,6 +152,9 @@ struct Suggestion {
   std::vector<ViewError> view_errors_after;  ///< the trial's per-view errors
   std::vector<ViewDomain> fixes;  ///< views that fail in the base model and pass in the trial
   bool bic_rejects = false;       ///< delta_bic > 0: never ranked first
+  /// The base model's long-tau check flags, the trial's runs and does not, and BIC accepts the
+  /// term (delta_bic < 0): the term explains the slow effect that B, K or R absorbed.
+  bool clears_long_tau = false;
 };
 
 /// What compare concludes (see the header comment).
@@ -155,7 +170,8 @@ struct Verdict {
   /// what the catalog cannot explain (all failures when the status is "unexplained").
   std::vector<Failure> unexplained;
   /// The base model's long-tau check flags B, K or R as absorbing a slow effect (Evaluation::
-  /// long_tau); `text` then ends with "; warning: " and its finding, whatever the status.
+  /// long_tau); `text` then ends with "; warning: " and its finding, whatever the status, and
+  /// with "; adding TERM clears it" when a suggestion clears_long_tau (the first such).
   bool absorbing_slow_effect = false;
   std::string text = "consistent";  ///< one line, e.g. "unexplained: ... failing: frequency ..."
 };
@@ -186,6 +202,12 @@ Evaluation EvaluateModel(const CompareInput& input, const std::vector<ModelTerm>
 /// is temperature_rate, nor aux:temperature beside temperature, whose linear part it repeats).
 std::vector<ModelTerm> TrialTerms(const CompareInput& input, const std::vector<ModelTerm>& terms);
 
+/// The trial terms that could explain a slow effect absorbed by B, K or R (see the header
+/// comment): those of TrialTerms that are bias_step, warmup, a thermal or an aux term, then
+/// aux_hysteresis:<channel> per aux channel of the rate's length unless in `terms`.
+std::vector<ModelTerm> SlowEffectTrialTerms(const CompareInput& input,
+                                            const std::vector<ModelTerm>& terms);
+
 /// True when the base model's aux view supports a term that reads an aux channel: |z| of the
 /// residual against the channel (its derivative for temperature_rate and aux_rate) above the aux
 /// view's critical value. Terms that read no channel: always true.
@@ -213,13 +235,16 @@ using fogpipe::ForEach;
 /// EvaluateModel of the base model, then (through for_each, null: in order) the base model's IMF
 /// view and every trial, then RankSuggestions. Trials are run only when the base model is not
 /// consistent, and aux terms only where AuxViewSupports them (RankSuggestions would drop the
-/// others unread).
+/// others unread); when the base model's long-tau check flags, also the SlowEffectTrialTerms, with
+/// their long-tau check.
 CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& terms,
                       const CompareOptions& options, const ForEach& for_each = nullptr);
 
 /// The parameters of `term` in an evaluation (the last sinusoid for kSinusoid), engineer's units.
 /// aux:<x>: "order" (chosen by BIC), "coefficient", "coefficient_2", ... in deg/h per unit^k of x,
-/// and "reference" (x_ref, the unit of x); aux_rate:<x>: "coefficient" in deg/h/(unit/s).
+/// and "reference" (x_ref, the unit of x); aux_rate:<x>: "coefficient" in deg/h/(unit/s);
+/// aux_hysteresis:<x>: "coefficient" in deg/h (the bias while x rises; minus it while x falls) and
+/// "dead_band" (the switch's half-width w, unit/s).
 std::vector<Parameter> ParametersOf(const Evaluation& e, const ModelTerm& term);
 
 }  // namespace fogpipe::model

@@ -48,13 +48,18 @@ const Eigen::VectorXd& AuxRate(Context* ctx, const std::string& name) {
 
 Eigen::MatrixXd Columns(const Context& ctx, Term term, double nonlinear);
 
-// Columns of one component: (x - x_ref)^k, k = 1..order for aux:<x>; dx/dt for aux_rate:<x>.
+// Columns of one component: (x - x_ref)^k, k = 1..order for aux:<x>; dx/dt for aux_rate:<x>;
+// the rising/falling state for aux_hysteresis:<x>.
 Eigen::MatrixXd ComponentColumns(const Context& ctx, const DeterministicComponent& component,
                                  int order) {
   if (!component.term.IsAux()) return Columns(ctx, component.term.term, component.nonlinear);
-  if (component.term.aux == AuxForm::kRate) {
+  if (component.term.aux == AuxForm::kRate || component.term.aux == AuxForm::kHysteresis) {
     for (const auto& [channel, derivative] : ctx.aux_rate)
-      if (channel == component.term.channel) return derivative;
+      if (channel == component.term.channel)
+        return component.term.aux == AuxForm::kRate
+                   ? Eigen::MatrixXd(derivative)
+                   : Eigen::MatrixXd(
+                         HysteresisState(derivative, component.reference, ctx.fs, ctx.smoothing_s));
     return Eigen::MatrixXd(ctx.n, 0);
   }
   const Eigen::VectorXd* values = AuxValues(ctx, component.term.channel);
@@ -354,6 +359,27 @@ bool DeterministicOptions::IsValid(std::string* error) const {
   return true;
 }
 
+namespace {
+
+// The half-width h of the centred window [i - h, i + h] of SmoothedDerivative, samples.
+long SmoothingHalfWidth(double fs, double smoothing_s) {
+  return std::max(1L, static_cast<long>(std::lround(0.5 * smoothing_s * fs)));
+}
+
+// The noise gain of a least-squares slope over `count` equally spaced samples, per sample
+// interval: sd(slope) = sigma sqrt(12 / (count (count^2 - 1))) for white noise of sd sigma.
+double SlopeNoiseGain(long count) {
+  const double m = static_cast<double>(std::max(2L, count));
+  return std::sqrt(12.0 / (m * (m * m - 1)));
+}
+
+// The number of samples in SmoothedDerivative's window at sample i of n.
+long WindowCount(long i, long n, long half_width) {
+  return std::min(n - 1, i + half_width) - std::max(0L, i - half_width) + 1;
+}
+
+}  // namespace
+
 Eigen::VectorXd SmoothedDerivative(const Eigen::VectorXd& temp, double fs, double smoothing_s) {
   // Slope of a local least-squares line over the centred window [i - h, i + h], clipped at the
   // record ends (Savitzky & Golay 1964, first order). Unlike differencing a moving average, it
@@ -361,7 +387,7 @@ Eigen::VectorXd SmoothedDerivative(const Eigen::VectorXd& temp, double fs, doubl
   // error. Prefix sums of k, k^2, x, k x make it O(n).
   const long n = temp.size();
   if (n < 2) return Eigen::VectorXd::Zero(n);
-  const long half_width = std::max(1L, static_cast<long>(std::lround(0.5 * smoothing_s * fs)));
+  const long half_width = SmoothingHalfWidth(fs, smoothing_s);
   Eigen::VectorXd sk(n + 1), skk(n + 1), sx(n + 1), skx(n + 1);
   sk[0] = skk[0] = sx[0] = skx[0] = 0;
   for (long i = 0; i < n; ++i) {
@@ -384,6 +410,37 @@ Eigen::VectorXd SmoothedDerivative(const Eigen::VectorXd& temp, double fs, doubl
     derivative[i] = denominator > 0 ? (ux - u * sxv / count) / denominator * fs : 0.0;
   }
   return derivative;
+}
+
+double HysteresisDeadBand(const Eigen::VectorXd& values, double fs, double smoothing_s) {
+  const long n = values.size();
+  if (n < 2) return 0.0;
+  const double sensor_sd =
+      std::sqrt((values.tail(n - 1) - values.head(n - 1)).squaredNorm() / (n - 1) / 2.0);
+  // The interior (widest) window of SmoothedDerivative.
+  const long count = std::min(n, 2 * SmoothingHalfWidth(fs, smoothing_s) + 1);
+  const double universal = std::sqrt(2.0 * std::log(static_cast<double>(n)));
+  return universal * fs * SlopeNoiseGain(count) * sensor_sd;
+}
+
+Eigen::VectorXd HysteresisState(const Eigen::VectorXd& derivative, double dead_band, double fs,
+                                double smoothing_s) {
+  const long n = derivative.size();
+  const long half_width = SmoothingHalfWidth(fs, smoothing_s);
+  const double interior_gain = SlopeNoiseGain(std::min(n, 2 * half_width + 1));
+  Eigen::VectorXd state = Eigen::VectorXd::Zero(n);
+  long first = -1;
+  double current = 0.0;
+  for (long i = 0; i < n; ++i) {
+    // Near the record's ends the window is clipped and the slope noisier: the band widens with it.
+    const double band = dead_band * SlopeNoiseGain(WindowCount(i, n, half_width)) / interior_gain;
+    if (derivative[i] > band) current = 1.0;
+    if (derivative[i] < -band) current = -1.0;
+    if (current != 0.0 && first < 0) first = i;
+    state[i] = current;
+  }
+  if (first > 0) state.head(first).setConstant(state[first]);
+  return state;
 }
 
 namespace {
@@ -425,7 +482,9 @@ std::string MakeComponents(const Context& ctx, const std::vector<ModelTerm>& ter
     component.term = term;
     if (term.IsAux()) {
       const Eigen::VectorXd& values = *AuxValues(ctx, channel);
-      component.reference = values.mean();
+      component.reference = term.aux == AuxForm::kHysteresis
+                                ? HysteresisDeadBand(values, ctx.fs, ctx.smoothing_s)
+                                : values.mean();
       for (const auto& series : ctx.aux)
         if (series.name == channel) component.units = series.units;
       component.coefficients.assign(1, 0.0);
@@ -520,8 +579,17 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
     fit.summary.message = problem;
     return fit;
   }
-  for (const auto& component : components)
-    if (component.term.aux == AuxForm::kRate) AuxRate(&ctx, component.term.channel);
+  for (const auto& component : components) {
+    if (!UsesDerivative(component.term) || !component.term.IsAux()) continue;
+    const Eigen::VectorXd& derivative = AuxRate(&ctx, component.term.channel);
+    if (component.term.aux == AuxForm::kHysteresis &&
+        HysteresisState(derivative, component.reference, fs, ctx.smoothing_s).isZero()) {
+      fit.summary.termination = Termination::kInsufficientData;
+      fit.summary.message = "term '" + ToString(component.term) + "': the channel never leaves " +
+                            "the dead band (it neither rises nor falls beyond its noise)";
+      return fit;
+    }
+  }
   if (const Eigen::VectorXd* temperature = AuxValues(ctx, "temperature")) {
     fit.model.temperature_ref_degc = temperature->mean();
     ctx.temperature_centered = temperature->array() - fit.model.temperature_ref_degc;
@@ -659,7 +727,7 @@ Eigen::VectorXd EvaluateDeterministic(const DeterministicModel& model, long n, d
   for (const auto& component : model.components) {
     const std::string channel = AuxChannelOf(component.term);
     if (!channel.empty() && AuxValues(ctx, channel) == nullptr) continue;
-    if (component.term.aux == AuxForm::kRate) AuxRate(&ctx, channel);
+    if (component.term.IsAux() && UsesDerivative(component.term)) AuxRate(&ctx, channel);
     const Eigen::MatrixXd columns =
         ComponentColumns(ctx, component, static_cast<int>(Width(component)));
     for (long j = 0; j < columns.cols() && j < static_cast<long>(component.coefficients.size());

@@ -21,6 +21,24 @@
 //
 // Aux terms (catalog.h) on any channel x: aux:<x> is sum_{k=1..p} c_k (x - x_ref)^k with x_ref
 // the record's mean of x, aux_rate:<x> is c dx/dt with the same smoothed derivative as dT/dt.
+// aux_hysteresis:<x> is c h(t) with h = +1 while x rises and -1 while it falls: a comparator with
+// hysteresis (a Schmitt trigger, Schmitt 1938) on the smoothed derivative d = dx/dt, h switching
+// to +1 when d > +w and to -1 when d < -w and holding its state inside the dead band [-w, w]; the
+// state before the first exit from the band is that exit's (a record has no earlier state). The
+// dead band's half-width w is sqrt(2 ln n) standard deviations of d under the channel's sensor
+// noise alone (n samples): Donoho & Johnstone's (1994) universal threshold, which the largest of n
+// Gaussian values exceeds with a probability that falls to 0 as n grows (~1 / sqrt(pi ln n) for
+// independent ones; d is correlated over its window, which makes an exit rarer still), so that a
+// flat channel's d rarely leaves the band and a switch back, an exit on the other side as well,
+// is rarer again: noise does not chatter the switch, while a channel that moves changes state
+// within the time d takes to exceed w (4.8-5.7 sd for 1 h at 10 Hz to 24 h at 100 Hz). The noise
+// of d: the sensor noise sigma_x (the rms first difference over sqrt 2, white sensor noise; a slow
+// channel's own change per sample is far below it) through the local-slope filter, whose noise
+// gain at window W samples is fs sqrt(12 / (W (W^2 - 1))) (the variance of a least-squares
+// slope). Zero crossings of d without a band would flip h with the noise wherever the channel is
+// flat. Within h of the record's ends the window is clipped and the slope noisier (up to 2^1.5 at
+// the first sample): the band widens by the same gain there. The fitted w is the component's
+// reference (unit/s), so that a model evaluated on another record switches where the fit did.
 // The order p of aux:<x> is chosen among 1..max_aux_order by the Gaussian BIC
 // n_eff ln RSS_p + p ln n_eff (Schwarz 1978) with the other components in the design and
 // n_eff = n / lambda, lambda the long-run variance ratio of the order-1 residual (below): the
@@ -68,11 +86,12 @@ struct DeterministicComponent {
   double nonlinear_se = 0.0;  ///< its standard error (same units)
   /// Linear coefficients: temperature rad/s/degC; temperature_rate rad/s/(degC/s); sinusoid
   /// (cosine, sine) rad/s; bias_step size rad/s; warmup amplitude rad/s at t = 0; aux c_1..c_p
-  /// in rad/s per unit^k of the channel; aux_rate rad/s per (unit/s).
+  /// in rad/s per unit^k of the channel; aux_rate rad/s per (unit/s); aux_hysteresis rad/s (half
+  /// the bias difference between rising and falling).
   std::vector<double> coefficients;
   std::vector<double> coefficients_se;
-  /// Aux terms: the channel's mean over the fitted record (x_ref) and its units ("" if the
-  /// recording gives none).
+  /// Aux terms: the channel's mean over the fitted record (x_ref; aux_hysteresis: the dead band's
+  /// half-width w, unit/s) and its units ("" if the recording gives none).
   double reference = 0.0;
   std::string units;
 };
@@ -129,6 +148,15 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate_rad_s, double samp
 /// The smoothed temperature derivative used by temperature_rate, degC/s.
 Eigen::VectorXd SmoothedDerivative(const Eigen::VectorXd& temperature_degc, double sample_rate_hz,
                                    double smoothing_s);
+
+/// The dead band's half-width w of a channel's aux_hysteresis term, unit/s (above).
+double HysteresisDeadBand(const Eigen::VectorXd& values, double sample_rate_hz, double smoothing_s);
+/// The aux_hysteresis regressor: +1 rising, -1 falling, from the smoothed derivative (of window
+/// smoothing_s at sample_rate_hz) and the dead band's half-width (above; where the window is
+/// clipped at the record's ends, widened by its slope's larger noise gain); all 0 when the
+/// derivative never leaves the band.
+Eigen::VectorXd HysteresisState(const Eigen::VectorXd& derivative, double dead_band,
+                                double sample_rate_hz, double smoothing_s);
 
 /// Evaluates the effects (without the bias when include_bias is false), rad/s, on n samples.
 /// Components whose channel is not in `aux` with n samples are left out.

@@ -209,6 +209,7 @@ LongTauCheck CheckLongTauTerms(const Eigen::VectorXd& residual, double fs,
     check.message = "not run";
     return check;
   }
+  check.run = true;
   const Eigen::Index n = residual.size();
   if (!residual.allFinite()) {
     check.message = "not evaluated: the residual has non-finite samples";

@@ -91,6 +91,7 @@ struct LongTauPoint {
 };
 
 struct LongTauCheck {
+  bool run = false;  ///< options.enabled (and valid): the check looked at the record
   bool evaluated = false;
   bool flagged = false;
   std::string message;  ///< why not evaluated, or the finding in one sentence

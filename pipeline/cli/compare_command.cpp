@@ -2,7 +2,8 @@
 // effect the comparison suggests, repeat).
 //
 //   fogpipe compare RECORDING [--model FILE | --terms a,b,c] [--add TERM ...] [--axis A|all]
-//   (TERM: a catalog name, aux:<channel> or aux_rate:<channel>; algorithms/model/catalog.h)
+//   (TERM: a catalog name, aux:<channel>, aux_rate:<channel> or aux_hysteresis:<channel>;
+//   algorithms/model/catalog.h)
 //                   [--json] [-o RESULTS] [--save-model FILE] [--progress]
 //   fogpipe compare --history RESULTS
 //
@@ -124,10 +125,11 @@ void PrintText(const model::CompareResult& r) {
     for (model::ViewDomain domain : s.fixes)
       fixes += (fixes.empty() ? "" : ", ") + std::string(model::ToString(domain));
     const bool add = i == 0 && r.verdict.suggestion && *r.verdict.suggestion == s.term;
-    std::printf("%s %s: error after %.3g, delta BIC %.3g%s%s%s\n  %s\n", add ? "ADD" : "   ",
+    std::printf("%s %s: error after %.3g, delta BIC %.3g%s%s%s%s\n  %s\n", add ? "ADD" : "   ",
                 model::ToString(s.term).c_str(), s.error_after, s.delta_bic,
                 s.bic_rejects ? " (BIC rejects it)" : "", fixes.empty() ? "" : ", fixes ",
-                fixes.c_str(), s.evidence.c_str());
+                fixes.c_str(), s.clears_long_tau ? ", clears the long-tau flag" : "",
+                s.evidence.c_str());
     for (const auto& p : s.parameters)
       std::printf("    %s = %.5g +- %.2g %s%s\n", p.name.c_str(), p.value, p.standard_error,
                   p.units.c_str(), IntervalText(p).c_str());
@@ -274,11 +276,12 @@ void AddCompareCommand(CLI::App& app, int* exit_code) {
   auto* model = cmd->add_option("--model", args->model_file, "Model file (JSON) to start from");
   cmd->add_option("--terms", args->terms,
                   "Comma-separated terms: catalog names, aux:<channel> (bias polynomial in an "
-                  "/aux channel, order by BIC), aux_rate:<channel> (in its derivative); bias is "
-                  "implicit")
+                  "/aux channel, order by BIC), aux_rate:<channel> (in its derivative), "
+                  "aux_hysteresis:<channel> (+- while it rises or falls); bias is implicit")
       ->excludes(model);
   cmd->add_option("--add", args->add,
-                  "Add a term: a catalog name, aux:<channel> or aux_rate:<channel> (repeatable)");
+                  "Add a term: a catalog name, aux:<channel>, aux_rate:<channel> or "
+                  "aux_hysteresis:<channel> (repeatable)");
   cmd->add_option("--axis", args->axis,
                   "Axis name, index, or all (every axis: one section, JSON object and history "
                   "step per axis)")

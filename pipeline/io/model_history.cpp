@@ -312,7 +312,8 @@ json CompareJson(const model::CompareResult& r) {
                            {"evidence", s.evidence},
                            {"view_errors_after", ViewErrorsJson(s.view_errors_after)},
                            {"fixes", DomainNames(s.fixes)},
-                           {"bic_rejects", s.bic_rejects}});
+                           {"bic_rejects", s.bic_rejects},
+                           {"clears_long_tau", s.clears_long_tau}});
   const model::Verdict& v = r.verdict;
   const json verdict = {
       {"status", v.status},

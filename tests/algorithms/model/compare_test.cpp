@@ -2,9 +2,10 @@
 // 10 Hz, aux temperature cycling 6-12 degC with a 1-2 h period in every file). Effect sizes:
 // hidden_effects.h. Seeds: 101-110 for each effect (101-103 for its size), 201-220 for the control,
 // 301-302 for two effects, 401-418 for thermal innocence, 711-714 and 721-723 for the aux terms,
-// 801-830 for the aux controls. The development runs that chose the design used seeds 1-20 (each
-// effect, each aux effect), 500-539 (effect-free: 2 of 40 inconsistent, none with a suggestion) and
-// 850-889 (aux controls). The truth is read only to score.
+// 801-830 for the aux controls, 101-110 for the thermal hysteresis (4x and 8x) and its K-30x
+// control. The development runs that chose the design used seeds 1-20 (each effect, each aux
+// effect, the hysteresis), 500-539 (effect-free: 2 of 40 inconsistent, none with a suggestion),
+// 850-889 (aux controls) and 1-40 (K-30x control). The truth is read only to score.
 #include "algorithms/model/compare.h"
 
 #include <gtest/gtest.h>
@@ -364,6 +365,39 @@ TEST(RankSuggestions, ATermThatBicRejectsIsNeverFirstAndIsMarked) {
   EXPECT_EQ(*v.suggestion, Term::kWarmup);
   EXPECT_TRUE(v.consistent_with_suggestion);
   EXPECT_EQ(v.text, "inconsistent: suggestion warmup (makes the model consistent)");
+}
+
+TEST(RankSuggestions, WhenTheLongTauCheckFlagsATermThatClearsItAndThatBicAcceptsIsSuggested) {
+  // Every view passes, but the base model's long-tau check flags. aux_hysteresis:temperature
+  // clears the flag with RSS 1 -> 0.9 (delta_bic = 10^4 ln 0.9 + ln 10^4 < 0); aux:supply_voltage
+  // clears it too but BIC rejects it (RSS 1 -> 0.99999: 10^4 ln 0.99999 + ln 10^4 = +9.1);
+  // temperature's trial is still flagged and warmup's check did not run. No aux view supports any
+  // of them (the synthetic base has no aux channel): clearing the flag is their evidence.
+  Evaluation base = Synthetic(
+      {{ViewDomain::kTau, 0.5}, {ViewDomain::kFrequency, 0.5}, {ViewDomain::kTime, 0.5}}, 1.0, 1);
+  base.long_tau.run = base.long_tau.evaluated = base.long_tau.flagged = true;
+  const ModelTerm hysteresis = ModelTerm::Aux(AuxForm::kHysteresis, "temperature");
+  const std::vector<ModelTerm> tt = {Term::kTemperature, Term::kWarmup, hysteresis,
+                                     ModelTerm::Aux(AuxForm::kValue, "supply_voltage")};
+  std::vector<Evaluation> trials;
+  for (double rss : {0.9, 0.9, 0.9, 0.99999}) {
+    trials.push_back(Synthetic(
+        {{ViewDomain::kTau, 0.5}, {ViewDomain::kFrequency, 0.5}, {ViewDomain::kTime, 0.5}}, rss,
+        2));
+    trials.back().long_tau.run = true;
+  }
+  trials[0].long_tau.flagged = true;
+  trials[1].long_tau.run = false;
+  const auto s = RankSuggestions(base, tt, trials, {});
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_EQ(s[0].term, hysteresis);
+  EXPECT_TRUE(s[0].clears_long_tau);
+  EXPECT_FALSE(s[0].bic_rejects);
+  EXPECT_LT(s[0].delta_bic, 0.0);
+  EXPECT_EQ(MakeVerdict(base, tt, trials, s).status, "consistent");
+  // Without the flag a consistent model gets no suggestion.
+  base.long_tau.flagged = false;
+  EXPECT_TRUE(RankSuggestions(base, tt, trials, {}).empty());
 }
 
 TEST(RankSuggestions, ATermIsCreditedForTheViewItFixesWhileAnotherDominates) {
@@ -906,6 +940,15 @@ TEST(CompareAuxTerm, InnocentAuxChannelsAreRarelySuggestedWithAnAngleQuantizer) 
   EXPECT_LE(SuggestedOverSeeds(AuxEffect::kControlQuantizer, 821, 830, &report), 1) << report;
 }
 
+// The ratios of a study, "a,b,c" (FOGPIPE_STUDY_RATIOS), or {fallback} when not given.
+std::vector<double> StudyRatios(const char* ratios, double fallback) {
+  if (ratios == nullptr) return {fallback};
+  std::vector<double> rho;
+  std::stringstream ss(ratios);
+  for (std::string tok; std::getline(ss, tok, ',');) rho.push_back(std::stod(tok));
+  return rho;
+}
+
 // The seed study behind the aux tests (not run by ctest):
 //   FOGPIPE_AUX_STUDY=supply_voltage FOGPIPE_STUDY_RATIOS=0,3 FOGPIPE_STUDY_SEEDS=1-20
 //   model_compare_test --gtest_also_run_disabled_tests --gtest_filter='*CompareAuxStudy*'
@@ -923,12 +966,7 @@ TEST(CompareAuxStudy, DISABLED_PassRates) {
   ASSERT_TRUE(effect.has_value()) << name;
   int seed0 = 0, seed1 = 0;
   ASSERT_EQ(std::sscanf(seeds, "%d-%d", &seed0, &seed1), 2);
-  std::vector<double> rho = {0.0};
-  if (ratios) {
-    rho.clear();
-    std::stringstream ss(ratios);
-    for (std::string tok; std::getline(ss, tok, ',');) rho.push_back(std::stod(tok));
-  }
+  const std::vector<double> rho = StudyRatios(ratios, 0.0);
   for (double r : rho) {
     for (int seed = seed0; seed <= seed1; ++seed) {
       const AuxScore s = ScoreAux(*effect, seed, r);
@@ -940,6 +978,134 @@ TEST(CompareAuxStudy, DISABLED_PassRates) {
       for (const auto& [pn, x] : s.parameter_errors) std::printf(" %s=%.2f", pn.c_str(), x);
       std::printf(" ] consistent %d (%.2f->%.2f) failing: %s\n", s.consistent_after, s.error_before,
                   s.error_after, s.failures.c_str());
+      std::fflush(stdout);
+    }
+  }
+}
+
+// Thermal hysteresis (AddThermalHysteresis: a bias +-a with the direction of the temperature,
+// heating against cooling), on records with the three aux channels of the aux controls. The views
+// pass on most such records (the square wave at the thermal period is absorbed by the fitted B
+// and K); the long-tau check flags about half of them (long_tau_check_test.cpp). The proof per
+// record: flagged before (inconsistent, or the long-tau check flags), aux_hysteresis:temperature
+// the first suggestion, its coefficient within max(10 %, 3 SE) of a, and the model with it
+// consistent and not flagged. Controls: effect-free records (the same aux channels), with the
+// navigation-grade K and with K 30x it (long_tau_check_test.cpp's control, where the check is
+// evaluated): how often aux_hysteresis is suggested at all.
+enum class HysteresisCase { kHysteresis, kControl, kControlStrongWalk };
+
+struct HysteresisScore {
+  bool inconsistent = false, long_tau_flagged = false;
+  bool first_right = false;
+  std::string first = "none";
+  bool hysteresis_suggested = false;  // any suggestion is an aux_hysteresis term
+  bool first_clears = false;          // the first suggestion clears the long-tau flag
+  double coefficient_error = std::numeric_limits<double>::max();  // / max(10 %, 3 SE)
+  bool clean_after = false;  // consistent and not flagged with aux_hysteresis:temperature
+  double error_before = 0, error_after = 0;
+  bool Flagged() const { return inconsistent || long_tau_flagged; }
+};
+
+HysteresisScore ScoreHysteresis(HysteresisCase kind, int seed, double k) {
+  HysteresisScore s;
+  sim::GyroSimulatorOptions o = testing::HiddenEffectOptions(seed, {});
+  if (kind == HysteresisCase::kControlStrongWalk) o.errors.k_rad_s_sqrt_s *= 30;
+  auto c = testing::MakeHiddenCase(o);
+  testing::AddInnocentAux(seed, &c);
+  const double a = kind == HysteresisCase::kHysteresis ? testing::AddThermalHysteresis(k, &c) : 0;
+  const CompareOptions options;
+  const CompareResult before = Compare(c.input, DefaultTerms(), options);
+  if (!HasResult(before.summary.termination)) return s;
+  s.error_before = before.base.views.error;
+  s.inconsistent = !before.base.views.consistent;
+  s.long_tau_flagged = before.base.long_tau.flagged;
+  const ModelTerm hysteresis = ModelTerm::Aux(AuxForm::kHysteresis, "temperature");
+  if (!before.suggestions.empty()) s.first = ToString(before.suggestions.front().term);
+  s.first_right = !before.suggestions.empty() && before.suggestions.front().term == hysteresis;
+  s.first_clears = !before.suggestions.empty() && before.suggestions.front().clears_long_tau;
+  for (const Suggestion& suggestion : before.suggestions)
+    s.hysteresis_suggested |= suggestion.term.aux == AuxForm::kHysteresis;
+  if (kind != HysteresisCase::kHysteresis) return s;
+  std::vector<ModelTerm> terms = DefaultTerms();
+  terms.push_back(hysteresis);
+  const Evaluation after = EvaluateModel(c.input, terms, options);
+  s.coefficient_error =
+      CoefficientError(ParametersOf(after, hysteresis), "coefficient", DegH(a)).second;
+  s.error_after = after.views.error;
+  s.clean_after = after.views.consistent && !after.long_tau.flagged;
+  return s;
+}
+
+// Design seeds 1-20 (HysteresisStudy; docs/compare.md), at 4x / 8x: flagged 14 / 19 (13 / 19 by
+// the long-tau check), aux_hysteresis:temperature first 13 / 19 (every record the check flags,
+// each time the trial clearing the flag), coefficient within max(10 %, 3 SE) 20 / 20, consistent
+// and not flagged with the term 19 / 19 (seed 12 stays inconsistent). CI seeds 101-110 at both
+// sizes, per size and criterion a one-sided binomial bound at a rate below the design's:
+//   first at 8x, rate 0.8: at least 5 of 10 (P(X <= 4) = 0.6 % for Binomial(10, 0.8));
+//   first at 4x, rate 0.5: at least 2 of 10 (P(X <= 1) = 1.1 %);
+//   coefficient over the 20 records, rate 0.925 (1 - 3 / 40, the rule of three on 40 of 40):
+//     at least 16 (P(X <= 15) = 1.4 % for Binomial(20, 0.925));
+//   consistent and not flagged after, rate 0.9 (38 of 40): at least 15 (P(X <= 14) = 1.1 %).
+TEST(CompareHysteresis, AThermalHysteresisIsFoundThroughTheLongTauFlagAndEstimated) {
+  int coefficient_right = 0, clean_after = 0;
+  for (double k : {8.0, 4.0}) {
+    int first_right = 0;
+    for (int seed = 101; seed <= 110; ++seed) {
+      const HysteresisScore s = ScoreHysteresis(HysteresisCase::kHysteresis, seed, k);
+      first_right += s.first_right;
+      EXPECT_TRUE(!s.first_right || s.first_clears) << "seed " << seed << " k " << k;
+      coefficient_right += s.coefficient_error <= 1.0;
+      clean_after += s.clean_after;
+    }
+    EXPECT_GE(first_right, k == 8.0 ? 5 : 2) << "k " << k;
+  }
+  EXPECT_GE(coefficient_right, 16);
+  EXPECT_GE(clean_after, 15);
+}
+
+// Controls: no aux_hysteresis suggestion on any of the design seeds 850-889 (three innocent aux
+// channels) and 1-40 (K 30x), 80 records, so a rate of at most 3 / 80 < 0.04 (rule of three). CI
+// seeds 801-810 and 101-110: at most 3 of 20 (P(X >= 4) = 0.7 % for Binomial(20, 0.04)).
+TEST(CompareHysteresis, EffectFreeRecordsRarelyGetAHysteresisTerm) {
+  int suggested = 0;
+  std::string report;
+  for (HysteresisCase kind : {HysteresisCase::kControl, HysteresisCase::kControlStrongWalk}) {
+    const int seed0 = kind == HysteresisCase::kControl ? 801 : 101;
+    for (int seed = seed0; seed < seed0 + 10; ++seed) {
+      const HysteresisScore s = ScoreHysteresis(kind, seed, 0);
+      suggested += s.hysteresis_suggested;
+      if (s.hysteresis_suggested) report += "seed " + std::to_string(seed) + "\n";
+    }
+  }
+  EXPECT_LE(suggested, 3) << report;
+}
+
+// The seed study behind the hysteresis tests (not run by ctest):
+//   FOGPIPE_HYSTERESIS_CASE=hysteresis FOGPIPE_STUDY_RATIOS=4,8 FOGPIPE_STUDY_SEEDS=1-20
+//   model_compare_test --gtest_also_run_disabled_tests --gtest_filter='*HysteresisStudy*'
+// FOGPIPE_HYSTERESIS_CASE: hysteresis, control, control_strong_walk.
+TEST(HysteresisStudy, DISABLED_PassRates) {
+  const char* name = std::getenv("FOGPIPE_HYSTERESIS_CASE");
+  const char* ratios = std::getenv("FOGPIPE_STUDY_RATIOS");
+  const char* seeds = std::getenv("FOGPIPE_STUDY_SEEDS");
+  ASSERT_TRUE(name && seeds);
+  const std::string kind_name = name;
+  const HysteresisCase kind = kind_name == "control" ? HysteresisCase::kControl
+                              : kind_name == "control_strong_walk"
+                                  ? HysteresisCase::kControlStrongWalk
+                                  : HysteresisCase::kHysteresis;
+  int seed0 = 0, seed1 = 0;
+  ASSERT_EQ(std::sscanf(seeds, "%d-%d", &seed0, &seed1), 2);
+  const std::vector<double> rho = StudyRatios(ratios, 4.0);
+  for (double r : rho) {
+    for (int seed = seed0; seed <= seed1; ++seed) {
+      const HysteresisScore s = ScoreHysteresis(kind, seed, r);
+      std::printf(
+          "HYST %s seed %d k %.1f | flagged %d (incons %d long_tau %d) first %d (%s) "
+          "hyst_suggested %d coef %.2f clean_after %d (%.2f->%.2f) first_clears %d\n",
+          name, seed, r, s.Flagged(), s.inconsistent, s.long_tau_flagged, s.first_right,
+          s.first.c_str(), s.hysteresis_suggested, s.coefficient_error, s.clean_after,
+          s.error_before, s.error_after, s.first_clears);
       std::fflush(stdout);
     }
   }

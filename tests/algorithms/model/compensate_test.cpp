@@ -73,6 +73,41 @@ TEST(Compensate, SubtractsAnAuxPolynomialEvaluatedOnItsOwnChannel) {
   EXPECT_LT((c.rate_rad_s.array() - 1e-5).abs().maxCoeff(), 1e-18);
 }
 
+TEST(Compensate, SubtractsAHysteresisTermWithTheDeadBandItWasFittedWith) {
+  // aux_hysteresis:supply_voltage on a triangle wave (period 600 s at 10 Hz, +-0.5 V): +c while
+  // the voltage rises, -c while it falls, written out in closed form. Its slope, 1/300 V/s, is 33
+  // times the stored dead band, and the 120 s window's slope is exact on a straight line: the
+  // state can differ from the closed form only within the half-window (60 s) of a turn, where the
+  // smoothed slope passes through zero at the turn itself and the band holds the state for the
+  // ~2 s it takes to cross it.
+  const double fs = 10.0, c = 3e-6, band = 1e-4;
+  const long n = 36000;
+  Eigen::VectorXd rate(n), volts(n);
+  for (long i = 0; i < n; ++i) {
+    const double phase = std::fmod(i / fs, 600.0) / 600.0;
+    const bool rising = phase < 0.5;
+    volts[i] = 28.0 + (rising ? -0.5 + 2 * phase : 1.5 - 2 * phase);
+    rate[i] = 1e-5 + (rising ? c : -c);
+  }
+  DeterministicModel m;
+  m.components.push_back(
+      {ModelTerm::Aux(AuxForm::kHysteresis, "supply_voltage"), 0.0, 0.0, {c}, {0.0}, band, "V"});
+  const Compensation k = Compensate(rate, fs, {{"supply_voltage", "V", &volts}}, m, {});
+  ASSERT_EQ(k.summary.termination, Termination::kSuccess) << k.summary.message;
+  const Eigen::ArrayXd left = k.rate_rad_s.array() - 1e-5;
+  // Away from the turns (more than the 60 s half-window from each), exactly the bias is left.
+  long off = 0;
+  for (long i = 0; i < n; ++i) {
+    const double into_half = std::fmod(i / fs, 300.0);
+    if (into_half > 60.0 && into_half < 240.0) {
+      EXPECT_LT(std::abs(left[i]), 1e-18) << i;
+    }
+    off += std::abs(left[i]) > 1e-18;
+  }
+  // Near the turns the switch falls where the smoothed slope crosses zero, the turn itself.
+  EXPECT_LT(off, n / 100);
+}
+
 TEST(Compensate, RefusesAnAuxTermWhoseChannelIsMissingShortOrInOtherUnits) {
   DeterministicModel m;
   m.components.push_back(

@@ -187,20 +187,110 @@ TEST(DeterministicFit, AnAuxTermWithoutItsChannelOrBesideItsLinearTwinIsRefused)
   EXPECT_EQ(both.summary.termination, Termination::kInsufficientData);
 }
 
+// Rising against falling (aux_hysteresis): the channel v of MakeAux with 1 mV white sensor noise,
+// and a bias +-c with the sign of the true dv/dt. The regressor (a switch on the smoothed
+// derivative with a dead band) may differ from the true sign only near the turning points, where
+// the 120 s slope lags and the band holds the state; there the least-squares coefficient is c
+// times the regression slope of the true sign on the state, cov(sign, state) / var(state).
+TEST(DeterministicFit, AnAuxHysteresisTermFollowsTheDirectionOfTheChannel) {
+  AuxSynthetic s = MakeAux();
+  std::mt19937_64 g(12);
+  std::normal_distribution<double> sensor(0.0, 1e-3);
+  for (long i = 0; i < s.v.size(); ++i) s.v[i] += sensor(g);
+  const Eigen::ArrayXd truth = s.dvdt.array().sign();
+  const Eigen::VectorXd state = HysteresisState(SmoothedDerivative(s.v, s.fs, 120.0),
+                                                HysteresisDeadBand(s.v, s.fs, 120.0), s.fs, 120.0);
+  EXPECT_GT((state.array() == truth).cast<double>().mean(), 0.97);
+  const double c = 5e-4;
+  const Eigen::VectorXd rate = (1e-3 + c * truth).matrix() + s.noise;
+  const std::vector<AuxSeries> channels = {{"v", "V", &s.v}};
+  const ModelTerm term = ModelTerm::Aux(AuxForm::kHysteresis, "v");
+  const DeterministicFit f = FitDeterministic(rate, s.fs, channels, {term}, {});
+  ASSERT_TRUE(HasResult(f.summary.termination)) << f.summary.message;
+  const DeterministicComponent& fitted = f.model.components[0];
+  ASSERT_EQ(fitted.coefficients.size(), 1u);
+  EXPECT_NEAR(fitted.reference, HysteresisDeadBand(s.v, s.fs, 120.0), 0.0);
+  const Eigen::ArrayXd centred_state = state.array() - state.mean();
+  const double slope =
+      (centred_state * (truth - truth.mean())).sum() / centred_state.square().sum();
+  EXPECT_NEAR(fitted.coefficients[0], c * slope, 3 * fitted.coefficients_se[0]);
+  EXPECT_LT(fitted.coefficients_se[0], 0.05 * c);
+  // The model evaluates to the fitted effect (compensation), with the fitted dead band.
+  const Eigen::VectorXd effect = EvaluateDeterministic(f.model, rate.size(), s.fs, channels, false);
+  EXPECT_LT((effect - fitted.coefficients[0] * state).cwiseAbs().maxCoeff(), 1e-15);
+}
+
+// The dead band is sqrt(2 ln n) standard deviations of the smoothed derivative of the sensor
+// noise: on white noise alone (24 h at 1 Hz, a 121-sample window: ~700 independent slopes, so the
+// sample sd is within 2.7 % of its expectation at 1 sd) the band over the derivative's sd is
+// sqrt(2 ln 86400) = 4.77 within 10 %; and a flat channel never switches between rising and
+// falling (an exit of the band on both sides), on any of 20 seeds. With a band of 4 sd instead, 2
+// of these 20 seeds switch once: the slope of a moving window is a rough process, whose maximum
+// over 86400 samples is near the universal threshold, not near the 4 sd of ~700 independent ones.
+TEST(DeterministicFit, AFlatNoisyChannelDoesNotChatterTheHysteresisSwitch) {
+  const double fs = 1.0;
+  const long n = 86400;
+  for (int seed = 1; seed <= 20; ++seed) {
+    std::mt19937_64 g(seed);
+    std::normal_distribution<double> sensor(0.0, 0.01);
+    Eigen::VectorXd flat(n);
+    for (long i = 0; i < n; ++i) flat[i] = 20.0 + sensor(g);
+    const Eigen::VectorXd derivative = SmoothedDerivative(flat, fs, 120.0);
+    const double band = HysteresisDeadBand(flat, fs, 120.0);
+    if (seed == 1) {
+      const Eigen::ArrayXd inner = derivative.segment(60, n - 120).array();
+      const double sd = std::sqrt((inner - inner.mean()).square().mean());
+      const double universal = std::sqrt(2 * std::log(static_cast<double>(n)));
+      EXPECT_NEAR(band / sd, universal, 0.1 * universal);
+    }
+    const Eigen::VectorXd state = HysteresisState(derivative, band, fs, 120.0);
+    int switches = 0;
+    for (long i = 1; i < n; ++i) switches += state[i] * state[i - 1] < 0;
+    EXPECT_EQ(switches, 0) << "seed " << seed;
+  }
+  // A channel that never leaves the band has no direction: the term is refused.
+  const Eigen::VectorXd constant = Eigen::VectorXd::Constant(n, 20.0),
+                        rate = Eigen::VectorXd::Zero(n);
+  const std::vector<AuxSeries> channels = {{"v", "V", &constant}};
+  EXPECT_EQ(FitDeterministic(rate, fs, channels, {ModelTerm::Aux(AuxForm::kHysteresis, "v")}, {})
+                .summary.termination,
+            Termination::kInsufficientData);
+}
+
+TEST(DeterministicFit, TheHysteresisStateHoldsInsideTheDeadBand) {
+  Eigen::VectorXd d(9);
+  d << -1.5, 0.2, 2.0, 0.5, -0.5, -2.0, 0.9, 1.5, 0.0;
+  Eigen::VectorXd expected(9);
+  // A 2 s window at 1 Hz: a slope over 3 samples inside, over 2 at the ends, whose noise gain
+  // sqrt(12 / (2 x 3)) is twice sqrt(12 / (3 x 8)): the band is 1 inside and 2 at the ends, so
+  // -1.5 at the first sample is no exit. Before the first exit (at index 2, rising) the state is
+  // that exit's.
+  expected << 1, 1, 1, 1, 1, -1, -1, 1, 1;
+  EXPECT_EQ(HysteresisState(d, 1.0, 1.0, 2.0), expected);
+  EXPECT_EQ(HysteresisState(d, 3.0, 1.0, 2.0), Eigen::VectorXd::Zero(9));
+}
+
 TEST(ModelCatalog, AuxTermsParseFromTheirChannelNamesAndPrintBack) {
-  for (const char* name : {"aux:supply_voltage", "aux_rate:pressure", "temperature", "white"}) {
+  for (const char* name : {"aux:supply_voltage", "aux_rate:pressure", "aux_hysteresis:temperature",
+                           "temperature", "white"}) {
     const auto term = ParseModelTerm(name);
     ASSERT_TRUE(term.has_value()) << name;
     EXPECT_EQ(ToString(*term), name);
   }
   EXPECT_EQ(ParseModelTerm("aux:supply_voltage")->channel, "supply_voltage");
   EXPECT_TRUE(ParseModelTerm("aux_rate:x")->aux == AuxForm::kRate);
+  EXPECT_TRUE(ParseModelTerm("aux_hysteresis:x")->aux == AuxForm::kHysteresis);
+  // The temperature's hysteresis holds no catalog term (it has no alias).
+  EXPECT_FALSE(ThermalTermWithin(*ParseModelTerm("aux_hysteresis:temperature")).has_value());
+  EXPECT_FALSE(ParseModelTerm("temperature_hysteresis").has_value());
   for (const char* bad : {"aux", "aux:", "aux:a/b", "aux_rate:", "auxx:v", "Aux:v"})
     EXPECT_FALSE(ParseModelTerm(bad).has_value()) << bad;
   std::vector<ModelTerm> terms;
   std::string error;
   EXPECT_FALSE(ParseTermList("white,aux", &terms, &error));
   EXPECT_NE(error.find("aux:<channel>"), std::string::npos) << error;
+  EXPECT_FALSE(ParseTermList("white,aux_hysteresis", &terms, &error));
+  EXPECT_NE(error.find("aux_hysteresis:<channel>"), std::string::npos) << error;
   terms.clear();
   ASSERT_TRUE(ParseTermList("white,aux:v,aux_rate:v", &terms, &error));
   ASSERT_EQ(terms.size(), 3u);

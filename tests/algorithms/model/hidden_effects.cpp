@@ -344,6 +344,23 @@ std::pair<double, double> AddQuadraticTemperatureBias(double k, std::uint64_t se
   return {c1, c1 / half_range};
 }
 
+double AddThermalHysteresis(double k, HiddenCase* c) {
+  const Eigen::VectorXd& t = c->recording.temperature_degC;
+  const double fs = c->input.sample_rate_hz;
+  const long n = t.size(), half = static_cast<long>(60 * fs);
+  Eigen::VectorXd shape(n);
+  for (long i = 0; i < n; ++i) {
+    const long a = std::max(0L, i - half), b = std::min(n - 1, i + half);
+    const double left = t.segment(a, std::max(1L, i - a + 1)).mean();
+    const double right = t.segment(i, std::max(1L, b - i + 1)).mean();
+    shape[i] = right >= left ? 1.0 : -1.0;
+  }
+  const double amplitude =
+      k / PeakAllanSignatureOfSeries(shape, fs, c->recording.truth.options.errors).ratio;
+  c->recording.rate_rad_s += amplitude * shape;
+  return amplitude;
+}
+
 Chirp AddChirp(double k, std::uint64_t seed, HiddenCase* c) {
   const long n = c->recording.rate_rad_s.size();
   const double fs = c->input.sample_rate_hz, record = static_cast<double>(n) / fs;

@@ -162,6 +162,13 @@ double AddSupplyVoltageBias(double k, std::uint64_t seed, HiddenCase* c);
 /// Returns {c1 rad/s/degC, c2 rad/s/degC^2}.
 std::pair<double, double> AddQuadraticTemperatureBias(double k, std::uint64_t seed, HiddenCase* c);
 
+/// Adds a thermal hysteresis: a bias +a while the recorded temperature rises and -a while it falls
+/// (heating against cooling), the direction taken from the difference of the 120 s means after
+/// and before each sample (no dead band: an independent construction from the aux_hysteresis
+/// regressor's, deterministic_fit.h), a > 0 sized so that its peak Allan signature
+/// (PeakAllanSignatureOfSeries) is k. Returns a, rad/s.
+double AddThermalHysteresis(double k, HiddenCase* c);
+
 /// Piecewise-constant bias: the times (s) and sizes (rad/s) of its jumps, in time order.
 struct BiasLevels {
   std::vector<double> step_time_s, step_size_rad_s;

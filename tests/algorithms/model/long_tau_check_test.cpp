@@ -145,8 +145,9 @@ TEST(LongTauCheck, IsNotEvaluatedWhereWhiteNoiseDominatesEveryTau) {
 }
 
 // The recordings of the study below: "none", "steps" (3-5 bias steps), "telegraph" (two levels,
-// mean dwell 1800 s), "quadratic" (a quadratic temperature dependence), "step_gm" (a bias step
-// beside Gauss-Markov noise), each at peak Allan signature k (hidden_effects.h).
+// mean dwell 1800 s), "quadratic" (a quadratic temperature dependence), "hysteresis" (a thermal
+// hysteresis), "step_gm" (a bias step beside Gauss-Markov noise), each at peak Allan signature k
+// (hidden_effects.h).
 HiddenCase StudyCase(const std::string& kind, int seed, double k, double dwell_s = 1800.0) {
   if (kind == "step_gm") {
     HiddenCase c = MakeHiddenCase(seed, {sim::Term::kGaussMarkov, sim::Term::kBiasStep});
@@ -161,24 +162,7 @@ HiddenCase StudyCase(const std::string& kind, int seed, double k, double dwell_s
     return c;
   }
   HiddenCase c = MakeHiddenCase(seed, {});
-  if (kind == "hysteresis") {
-    // Thermal hysteresis: a bias +-a following the sign of dT/dt (heating against cooling), the
-    // derivative taken from 120 s means of the recorded temperature, a sized to signature k.
-    const Eigen::VectorXd& t = c.recording.temperature_degC;
-    const double fs = c.input.sample_rate_hz;
-    const long n = t.size(), half = static_cast<long>(60 * fs);
-    Eigen::VectorXd shape(n);
-    for (long i = 0; i < n; ++i) {
-      const long a = std::max(0L, i - half), b = std::min(n - 1, i + half);
-      const double left = t.segment(a, std::max(1L, i - a + 1)).mean();
-      const double right = t.segment(i, std::max(1L, b - i + 1)).mean();
-      shape[i] = right >= left ? 1.0 : -1.0;
-    }
-    const double unit =
-        testing::PeakAllanSignatureOfSeries(shape, fs, c.recording.truth.options.errors).ratio;
-    c.recording.rate_rad_s += (k / unit) * shape;
-    return c;
-  }
+  if (kind == "hysteresis") testing::AddThermalHysteresis(k, &c);
   if (kind == "steps") testing::AddBiasSteps(k, seed, &c);
   if (kind == "telegraph") testing::AddTelegraph(k, dwell_s, seed, &c);
   if (kind == "quadratic") testing::AddQuadraticTemperatureBias(k, seed, &c);

@@ -167,6 +167,85 @@ TEST(CompareCommand, NamesTheAuxTermOfAnyChannelAndStoresItWithItsUnit) {
   fs::remove_all(dir);
 }
 
+// A thermal hysteresis (a bias +-0.03 deg/h with the direction of the recorded temperature,
+// from the difference of its 120 s means after and before each sample) added to a simulated
+// navigation-grade record (seed 2), where the views pass and the long-tau check flags: compare
+// names aux_hysteresis:temperature as the term that clears the flag (JSON, text), estimates its
+// coefficient, and with it added the model is consistent and unflagged; the model file keeps the
+// term, its dead band and unit, and compare --model reads it back.
+TEST(CompareCommand, NamesTheHysteresisTermThatClearsTheLongTauFlagAndStoresIt) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("fogpipe_compare_hysteresis_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string rec = (dir / "rec.h5").string(), results = (dir / "results.h5").string();
+  int code = 0;
+  RunFogpipe("simulate --profile nav --seed 2 -o " + rec, &code);
+  ASSERT_EQ(code, 0);
+  const double amplitude_deg_h = 0.03;
+  {
+    auto lock = hdf5::LockHdf5();
+    H5::H5File f(rec, H5F_ACC_RDWR);
+    H5::DataSet temperature_set = f.openDataSet("/aux/temperature"),
+                rate_set = f.openDataSet("/rate");
+    hsize_t n = 0;
+    rate_set.getSpace().getSimpleExtentDims(&n);
+    std::vector<double> temperature(n), rate(n);
+    temperature_set.read(temperature.data(), H5::PredType::NATIVE_DOUBLE);
+    rate_set.read(rate.data(), H5::PredType::NATIVE_DOUBLE);
+    const long half = 600;  // 60 s at 10 Hz
+    std::vector<double> sum(n + 1, 0.0);
+    for (hsize_t i = 0; i < n; ++i) sum[i + 1] = sum[i] + temperature[i];
+    for (long i = 0; i < static_cast<long>(n); ++i) {
+      const long lo = std::max(0L, i - half), hi = std::min(static_cast<long>(n) - 1, i + half);
+      const double left = (sum[i + 1] - sum[lo]) / (i - lo + 1);
+      const double right = (sum[hi + 1] - sum[i]) / (hi - i + 1);
+      rate[i] += right >= left ? amplitude_deg_h : -amplitude_deg_h;
+    }
+    rate_set.write(rate.data(), H5::PredType::NATIVE_DOUBLE);
+  }
+  const std::string term = "aux_hysteresis:temperature";
+  const nlohmann::json j =
+      nlohmann::json::parse(RunFogpipe("compare --json -o " + results + " " + rec, &code));
+  ASSERT_EQ(code, 0);
+  EXPECT_TRUE(j["verdict"]["absorbing_slow_effect"].get<bool>()) << j["verdict"]["text"];
+  EXPECT_NE(j["verdict"]["text"].get<std::string>().find("adding " + term + " clears it"),
+            std::string::npos)
+      << j["verdict"]["text"];
+  ASSERT_FALSE(j["suggestions"].empty());
+  EXPECT_EQ(j["suggestions"][0]["term"], term);
+  EXPECT_TRUE(j["suggestions"][0]["clears_long_tau"].get<bool>());
+  EXPECT_LT(j["suggestions"][0]["delta_bic"].get<double>(), 0.0);
+  for (const auto& suggestion : j["suggestions"])
+    EXPECT_TRUE(suggestion.contains("clears_long_tau"));
+  const auto& coefficient = j["suggestions"][0]["parameters"]["coefficient"];
+  EXPECT_EQ(coefficient["units"], "deg/h");
+  EXPECT_LE(std::abs(coefficient["value"].get<double>() - amplitude_deg_h),
+            std::max(0.1 * amplitude_deg_h, 3 * coefficient["standard_error"].get<double>()))
+      << coefficient;
+  EXPECT_EQ(j["suggestions"][0]["parameters"]["dead_band"]["units"], "degC/s");
+  EXPECT_NE(RunFogpipe("compare " + rec, &code).find(term + ": error after"), std::string::npos);
+
+  const std::string model = (dir / "m.json").string();
+  const nlohmann::json j2 = nlohmann::json::parse(RunFogpipe(
+      "compare --json --add " + term + " --save-model " + model + " -o " + results + " " + rec,
+      &code));
+  ASSERT_EQ(code, 0);
+  EXPECT_EQ(j2["verdict"]["status"], "consistent") << j2["verdict"]["text"];
+  EXPECT_FALSE(j2["verdict"]["absorbing_slow_effect"].get<bool>()) << j2["verdict"]["text"];
+  RunFogpipe("validate " + results, &code);
+  EXPECT_EQ(code, 0);
+  const io::ModelFile m = io::ReadModelFile(model);
+  ASSERT_EQ(m.terms.back(), model::ModelTerm::Aux(model::AuxForm::kHysteresis, "temperature"));
+  ASSERT_EQ(m.deterministic.components.size(), 1u);
+  EXPECT_EQ(m.deterministic.components[0].units, "degC");
+  EXPECT_GT(m.deterministic.components[0].reference, 0.0);  // the dead band, degC/s
+  const nlohmann::json j3 =
+      nlohmann::json::parse(RunFogpipe("compare --json --model " + model + " " + rec, &code));
+  ASSERT_EQ(code, 0);
+  EXPECT_EQ(j3["verdict"]["status"], "consistent");
+  fs::remove_all(dir);
+}
+
 /// A fresh folder `name` holding rec.h5: the nav profile with two axes x, y for `duration_s`.
 fs::path TwoAxisRecording(const std::string& name, int seed, int duration_s) {
   const fs::path dir = fs::temp_directory_path() / (name + "_" + std::to_string(getpid()));
