@@ -146,6 +146,7 @@ void FilterForwardBackward(const std::vector<Biquad>& sections, const Eigen::Vec
                            Eigen::Index pad_samples, std::vector<double>* work,
                            Eigen::VectorXd* out) {
   if (sections.size() > 2) throw std::invalid_argument("FilterForwardBackward: at most 2 sections");
+  if (out == &x) throw std::invalid_argument("FilterForwardBackward: out must not be x");
   const Eigen::Index n = x.size();
   if (n < 2) {
     *out = x;

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <deque>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <sstream>
+#include <thread>
 #include <utility>
 
 #include "algorithms/allan/model_edf.h"
@@ -131,6 +133,7 @@ class ImfStream {
       // waited for first: that is the task that starts its fit.
       if (k >= stream_.components_in_flight) {
         WaitLimited(k - stream_.components_in_flight);
+        if (Failed()) WaitAll();  // rethrows: the EMD stops before sifting another IMF
         fit_groups_[slot]->Wait();
       }
       buffers_[slot] = imf;
@@ -187,14 +190,21 @@ class ImfStream {
   /// Returns once component k is band limited (and its fit started), or the chain failed. Waits
   /// on the group of the component the chain is at, as often as the chain moves on: a wait on a
   /// task group runs other tasks meanwhile, where a blocking wait could hold the last free thread.
+  /// (The chain names the next slot before it starts the task there: a wait that finds that
+  /// group still empty yields instead of spinning.)
   void WaitLimited(int k) {
+    int seen_limited = -1, seen_slot = -1;
     for (;;) {
-      int slot = 0;
+      int slot = 0, limited = 0;
       {
         std::lock_guard<std::mutex> lock(queue_mutex_);
         if (failed_ || limited_ > k || !limiting_) return;
         slot = chain_slot_;
+        limited = limited_;
       }
+      if (limited == seen_limited && slot == seen_slot) std::this_thread::yield();
+      seen_limited = limited;
+      seen_slot = slot;
       limit_groups_[slot]->Wait();
     }
   }
@@ -202,15 +212,7 @@ class ImfStream {
   /// The band limit chain to its end first: it starts the fits. Then every group, which rethrows
   /// a failure.
   void WaitAll() {
-    for (;;) {
-      int slot = 0;
-      {
-        std::lock_guard<std::mutex> lock(queue_mutex_);
-        if (!limiting_) break;
-        slot = chain_slot_;
-      }
-      limit_groups_[slot]->Wait();
-    }
+    WaitLimited(std::numeric_limits<int>::max() - 1);  // returns once the chain is idle
     for (std::unique_ptr<TaskGroup>& group : limit_groups_) group->Wait();
     for (std::unique_ptr<TaskGroup>& group : fit_groups_) group->Wait();
   }

@@ -550,7 +550,11 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
         !base.views.consistent &&
         (trial.views.error <= options.min_improvement * base_error || !fixes.empty());
     // Clears the flag, BIC permitting (checked below).
-    const bool unflags = flagged && trial.long_tau.run && !trial.long_tau.flagged;
+    // (A check evaluated without a flag, or one that finds B, K and R too small to absorb
+    // anything; one that could not be evaluated otherwise, e.g. a singular covariance, says
+    // nothing.)
+    const bool unflags = flagged && !trial.long_tau.flagged &&
+                         (trial.long_tau.evaluated || trial.long_tau.nothing_to_absorb);
     if (!improves && !unflags) continue;
     if (!unflags && !AuxViewSupports(base, term)) continue;
     if (term == thermal_polynomial && temperature_trialled && polynomial_order <= 1) continue;
@@ -733,12 +737,16 @@ Verdict MakeVerdict(const Evaluation& base, const std::vector<ModelTerm>& trial_
   verdict.text = "unexplained: no catalog term makes any failing view (" +
                  Join(FailingViews(base.views)) +
                  ") pass; failing: " + FailureList(verdict.still_failing);
-  if (!suggestions.empty()) {
-    const Suggestion& suggestion = suggestions.front();
+  // The first candidate that lowers the error (one that only clears the long-tau flag may rank
+  // above it; the warning names that one).
+  const auto lowers =
+      std::find_if(suggestions.begin(), suggestions.end(),
+                   [&](const Suggestion& s) { return s.error_after < base.views.error; });
+  if (lowers != suggestions.end()) {
     verdict.text +=
-        "; the first candidate, " + SuggestionLabel(suggestion) +
-        (suggestion.bic_rejects ? " (rejected by BIC)" : "") +
-        Format(", only takes the error %.3g -> %.3g", base.views.error, suggestion.error_after);
+        "; the first candidate, " + SuggestionLabel(*lowers) +
+        (lowers->bic_rejects ? " (rejected by BIC)" : "") +
+        Format(", only takes the error %.3g -> %.3g", base.views.error, lowers->error_after);
   }
   return verdict;
 }

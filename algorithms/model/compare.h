@@ -19,7 +19,8 @@
 // explain a slow effect (SlowEffectTrialTerms: bias_step, warmup, the thermal terms and, per aux
 // channel, aux, aux_rate and aux_hysteresis, whatever the aux view says) and runs the long-tau
 // check on those trials only (it costs a pass per tested tau). A trial `clears_long_tau` when its
-// check runs and does not flag and BIC accepts its term (delta_bic < 0, below); such a term is a
+// check is evaluated and does not flag, or finds B, K and R too small at every tau to absorb
+// anything (LongTauCheck::nothing_to_absorb), and BIC accepts its term (delta_bic < 0, below); such a term is a
 // candidate even when the views pass or the aux view does not support it. Without a flag nothing
 // of this runs: the trials, their order and the ranking are those described below.
 //
@@ -36,13 +37,13 @@
 // aux:temperature are nested (catalog.h): only the one whose order the polynomial fit's BIC
 // chooses is listed (temperature for order 1).
 // Candidates are ranked in groups: those that make a failing view pass, then those that clear the
-// long-tau flag without (the views pass, or the trial fixes none), then those that only lower the
-// error, then those whose delta_bic is positive (`bic_rejects`: BIC prefers the model without the
-// term, so it is never ranked first, whatever it does to the error). Within a group they are
-// sorted by error_after; those within 15 % (+0.05) of the group's best error_after are
-// statistically indistinguishable on the error, and are ordered among themselves by delta_bic (the
-// simpler explanation first, Schwarz 1978), those that clear the long-tau flag first. The first
-// suggestion is the one to add.
+// long-tau flag without fixing a view (the views already pass, or the trial fixes none), then
+// those that only lower the error, then those whose delta_bic is positive (`bic_rejects`: BIC
+// prefers the model without the term, so it is never ranked first, whatever it does to the error).
+// Within a group they are sorted by error_after; those within 15 % (+0.05) of the group's best
+// error_after are statistically indistinguishable on the error, and are ordered among themselves by
+// delta_bic (the simpler explanation first, Schwarz 1978), those that clear the long-tau flag
+// first. The first suggestion is the one to add.
 //
 // Verdict. "consistent" when the base model is; "inconsistent" with the first suggestion when it
 // makes a failing view pass (and, if the model with it still fails somewhere, the ranges that still

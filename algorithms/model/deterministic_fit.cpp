@@ -582,11 +582,18 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
   for (const auto& component : components) {
     if (!UsesDerivative(component.term) || !component.term.IsAux()) continue;
     const Eigen::VectorXd& derivative = AuxRate(&ctx, component.term.channel);
-    if (component.term.aux == AuxForm::kHysteresis &&
-        HysteresisState(derivative, component.reference, fs, ctx.smoothing_s).isZero()) {
+    if (component.term.aux != AuxForm::kHysteresis) continue;
+    // A state of one sign all along (a channel that only rises, as in a warm-up, or never leaves
+    // the band) is the bias column itself, or zero: the coefficient is not identifiable.
+    const Eigen::VectorXd state =
+        HysteresisState(derivative, component.reference, fs, ctx.smoothing_s);
+    if (!(state.maxCoeff() > 0.0 && state.minCoeff() < 0.0)) {
       fit.summary.termination = Termination::kInsufficientData;
-      fit.summary.message = "term '" + ToString(component.term) + "': the channel never leaves " +
-                            "the dead band (it neither rises nor falls beyond its noise)";
+      fit.summary.message = "term '" + ToString(component.term) + "': the channel " +
+                            (state.isZero() ? "never leaves the dead band (it neither rises nor "
+                                              "falls beyond its noise)"
+                                            : "moves one way only (it never both rises and falls "
+                                              "beyond its noise)");
       return fit;
     }
   }

@@ -31,7 +31,7 @@
 // independent ones; d is correlated over its window, which makes an exit rarer still), so that a
 // flat channel's d rarely leaves the band and a switch back, an exit on the other side as well,
 // is rarer again: noise does not chatter the switch, while a channel that moves changes state
-// within the time d takes to exceed w (4.8-5.7 sd for 1 h at 10 Hz to 24 h at 100 Hz). The noise
+// within the time d takes to exceed w (4.6-5.7 sd for 1 h at 10 Hz to 24 h at 100 Hz). The noise
 // of d: the sensor noise sigma_x (the rms first difference over sqrt 2, white sensor noise; a slow
 // channel's own change per sample is far below it) through the local-slope filter, whose noise
 // gain at window W samples is fs sqrt(12 / (W (W^2 - 1))) (the variance of a least-squares

@@ -242,6 +242,7 @@ LongTauCheck CheckLongTauTerms(const Eigen::VectorXd& residual, double fs,
                   "than %.3g of the model's Allan variance at every tau with %d blocks or more",
                   options.min_share, options.min_blocks);
     check.message = text;
+    check.nothing_to_absorb = true;
     return check;
   }
   // Three statistics per tau, one family.

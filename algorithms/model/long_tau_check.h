@@ -93,6 +93,10 @@ struct LongTauPoint {
 struct LongTauCheck {
   bool run = false;  ///< options.enabled (and valid): the check looked at the record
   bool evaluated = false;
+  /// Not evaluated because B, K and R carry less than min_share of the model's Allan variance at
+  /// every tau with min_blocks blocks: there is nothing for them to absorb (unlike the other
+  /// reasons, a non-finite residual or a singular covariance, which say nothing).
+  bool nothing_to_absorb = false;
   bool flagged = false;
   std::string message;  ///< why not evaluated, or the finding in one sentence
   std::vector<LongTauPoint> points;

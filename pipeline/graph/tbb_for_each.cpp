@@ -34,7 +34,14 @@ class TbbTaskGroup : public TaskGroup {
   void Wait() override { group_->wait(); }
 
  private:
-  std::unique_ptr<tbb::task_group> group_ = std::make_unique<tbb::task_group>();
+  // Isolated: a group is often first used from a task of another group (the streamed EMD's chain
+  // starts the next component's task in that component's group), and a bound context would make
+  // it that group's child, so that a cancellation there would skip tasks here and the groups'
+  // destruction order would matter. Each group's failure is its own and rethrown by its Wait.
+  tbb::task_group_context context_{
+      tbb::task_group_context::isolated,
+      tbb::task_group_context::default_traits | tbb::task_group_context::concurrent_wait};
+  std::unique_ptr<tbb::task_group> group_ = std::make_unique<tbb::task_group>(context_);
 };
 
 }  // namespace

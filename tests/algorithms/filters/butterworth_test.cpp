@@ -155,12 +155,6 @@ TEST(Butterworth, GcvKeepsASlowSineAndRemovesMostNoise) {
   EXPECT_LT(std::sqrt((r.output - truth).squaredNorm() / n), 0.2);
 }
 
-}  // namespace
-}  // namespace fogpipe::filters
-
-namespace fogpipe::filters {
-namespace {
-
 /// The textbook forward-backward filter, as scalar reference: the odd-reflection extension built
 /// in full, each section run over all of it in turn (transposed direct form II, started in the
 /// steady state of its first input), forward, then the same backward, and the middle cut out.

@@ -371,7 +371,8 @@ TEST(RankSuggestions, WhenTheLongTauCheckFlagsATermThatClearsItAndThatBicAccepts
   // Every view passes, but the base model's long-tau check flags. aux_hysteresis:temperature
   // clears the flag with RSS 1 -> 0.9 (delta_bic = 10^4 ln 0.9 + ln 10^4 < 0); aux:supply_voltage
   // clears it too but BIC rejects it (RSS 1 -> 0.99999: 10^4 ln 0.99999 + ln 10^4 = +9.1);
-  // temperature's trial is still flagged and warmup's check did not run. No aux view supports any
+  // temperature's trial is still flagged, and warmup's check ran but could not be evaluated (a
+  // singular covariance, say), which says nothing. No aux view supports any
   // of them (the synthetic base has no aux channel): clearing the flag is their evidence.
   Evaluation base = Synthetic(
       {{ViewDomain::kTau, 0.5}, {ViewDomain::kFrequency, 0.5}, {ViewDomain::kTime, 0.5}}, 1.0, 1);
@@ -384,10 +385,10 @@ TEST(RankSuggestions, WhenTheLongTauCheckFlagsATermThatClearsItAndThatBicAccepts
     trials.push_back(Synthetic(
         {{ViewDomain::kTau, 0.5}, {ViewDomain::kFrequency, 0.5}, {ViewDomain::kTime, 0.5}}, rss,
         2));
-    trials.back().long_tau.run = true;
+    trials.back().long_tau.run = trials.back().long_tau.evaluated = true;
   }
   trials[0].long_tau.flagged = true;
-  trials[1].long_tau.run = false;
+  trials[1].long_tau.evaluated = false;  // and not nothing_to_absorb
   const auto s = RankSuggestions(base, tt, trials, {});
   ASSERT_EQ(s.size(), 1u);
   EXPECT_EQ(s[0].term, hysteresis);

@@ -228,16 +228,22 @@ TEST(DeterministicFit, AnAuxHysteresisTermFollowsTheDirectionOfTheChannel) {
 // of these 20 seeds switch once: the slope of a moving window is a rough process, whose maximum
 // over 86400 samples is near the universal threshold, not near the 4 sd of ~700 independent ones.
 TEST(DeterministicFit, AFlatNoisyChannelDoesNotChatterTheHysteresisSwitch) {
+  // Seeds 101-120: the band's size was chosen on seeds 1-20 (a fixed 4 sd switched on 2 of them,
+  // the universal threshold on none). Bound: a switch needs an exit on each side; for n values
+  // the universal threshold is exceeded with probability about 1 / sqrt(pi ln n) = 0.17 (n =
+  // 86400, independent values; the window's correlation makes it rarer), so p(switch) <= 0.17^2
+  // = 0.03 per record, and P(3 or more of 20 switch | p = 0.03) = 2.1 %: at most 2 are allowed.
   const double fs = 1.0;
   const long n = 86400;
-  for (int seed = 1; seed <= 20; ++seed) {
+  int chattering = 0;
+  for (int seed = 101; seed <= 120; ++seed) {
     std::mt19937_64 g(seed);
     std::normal_distribution<double> sensor(0.0, 0.01);
     Eigen::VectorXd flat(n);
     for (long i = 0; i < n; ++i) flat[i] = 20.0 + sensor(g);
     const Eigen::VectorXd derivative = SmoothedDerivative(flat, fs, 120.0);
     const double band = HysteresisDeadBand(flat, fs, 120.0);
-    if (seed == 1) {
+    if (seed == 101) {
       const Eigen::ArrayXd inner = derivative.segment(60, n - 120).array();
       const double sd = std::sqrt((inner - inner.mean()).square().mean());
       const double universal = std::sqrt(2 * std::log(static_cast<double>(n)));
@@ -246,15 +252,21 @@ TEST(DeterministicFit, AFlatNoisyChannelDoesNotChatterTheHysteresisSwitch) {
     const Eigen::VectorXd state = HysteresisState(derivative, band, fs, 120.0);
     int switches = 0;
     for (long i = 1; i < n; ++i) switches += state[i] * state[i - 1] < 0;
-    EXPECT_EQ(switches, 0) << "seed " << seed;
+    chattering += switches > 0;
   }
-  // A channel that never leaves the band has no direction: the term is refused.
+  EXPECT_LE(chattering, 2);
+  // A channel that never leaves the band has no direction, and one that only rises (a warm-up)
+  // gives the bias column itself: the term is refused for both.
+  Eigen::VectorXd rising(n);
+  for (long i = 0; i < n; ++i) rising[i] = 20.0 + 1e-4 * static_cast<double>(i);
   const Eigen::VectorXd constant = Eigen::VectorXd::Constant(n, 20.0),
                         rate = Eigen::VectorXd::Zero(n);
-  const std::vector<AuxSeries> channels = {{"v", "V", &constant}};
-  EXPECT_EQ(FitDeterministic(rate, fs, channels, {ModelTerm::Aux(AuxForm::kHysteresis, "v")}, {})
-                .summary.termination,
-            Termination::kInsufficientData);
+  for (const Eigen::VectorXd* channel : std::vector<const Eigen::VectorXd*>{&constant, &rising}) {
+    const std::vector<AuxSeries> channels = {{"v", "V", channel}};
+    EXPECT_EQ(FitDeterministic(rate, fs, channels, {ModelTerm::Aux(AuxForm::kHysteresis, "v")}, {})
+                  .summary.termination,
+              Termination::kInsufficientData);
+  }
 }
 
 TEST(DeterministicFit, TheHysteresisStateHoldsInsideTheDeadBand) {
