@@ -401,6 +401,65 @@ TEST(RankSuggestions, WhenTheLongTauCheckFlagsATermThatClearsItAndThatBicAccepts
   EXPECT_TRUE(RankSuggestions(base, tt, trials, {}).empty());
 }
 
+// The groups when the base model is inconsistent and its long-tau check flags: a term that makes
+// a failing view pass first, then one that only clears the flag, then one that only lowers the
+// error; the unexplained verdict quotes the one that lowers the error, not the flag's.
+TEST(RankSuggestions, AFlaggedInconsistentModelRanksFixesThenFlagClearingThenErrorLowering) {
+  Evaluation base = Synthetic(
+      {{ViewDomain::kTau, 4}, {ViewDomain::kFrequency, 2}, {ViewDomain::kTime, 0.5}}, 1.0, 1);
+  base.long_tau.run = base.long_tau.evaluated = base.long_tau.flagged = true;
+  const std::vector<ModelTerm> tt = {Term::kWarmup, Term::kBiasStep, Term::kSinusoid};
+  // delta_bic = 10^4 ln(rss) + (parameters - 1) ln 10^4 < 0 for each.
+  std::vector<Evaluation> trials = {
+      Synthetic({{ViewDomain::kTau, 3}, {ViewDomain::kFrequency, 2}, {ViewDomain::kTime, 0.5}},
+                0.95, 3),
+      Synthetic({{ViewDomain::kTau, 4}, {ViewDomain::kFrequency, 2}, {ViewDomain::kTime, 0.5}}, 0.9,
+                3),
+      Synthetic({{ViewDomain::kTau, 4}, {ViewDomain::kFrequency, 0.5}, {ViewDomain::kTime, 0.5}},
+                0.9, 4)};
+  for (Evaluation& trial : trials) trial.long_tau.run = trial.long_tau.evaluated = true;
+  trials[0].long_tau.flagged = trials[2].long_tau.flagged = true;
+  const auto s = RankSuggestions(base, tt, trials, {});
+  ASSERT_EQ(s.size(), 3u);
+  EXPECT_EQ(s[0].term, Term::kSinusoid);
+  EXPECT_FALSE(s[0].clears_long_tau);
+  EXPECT_EQ(s[1].term, Term::kBiasStep);
+  EXPECT_TRUE(s[1].clears_long_tau);
+  EXPECT_TRUE(s[1].fixes.empty());
+  EXPECT_EQ(s[2].term, Term::kWarmup);
+  EXPECT_FALSE(s[2].clears_long_tau);
+  // Without the frequency fix the verdict is unexplained, and its text names warmup (3 < 4), not
+  // bias_step, which ranks first but leaves the error at 4.
+  const std::vector<Suggestion> without_fix(s.begin() + 1, s.end());
+  const Verdict v = MakeVerdict(base, tt, trials, without_fix);
+  EXPECT_EQ(v.status, "unexplained");
+  EXPECT_NE(v.text.find("the first candidate, warmup"), std::string::npos) << v.text;
+  EXPECT_EQ(v.text.find("the first candidate, bias_step"), std::string::npos) << v.text;
+}
+
+// Within a group, terms tied on the error (within 15 % + 0.05 of the best) that clear the
+// long-tau flag come before those that do not, even against a better delta_bic.
+TEST(RankSuggestions, AmongTermsTiedOnTheErrorTheOneThatClearsTheFlagComesFirst) {
+  Evaluation base = Synthetic(
+      {{ViewDomain::kTau, 0.5}, {ViewDomain::kFrequency, 2}, {ViewDomain::kTime, 0.5}}, 1.0, 1);
+  base.long_tau.run = base.long_tau.evaluated = base.long_tau.flagged = true;
+  const std::vector<ModelTerm> tt = {Term::kSinusoid, Term::kBiasStep};
+  std::vector<Evaluation> trials = {
+      Synthetic({{ViewDomain::kTau, 0.5}, {ViewDomain::kFrequency, 0.5}, {ViewDomain::kTime, 0.5}},
+                0.8, 4),
+      Synthetic(
+          {{ViewDomain::kTau, 0.55}, {ViewDomain::kFrequency, 0.55}, {ViewDomain::kTime, 0.5}}, 0.9,
+          3)};
+  for (Evaluation& trial : trials) trial.long_tau.run = trial.long_tau.evaluated = true;
+  trials[0].long_tau.flagged = true;
+  const auto s = RankSuggestions(base, tt, trials, {});
+  ASSERT_EQ(s.size(), 2u);
+  EXPECT_LT(s[1].delta_bic, s[0].delta_bic);  // the sinusoid is the better fit by BIC
+  EXPECT_EQ(s[0].term, Term::kBiasStep);
+  EXPECT_TRUE(s[0].clears_long_tau);
+  EXPECT_EQ(s[1].term, Term::kSinusoid);
+}
+
 TEST(RankSuggestions, ATermIsCreditedForTheViewItFixesWhileAnotherDominates) {
   // The tau view dominates (error 4) and nothing fixes it; the sinusoid makes the failing
   // frequency view pass (2 -> 0.5) without changing the overall error: it is suggested, credited
