@@ -43,23 +43,28 @@ const DeterministicComponent* LastComponent(const Evaluation& evaluation, const 
   return found;
 }
 
+// An aux channel's unit ("1" without one), parenthesised where it is compound ("(m/s^2)").
+std::string AuxUnit(const std::string& units, bool parenthesised) {
+  const std::string unit = units.empty() ? "1" : units;
+  const bool compound = unit.find_first_of("/^* ") != std::string::npos;
+  return parenthesised && compound ? "(" + unit + ")" : unit;
+}
+
+// The unit of a channel's rate of change: "V/s", "(m/s^2)/s".
+std::string AuxRateUnit(const std::string& units) { return AuxUnit(units, true) + "/s"; }
+
 // Engineer's units per unit of an aux channel: "deg/h/V", "deg/h/V^2", "deg/h/(V/s)"; a channel
 // without units is per unit of its value ("1").
 std::string PerAuxUnit(const std::string& units, int power, bool rate) {
-  const std::string unit = units.empty() ? "1" : units;
-  if (rate) return "deg/h/(" + unit + "/s)";
-  if (power == 0) return "deg/h";
-  const bool compound = unit.find_first_of("/^* ") != std::string::npos;
-  const std::string base = compound ? "(" + unit + ")" : unit;
-  return "deg/h/" + base + (power > 1 ? "^" + std::to_string(power) : "");
+  if (rate) return "deg/h/(" + AuxRateUnit(units) + ")";
+  return "deg/h/" + AuxUnit(units, true) + (power > 1 ? "^" + std::to_string(power) : "");
 }
 
 std::vector<Parameter> AuxParameters(const DeterministicComponent& component) {
   if (component.term.aux == AuxForm::kHysteresis)
     return {{"coefficient", DegH(component.coefficients[0]), DegH(component.coefficients_se[0]),
-             PerAuxUnit(component.units, 0, false)},
-            {"dead_band", component.reference, 0.0,
-             (component.units.empty() ? "1" : component.units) + "/s"}};
+             "deg/h"},
+            {"dead_band", component.reference, 0.0, AuxRateUnit(component.units)}};
   if (component.term.aux == AuxForm::kRate)
     return {{"coefficient", DegH(component.coefficients[0]), DegH(component.coefficients_se[0]),
              PerAuxUnit(component.units, 1, true)}};
@@ -69,8 +74,7 @@ std::vector<Parameter> AuxParameters(const DeterministicComponent& component) {
     parameters.push_back({k == 0 ? "coefficient" : "coefficient_" + std::to_string(k + 1),
                           DegH(component.coefficients[k]), DegH(component.coefficients_se[k]),
                           PerAuxUnit(component.units, k + 1, false)});
-  parameters.push_back(
-      {"reference", component.reference, 0.0, component.units.empty() ? "1" : component.units});
+  parameters.push_back({"reference", component.reference, 0.0, AuxUnit(component.units, false)});
   return parameters;
 }
 
