@@ -5,6 +5,7 @@
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <utility>
 
 #include "algorithms/common/units.h"
 #include "algorithms/model/spectrum.h"
@@ -373,10 +374,17 @@ double SlopeNoiseGain(long count) {
   return std::sqrt(12.0 / (m * (m * m - 1)));
 }
 
-// The number of samples in SmoothedDerivative's window at sample i of n.
-long WindowCount(long i, long n, long half_width) {
-  return std::min(n - 1, i + half_width) - std::max(0L, i - half_width) + 1;
+// SmoothedDerivative's window at sample i of n: [lo, hi], clipped at the record's ends.
+std::pair<long, long> Window(long i, long n, long half_width) {
+  return {std::max(0L, i - half_width), std::min(n - 1, i + half_width)};
 }
+
+// The number of samples in that window, and in the widest (interior) one.
+long WindowCount(long i, long n, long half_width) {
+  const auto [lo, hi] = Window(i, n, half_width);
+  return hi - lo + 1;
+}
+long InteriorWindowCount(long n, long half_width) { return std::min(n, 2 * half_width + 1); }
 
 }  // namespace
 
@@ -399,7 +407,7 @@ Eigen::VectorXd SmoothedDerivative(const Eigen::VectorXd& temp, double fs, doubl
   }
   Eigen::VectorXd derivative(n);
   for (long i = 0; i < n; ++i) {
-    const long lo = std::max(0L, i - half_width), hi = std::min(n - 1, i + half_width);
+    const auto [lo, hi] = Window(i, n, half_width);
     const double count = static_cast<double>(hi - lo + 1);
     // Centre k on i for conditioning: sums of (k - i) and (k - i)^2.
     const double ci = static_cast<double>(i);
@@ -418,7 +426,7 @@ double HysteresisDeadBand(const Eigen::VectorXd& values, double fs, double smoot
   const double sensor_sd =
       std::sqrt((values.tail(n - 1) - values.head(n - 1)).squaredNorm() / (n - 1) / 2.0);
   // The interior (widest) window of SmoothedDerivative.
-  const long count = std::min(n, 2 * SmoothingHalfWidth(fs, smoothing_s) + 1);
+  const long count = InteriorWindowCount(n, SmoothingHalfWidth(fs, smoothing_s));
   const double universal = std::sqrt(2.0 * std::log(static_cast<double>(n)));
   return universal * fs * SlopeNoiseGain(count) * sensor_sd;
 }
@@ -427,7 +435,7 @@ Eigen::VectorXd HysteresisState(const Eigen::VectorXd& derivative, double dead_b
                                 double smoothing_s) {
   const long n = derivative.size();
   const long half_width = SmoothingHalfWidth(fs, smoothing_s);
-  const double interior_gain = SlopeNoiseGain(std::min(n, 2 * half_width + 1));
+  const double interior_gain = SlopeNoiseGain(InteriorWindowCount(n, half_width));
   Eigen::VectorXd state = Eigen::VectorXd::Zero(n);
   long first = -1;
   double current = 0.0;
