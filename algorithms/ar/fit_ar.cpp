@@ -44,7 +44,12 @@ ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options
   return FitAr(x, options, nullptr);
 }
 
-ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options, ArWork* work) {
+namespace {
+
+// FitAr's steps. With `owner` (FitArInPlace: x views *owner, the estimator is Burg and work is
+// given), Burg forms its forward errors in *owner's own array and `reload` refills it after.
+ArFit Fit(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options, ArWork* work,
+          Eigen::VectorXd* owner, const std::function<void(Eigen::VectorXd*)>& reload) {
   ArFit fit;
   std::string error;
   if (!options.IsValid(&error)) {
@@ -73,7 +78,15 @@ ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options
   switch (options.estimator) {
     case Estimator::kBurg:
     case Estimator::kMaximumLikelihood:
-      seq = BurgAllOrders(x, top, mean, work != nullptr ? &work->burg : nullptr);
+      if (owner != nullptr) {
+        // x's array becomes the forward error array (f = x - mean reads each sample before it
+        // overwrites it) and is handed back, spent, afterwards.
+        work->burg.forward.swap(*owner);
+        seq = BurgAllOrders(x, top, mean, &work->burg);
+        owner->swap(work->burg.forward);
+      } else {
+        seq = BurgAllOrders(x, top, mean, work != nullptr ? &work->burg : nullptr);
+      }
       break;
     case Estimator::kLeastSquaresQr:
       xc = x.array() - mean;
@@ -153,14 +166,31 @@ ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options
   if (!fit.model.stationary) msg << "; NOT stationary";
   fit.summary.message = msg.str();
   if (options.compute_diagnostics) {
-    // Burg's forward errors are spent: their array holds the residuals.
-    if (work != nullptr && work->burg.forward.size() == n) {
+    // Burg's error arrays are spent: one of them holds the residuals.
+    if (owner != nullptr) {
+      reload(owner);
+      fit.diagnostics = ComputeDiagnostics(*owner, fit.model, work->burg.backward.data());
+    } else if (work != nullptr && work->burg.forward.size() == n) {
       fit.diagnostics = ComputeDiagnostics(x, fit.model, work->burg.forward.data());
     } else {
       fit.diagnostics = ComputeDiagnostics(x, fit.model);
     }
   }
   return fit;
+}
+
+}  // namespace
+
+ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options, ArWork* work) {
+  return Fit(x, options, work, nullptr, nullptr);
+}
+
+ArFit FitArInPlace(Eigen::VectorXd* x, const ArOptions& options, ArWork* work,
+                   const std::function<void(Eigen::VectorXd*)>& reload) {
+  if (options.estimator != Estimator::kBurg || work == nullptr) return FitAr(*x, options, work);
+  // The view is taken before Burg swaps the array away: it follows the samples, not *x.
+  const Eigen::Ref<const Eigen::VectorXd> view(*x);
+  return Fit(view, options, work, x, reload);
 }
 
 }  // namespace fogpipe::ar

@@ -25,6 +25,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 
 #include "algorithms/ar/ar_model.h"
@@ -94,5 +95,16 @@ struct ArWork {
 
 /// FitAr with its work arrays in *work (may be null); the result is the same bit for bit.
 ArFit FitAr(const Eigen::Ref<const Eigen::VectorXd>& x, const ArOptions& options, ArWork* work);
+
+/// FitAr for a caller that can read its series again but should not hold it beside Burg's two
+/// error arrays (the streamed method, whose components wait in a store): Burg's forward errors
+/// are formed in *x itself (x - mean, in place), the backward ones in work->burg.backward, and
+/// once the model is chosen `reload(x)` must fill *x with the series again for the diagnostics
+/// (whose residuals then go to the spent backward array). Extra memory N doubles instead of 2 N;
+/// the result equals FitAr(*x, options, work) bit for bit (the same arithmetic on the same
+/// values). For an estimator other than Burg this is FitAr(*x, options, work): *x is untouched
+/// and `reload` is not called. `reload` may throw; *x's contents are then unspecified.
+ArFit FitArInPlace(Eigen::VectorXd* x, const ArOptions& options, ArWork* work,
+                   const std::function<void(Eigen::VectorXd*)>& reload);
 
 }  // namespace fogpipe::ar

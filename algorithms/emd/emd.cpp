@@ -21,16 +21,27 @@ class EnvelopeBuffers {
   // gains a few extrema does not reallocate) and repeats the pass if the counts did not fit.
   ExtremaCounts Find(const double* x, int n, const EmdOptions& options) {
     ExtremaCounts counts = Scan(x, n, options, true);
-    if (counts.num_maxima > upper_.interior_capacity() ||
-        counts.num_minima > lower_.interior_capacity()) {
+    const bool too_small = counts.num_maxima > upper_.interior_capacity() ||
+                           counts.num_minima > lower_.interior_capacity();
+    // Each IMF has about half the extrema of the one before, so the knots sized for the first
+    // (about 1.9 N doubles of white noise's, with the parts' scratch) would be held to the end of
+    // the decomposition, where the slow IMFs need a small fraction of them: they are sized down
+    // when kShrinkFactor times too large (a few times per decomposition, one more scan each).
+    const int needed = std::max(counts.num_maxima, counts.num_minima);
+    const bool too_large = std::max(upper_.interior_capacity(), lower_.interior_capacity()) >
+                           std::int64_t{kShrinkFactor} * (needed + kMinShrinkCapacity);
+    if (too_small || too_large) {
       // Interior maxima (or minima) alternate with the other kind and exclude the end samples, so
       // there are at most (n - 1) / 2 of each: the slack never takes the knots past 4 x that.
       const int most = (n - 1) / 2;
+      const int keep_upper = too_large ? 0 : upper_.interior_capacity();
+      const int keep_lower = too_large ? 0 : lower_.interior_capacity();
       auto grown = [most](int needed, int have) {
         return needed <= have ? have : std::max(needed, std::min(most, needed + needed / 32 + 16));
       };
-      upper_.Reserve(grown(counts.num_maxima, upper_.interior_capacity()));
-      lower_.Reserve(grown(counts.num_minima, lower_.interior_capacity()));
+      upper_.Reserve(grown(counts.num_maxima, keep_upper));
+      lower_.Reserve(grown(counts.num_minima, keep_lower));
+      if (too_large) scratch_ = ExtremaScratch();
       const size_t work =
           static_cast<size_t>(std::max(upper_.interior_capacity(), lower_.interior_capacity()) +
                               2 * EnvelopeKnots::kMaxMirrored);
@@ -80,6 +91,10 @@ class EnvelopeBuffers {
   // kMinPartSamples samples (512 KiB of h each: far more work than scheduling a task).
   static constexpr int kMinPartSamples = 1 << 16;
   static constexpr int kMaxParts = 16;
+  // Knot buffers are sized down when more than this many times the extrema (plus a floor, so
+  // that short records and the last IMFs keep theirs) need.
+  static constexpr int kShrinkFactor = 8;
+  static constexpr int kMinShrinkCapacity = 4096;
 
   EnvelopeKnots upper_, lower_;
   ExtremaScratch scratch_;  // FindExtremaInParts' per-part knots
@@ -138,8 +153,13 @@ EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions
   return Decompose(x, options, ImfSink());
 }
 
-EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions& options,
-                    const ImfSink& sink) {
+namespace {
+
+// Decompose's steps. With `owner` (the consuming form: x views *owner, sink is set), the remainder
+// takes *owner's array instead of a copy, and `reload` refills it at the end.
+EmdResult DecomposeSteps(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions& options,
+                         const ImfSink& sink, Eigen::VectorXd* owner,
+                         const std::function<void(Eigen::VectorXd*)>& reload) {
   EmdResult result;
   EmdSummary& summary = result.summary;
   std::string error;
@@ -159,7 +179,12 @@ EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions
     return result;
   }
   const int n = static_cast<int>(x.size());
-  result.residue = x;  // The running remainder r; ends as the residue.
+  // The running remainder r; ends as the residue.
+  if (owner != nullptr) {
+    result.residue.swap(*owner);
+  } else {
+    result.residue = x;
+  }
   if (n < 3) {
     summary.termination = Termination::kInsufficientData;
     summary.message = "need at least 3 samples, got " + std::to_string(n);
@@ -253,7 +278,15 @@ EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions
     }
     counts = buffers.Find(r, n, options);
   }
-  if (sink) {
+  if (owner != nullptr) {
+    // The remainder is spent: its array takes the input again and goes back to the caller, and
+    // the residue x - sum is formed in the sum's array (the same subtraction, element by element).
+    streamed_imf = Eigen::VectorXd();
+    reload(&result.residue);
+    imf_sum = result.residue - imf_sum;
+    owner->swap(result.residue);
+    result.residue.swap(imf_sum);
+  } else if (sink) {
     result.residue = x - imf_sum;
   } else {
     RecomputeResidue(x, result.imfs, &result.residue);
@@ -267,6 +300,25 @@ EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions
   if (capped_imfs > 0) msg << "; " << capped_imfs << " IMF(s) hit max_sifts";
   summary.message = msg.str();
   summary.termination = capped_imfs > 0 ? Termination::kNoConvergence : Termination::kSuccess;
+  return result;
+}
+
+}  // namespace
+
+EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions& options,
+                    const ImfSink& sink) {
+  return DecomposeSteps(x, options, sink, nullptr, nullptr);
+}
+
+EmdResult Decompose(Eigen::VectorXd* x, const EmdOptions& options, const ImfSink& sink,
+                    const std::function<void(Eigen::VectorXd*)>& reload) {
+  if (!sink) return Decompose(*x, options, sink);
+  const Eigen::Index n = x->size();
+  const Eigen::Ref<const Eigen::VectorXd> view(*x);
+  EmdResult result = DecomposeSteps(view, options, sink, x, reload);
+  // An early end (too few samples or extrema, a non-finite IMF) left the input in the result or
+  // nowhere: the caller gets it back as on entry.
+  if (x->size() != n) reload(x);
   return result;
 }
 

@@ -26,7 +26,8 @@
 // the larger envelope (at most N / 2 more doubles). Tested by heap
 // accounting in tests/algorithms/emd/emd_memory_test.cpp. Nothing of size N is allocated inside
 // the sift loop; knot arrays grow (exactly, +1/32) only when a sift has more extrema than any
-// before.
+// before, and are sized down when they hold more than 8 times the extrema an IMF needs (so the
+// slow IMFs at the end do not keep the first IMF's knots).
 //
 // Limits: N <= 2^29 samples (knot positions are int32 in half samples).
 #pragma once
@@ -111,6 +112,16 @@ using ImfSink = std::function<void(int k, const Eigen::VectorXd& imf, const ImfI
 /// fails the result after the sink has seen the IMFs before it.
 EmdResult Decompose(const Eigen::Ref<const Eigen::VectorXd>& x, const EmdOptions& options,
                     const ImfSink& sink);
+
+/// Decompose(*x, options, sink) for a caller that can read its input again (the streamed method
+/// keeps it in a store): *x's array becomes the running remainder instead of a copy, so the input
+/// is not held beside it (N doubles less). `reload(v)` must fill *v with the input as on entry;
+/// it is called once at the end, where the residue needs x - sum(imfs), or after an early end.
+/// On return *x holds the input again; the result is bit-identical to Decompose's. Without a sink
+/// this is Decompose(*x, options, sink) and reload is not called. `reload` may throw; it then
+/// propagates and *x is unspecified.
+EmdResult Decompose(Eigen::VectorXd* x, const EmdOptions& options, const ImfSink& sink,
+                    const std::function<void(Eigen::VectorXd*)>& reload);
 
 /// Recomputes the shape fields of *info (mean period, energy, extrema and zero crossings, as
 /// Decompose measures them) for `imf` as it now is; sifts and stop_reason are left alone. For

@@ -168,7 +168,11 @@ void FilterForwardBackward(const std::vector<Biquad>& sections, const Eigen::Vec
   }
   *out = x;
   RunPassSegment<true>(sections, &forward, out->data(), n);
-  if (static_cast<Eigen::Index>(work->size()) < pad) work->resize(pad);
+  if (static_cast<Eigen::Index>(work->size()) < pad) {
+    // Exactly pad doubles: growing the vector would double its capacity (up to 2 N doubles).
+    *work = std::vector<double>();
+    work->resize(pad);
+  }
   double* right = work->data();
   for (Eigen::Index i = 0; i < pad; ++i) right[i] = 2.0 * x[n - 1] - x[n - 2 - i];
   RunPassSegment<true>(sections, &forward, right, pad);

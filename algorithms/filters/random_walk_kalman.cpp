@@ -16,7 +16,13 @@ double RunFilter(const Eigen::VectorXd& y, double ratio, double* sum_log_f,
   const Eigen::Index n = y.size();
   double x = y[0], p = 1.0;
   if (filtered) (*filtered)[0] = x;
-  if (gain) gain->assign(1, p);
+  if (gain) {
+    // Room for every gain at once: at the small q/R of a static record the gain may not settle
+    // within the record, and a growing vector would double past N (and copy). Pages not reached
+    // are never touched.
+    gain->reserve(static_cast<std::size_t>(n));
+    gain->assign(1, p);
+  }
   double sum_e2 = 0.0;
   // log prod f_k, with the product renormalised every 64 steps (f_k <= 2 + ratio).
   double product = 1.0;
@@ -122,9 +128,9 @@ RandomWalkKalmanResult RandomWalkKalman(const Eigen::VectorXd& x,
   } else {
     const double nn = static_cast<double>(n);
     const double lo = options.min_ratio_times_n2 / (nn * nn);
-    const LogSearchResult best = MinimizeOnLogScale(
-        [&](double ratio) { return -RandomWalkProfileLikelihood(x, ratio); }, lo,
-        options.max_ratio, options.grid_points, options.relative_tolerance);
+    const LogSearchResult best =
+        MinimizeOnLogScale([&](double ratio) { return -RandomWalkProfileLikelihood(x, ratio); }, lo,
+                           options.max_ratio, options.grid_points, options.relative_tolerance);
     out.log_likelihood = RandomWalkProfileLikelihood(x, best.argument, &out.r);
     out.q = best.argument * out.r;
     out.at_lower_bound = best.at_lower_bound;

@@ -47,8 +47,7 @@ void RunRandomWalk(const Eigen::VectorXd& x, const RandomWalkKalmanOptions& opti
 }  // namespace
 
 bool ReferenceFilterOptions::IsValid(std::string* error) const {
-  return butterworth.IsValid(error) && moving_average.IsValid(error) &&
-         random_walk.IsValid(error);
+  return butterworth.IsValid(error) && moving_average.IsValid(error) && random_walk.IsValid(error);
 }
 
 const std::vector<std::string>& ReferenceFilterNames() {
@@ -59,17 +58,24 @@ const std::vector<std::string>& ReferenceFilterNames() {
 
 std::vector<ReferenceOutput> RunReferenceFilters(const Eigen::VectorXd& x, double sample_rate_hz,
                                                  const ReferenceFilterOptions& options,
-                                                 const ForEach& for_each) {
-  if (!options.enabled) return {};
+                                                 const ForEach& for_each,
+                                                 const std::function<void()>& beside) {
+  if (!options.enabled) {
+    if (beside) beside();
+    return {};
+  }
   const std::vector<std::string>& names = ReferenceFilterNames();
-  std::vector<ReferenceOutput> out = {Named(names[0], "cutoff", "Hz"),
-                                      Named(names[1], "window", "samples"),
-                                      Named(names[2], "q_over_r", "1"),
-                                      Named(names[3], "q_over_r", "1")};
-  for_each(3, [&](int i) {
-    if (i == 0) RunButterworth(x, sample_rate_hz, options.butterworth, &out[0]);
-    if (i == 1) RunMovingAverage(x, options.moving_average, &out[1]);
-    if (i == 2) RunRandomWalk(x, options.random_walk, &out[2], &out[3]);
+  std::vector<ReferenceOutput> out = {
+      Named(names[0], "cutoff", "Hz"), Named(names[1], "window", "samples"),
+      Named(names[2], "q_over_r", "1"), Named(names[3], "q_over_r", "1")};
+  for_each(2, [&](int lane) {
+    if (lane == 0) {
+      RunButterworth(x, sample_rate_hz, options.butterworth, &out[0]);
+      return;
+    }
+    RunMovingAverage(x, options.moving_average, &out[1]);
+    RunRandomWalk(x, options.random_walk, &out[2], &out[3]);
+    if (beside) beside();
   });
   return out;
 }

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -32,7 +33,7 @@ struct ReferenceFilterOptions {
 
 /// One reference filter's output and its tuning.
 struct ReferenceOutput {
-  std::string name;  ///< "butterworth", "moving_average", "rw_kalman", "rw_rts"
+  std::string name;        ///< "butterworth", "moving_average", "rw_kalman", "rw_rts"
   Eigen::VectorXd signal;  ///< filtered input, units of the input
   /// The tuned parameter: cutoff (Hz), window (samples), q / R (1); its name and units.
   std::string parameter_name, parameter_units;
@@ -46,11 +47,17 @@ struct ReferenceOutput {
 /// The names in output order.
 const std::vector<std::string>& ReferenceFilterNames();
 
-/// Runs every reference filter on x (through for_each: the three tunings are independent; the
-/// RTS smoother comes with the Kalman filter). Returns ReferenceFilterNames().size() outputs in
-/// that order, or none when !options.enabled.
+/// Runs every reference filter on x (the RTS smoother comes with the Kalman filter). Returns
+/// ReferenceFilterNames().size() outputs in that order, or none when !options.enabled.
+/// The tunings are independent and run in two lanes through for_each: the Butterworth in one,
+/// `beside` (other work of the caller's, may be empty), the moving average and the random-walk
+/// filters in the other, in that order. The Butterworth's GCV spectrum is the largest transient
+/// of the three (the antisymmetric extension, its half spectrum and the FFT's twiddles: about
+/// 6.5 N doubles), so it meets at most one other task's work arrays, never every finished
+/// output; the outputs do not depend on the lanes.
 std::vector<ReferenceOutput> RunReferenceFilters(const Eigen::VectorXd& x, double sample_rate_hz,
                                                  const ReferenceFilterOptions& options,
-                                                 const ForEach& for_each);
+                                                 const ForEach& for_each,
+                                                 const std::function<void()>& beside = nullptr);
 
 }  // namespace fogpipe::filters

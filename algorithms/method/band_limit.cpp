@@ -43,9 +43,11 @@ void BandLimiter::Next(Eigen::VectorXd* imf, emd::ImfInfo* info) {
 }
 
 void BandLimiter::Finish(Eigen::VectorXd* residue) {
-  if (!pending_) return;
-  *residue += leak_;
+  if (pending_) *residue += leak_;
   pending_ = false;
+  // Up to 2 N doubles that the filters after the decomposition can use.
+  leak_ = Eigen::VectorXd();
+  work_ = std::vector<double>();
 }
 
 void BandLimitImfs(const BandLimitOptions& options, emd::EmdResult* d) {

@@ -53,7 +53,7 @@ class BandLimiter {
   /// leakage is added, this one's removed (and kept for the next): *imf and *info then describe
   /// the component as modelled and stored.
   void Next(Eigen::VectorXd* imf, emd::ImfInfo* info);
-  /// Adds the last IMF's leakage to the residue.
+  /// Adds the last IMF's leakage to the residue and releases the buffers (no Next after it).
   void Finish(Eigen::VectorXd* residue);
 
  private:

@@ -14,7 +14,8 @@ namespace fogpipe::method {
 
 class ComponentStore {
  public:
-  enum class Kind { kComponent, kFiltered };
+  /// kSignal: the preprocessed signal (k = 0) while the EMD runs on its array.
+  enum class Kind { kComponent, kFiltered, kSignal };
   virtual ~ComponentStore() = default;
   /// Keeps x as column k of `kind` (k = 0 .. num_imfs, the residue last). Called from several
   /// threads at once, each with its own (kind, k); a column is put once.

@@ -112,9 +112,19 @@ class ImfStream {
     }
   }
   ~ImfStream() {
+    // Every task ends before the members it uses go: each group is waited for, whatever the
+    // others rethrow.
     try {
-      WaitAll();
+      WaitLimited(std::numeric_limits<int>::max() - 1);
     } catch (...) {
+    }
+    for (auto* groups : {&limit_groups_, &fit_groups_}) {
+      for (std::unique_ptr<TaskGroup>& group : *groups) {
+        try {
+          group->Wait();
+        } catch (...) {
+        }
+      }
     }
   }
 
@@ -217,6 +227,15 @@ class ImfStream {
     for (std::unique_ptr<TaskGroup>& group : fit_groups_) group->Wait();
   }
 
+  /// A failed component fails the decomposition (its task group rethrows at the next Wait):
+  /// nothing more is queued or limited, and the EMD stops at its next IMF (Take).
+  void Fail() {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    failed_ = true;
+    limiting_ = false;
+    queue_.clear();
+  }
+
   bool Failed() {
     std::lock_guard<std::mutex> lock(queue_mutex_);
     return failed_;
@@ -227,6 +246,11 @@ class ImfStream {
     Pending p;
     {
       std::lock_guard<std::mutex> lock(queue_mutex_);
+      // A fit that failed meanwhile (Fail) emptied the queue: the chain ends here.
+      if (failed_ || queue_.empty()) {
+        limiting_ = false;
+        return;
+      }
       p = queue_.front();
       queue_.pop_front();
     }
@@ -235,20 +259,32 @@ class ImfStream {
       *p.variance = ComponentVariance(*p.component);
       if (stream_.store) stream_.store->Put(ComponentStore::Kind::kComponent, p.k, *p.component);
     } catch (...) {
-      // A failed component fails the decomposition (its task group rethrows at the next Wait):
-      // nothing more is queued or limited, and the EMD stops at its next IMF (Take).
-      std::lock_guard<std::mutex> lock(queue_mutex_);
-      failed_ = true;
-      limiting_ = false;
-      queue_.clear();
+      Fail();
       throw;
     }
-    fit_groups_[p.slot]->Run([this, c = p.component, fit = p.fit] {
+    fit_groups_[p.slot]->Run([this, k = p.k, c = p.component, fit = p.fit] {
       if (IsConstantComponent(*c)) return;  // ModelComponent passes it through unfitted
-      std::unique_ptr<ar::ArWork> work = TakeWork();
-      fit->fit = ar::FitAr(*c, options_.component.ar, work.get());
-      fit->done = true;
-      ReturnWork(std::move(work));
+      // A failed fit (a store that cannot read back, no memory) fails the decomposition as a
+      // failed band limit does; a serial group runs this task inside the chain's, which the
+      // throw then leaves.
+      try {
+        std::unique_ptr<ar::ArWork> work = TakeWork();
+        if (stream_.store) {
+          // The component is in the store: its buffer serves as Burg's forward error array and
+          // is read back for the diagnostics (the slot's next component overwrites it anyway).
+          fit->fit =
+              ar::FitArInPlace(c, options_.component.ar, work.get(), [this, k](Eigen::VectorXd* x) {
+                stream_.store->Get(ComponentStore::Kind::kComponent, k, x);
+              });
+        } else {
+          fit->fit = ar::FitAr(*c, options_.component.ar, work.get());
+        }
+        fit->done = true;
+        ReturnWork(std::move(work));
+      } catch (...) {
+        Fail();
+        throw;
+      }
     });
     int next_slot = -1;
     {
@@ -265,8 +301,9 @@ class ImfStream {
 
   /// The work arrays of a fit: a set kept from an earlier fit when one is free. Every component
   /// has the record's length, so the arrays are reused as they are. At most components_in_flight
-  /// idle sets are kept (2 N doubles each), as many as the fits that run at once would allocate,
-  /// and they are released when the EMD ends.
+  /// idle sets are kept (N doubles each with a store, whose fits use the component's own buffer
+  /// as the second array; 2 N without), as many as the fits that run at once would allocate, and
+  /// they are released when the EMD ends.
   std::unique_ptr<ar::ArWork> TakeWork() {
     std::lock_guard<std::mutex> lock(work_mutex_);
     if (idle_work_.empty()) return std::make_unique<ar::ArWork>();
@@ -310,11 +347,20 @@ bool DecomposeStreamed(const Eigen::VectorXd& x, double sample_rate_hz,
   const bool preprocessed = PreprocessStep(x, sample_rate_hz, options, result);
   if (stream.on_preprocessed) stream.on_preprocessed();  // x is not read after this
   if (!preprocessed) return false;
-  result->decomposition =
-      emd::Decompose(result->preprocessed.signal, options.emd,
-                     [imfs](int k, const Eigen::VectorXd& imf, const emd::ImfInfo& info) {
-                       imfs->Take(k, imf, info);
-                     });
+  const emd::ImfSink sink = [imfs](int k, const Eigen::VectorXd& imf, const emd::ImfInfo& info) {
+    imfs->Take(k, imf, info);
+  };
+  Eigen::VectorXd& signal = result->preprocessed.signal;
+  if (stream.store != nullptr) {
+    // The signal waits in the store while its array serves as the EMD's remainder: it is not held
+    // beside it (N doubles less during the EMD), and it is read back for the residue.
+    stream.store->Put(ComponentStore::Kind::kSignal, 0, signal);
+    result->decomposition = emd::Decompose(&signal, options.emd, sink, [&](Eigen::VectorXd* x) {
+      stream.store->Get(ComponentStore::Kind::kSignal, 0, x);
+    });
+  } else {
+    result->decomposition = emd::Decompose(signal, options.emd, sink);
+  }
   emd::EmdResult& d = result->decomposition;
   const bool decomposed = HasResult(d.summary.termination);
   imfs->Finish(decomposed, &d.residue);
@@ -383,10 +429,9 @@ void FilterComponents(double sample_rate_hz, const MethodOptions& options,
   // Then method 2 beside the reference filters: after the components rather than beside them,
   // so that the peak memory is the larger of the two phases, not their sum.
   if (failure.empty()) {
-    std::unique_ptr<TaskGroup> side = MakeTaskGroup(stream.tasks);
-    side->Run([&] { result->direct = ModelComponent(signal, levels.Total(), direct_options); });
-    RunReferenceFilters(sample_rate_hz, options, for_each, result);
-    side->Wait();
+    RunReferenceFilters(sample_rate_hz, options, for_each, result, [&] {
+      result->direct = ModelComponent(signal, levels.Total(), direct_options);
+    });
   }
   if (store == nullptr) {
     d.imfs.reserve(imfs->kept_.size());
@@ -416,10 +461,14 @@ void DecomposeAndModel(const Eigen::VectorXd& x, double sample_rate_hz,
 }
 
 void RunReferenceFilters(double sample_rate_hz, const MethodOptions& options,
-                         const ForEach& for_each, MethodResult* result) {
-  if (!HasResult(result->summary.termination)) return;
+                         const ForEach& for_each, MethodResult* result,
+                         const std::function<void()>& beside) {
+  if (!HasResult(result->summary.termination)) {
+    if (beside) beside();
+    return;
+  }
   std::vector<filters::ReferenceOutput> outputs = filters::RunReferenceFilters(
-      result->preprocessed.signal, sample_rate_hz, options.reference, for_each);
+      result->preprocessed.signal, sample_rate_hz, options.reference, for_each, beside);
   result->reference.assign(outputs.size(), ReferenceEvaluation());
   for (std::size_t i = 0; i < outputs.size(); ++i)
     result->reference[i].output = std::move(outputs[i]);

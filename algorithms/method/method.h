@@ -137,10 +137,12 @@ void DecomposeAndModel(const Eigen::VectorXd& x, double sample_rate_hz,
                        const MethodOptions& options, const StreamOptions& stream,
                        MethodResult* result);
 
-/// The reference filters on the preprocessed signal (through for_each). Needs the preprocessed
-/// signal (DecomposeAndModel runs it; the sweep calls it after PreprocessAndDecompose).
+/// The reference filters on the preprocessed signal (through for_each, with `beside` in the
+/// lane of the lighter two: filters::RunReferenceFilters). Needs the preprocessed signal
+/// (DecomposeAndModel runs it; the sweep calls it after PreprocessAndDecompose).
 void RunReferenceFilters(double sample_rate_hz, const MethodOptions& options,
-                         const ForEach& for_each, MethodResult* result);
+                         const ForEach& for_each, MethodResult* result,
+                         const std::function<void()>& beside = nullptr);
 /// The Allan tables + noise fits of raw, methods 1 and 2 and every reference filter with an
 /// output (through for_each, one slot per signal).
 void EvaluateAllan(double sample_rate_hz, const MethodOptions& options, const ForEach& for_each,

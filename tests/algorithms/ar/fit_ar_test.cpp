@@ -159,5 +159,54 @@ TEST(FitAr, SkipsDiagnosticsWhenAskedTo) {
   EXPECT_EQ(fit.diagnostics.ljung_box_q10, 0.0);
 }
 
+// The streamed method fits each component in its own buffer and reads it back for the
+// diagnostics (FitArInPlace): every field must equal FitAr's, whose x stays untouched.
+TEST(FitAr, TheInPlaceFitEqualsTheFitOnAKeptSeriesBitForBit) {
+  Eigen::VectorXd phi(4);
+  phi << 1.2, -0.6, 0.3, -0.1;
+  const Eigen::VectorXd x = testing::SimulateAr(phi, 0.7, 20000, 31).array() + 3.5;
+  for (Estimator estimator : {Estimator::kBurg, Estimator::kYuleWalker}) {
+    ArOptions options;
+    options.estimator = estimator;
+    ArWork kept_work, in_place_work;
+    const ArFit kept = FitAr(x, options, &kept_work);
+    Eigen::VectorXd buffer = x;
+    int reloads = 0;
+    const ArFit in_place = FitArInPlace(&buffer, options, &in_place_work, [&](Eigen::VectorXd* v) {
+      ++reloads;
+      *v = x;
+    });
+    const bool burg = estimator == Estimator::kBurg;
+    EXPECT_EQ(reloads, burg ? 1 : 0) << ToString(estimator);
+    EXPECT_EQ(buffer, x) << "the series is back (or untouched) after the fit";
+    if (burg) {
+      EXPECT_EQ(in_place_work.burg.forward.size(), 0) << "no forward array of its own";
+    }
+    EXPECT_EQ(in_place.model.order, kept.model.order);
+    EXPECT_EQ(in_place.model.phi, kept.model.phi);
+    EXPECT_EQ(in_place.model.mean, kept.model.mean);
+    EXPECT_EQ(in_place.model.innovation_variance, kept.model.innovation_variance);
+    EXPECT_EQ(in_place.bic, kept.bic);
+    EXPECT_EQ(in_place.diagnostics.fit_one_step_percent, kept.diagnostics.fit_one_step_percent);
+    EXPECT_EQ(in_place.diagnostics.fit_simulation_percent, kept.diagnostics.fit_simulation_percent);
+    EXPECT_EQ(in_place.diagnostics.residual_variance, kept.diagnostics.residual_variance);
+    EXPECT_EQ(in_place.diagnostics.ljung_box_q10, kept.diagnostics.ljung_box_q10);
+    EXPECT_EQ(in_place.diagnostics.ljung_box_q20, kept.diagnostics.ljung_box_q20);
+    EXPECT_EQ(in_place.summary.message, kept.summary.message);
+  }
+}
+
+// The diagnostics read the series after the reload: a reload that returns other data must show.
+TEST(FitAr, TheInPlaceFitsDiagnosticsReadTheReloadedSeries) {
+  const Eigen::VectorXd x = testing::WhiteNoise(20000, 1.0, 32);
+  ArWork work;
+  Eigen::VectorXd buffer = x;
+  const ArFit fit =
+      FitArInPlace(&buffer, ArOptions(), &work, [&](Eigen::VectorXd* v) { *v = 2.0 * x; });
+  const ArFit kept = FitAr(x, ArOptions());
+  EXPECT_EQ(fit.model.phi, kept.model.phi);
+  EXPECT_NE(fit.diagnostics.residual_variance, kept.diagnostics.residual_variance);
+}
+
 }  // namespace
 }  // namespace fogpipe::ar

@@ -451,5 +451,43 @@ TEST(Emd, ASinkReceivesTheSameImfsAndResidueBitForBit) {
   }
 }
 
+// The consuming form sifts in the input's own array and reads the input again for the residue:
+// the same IMFs and residue as the sink form, and the input back as it was, also after an early
+// end (too few extrema: the reload restores it).
+TEST(Emd, TheConsumingFormGivesTheSinkFormsImfsAndResidueAndTheInputBack) {
+  const Eigen::VectorXd x = testing::GyroLike(3 * 65536 + 77, 29);
+  for (bool parallel : {false, true}) {
+    EmdOptions options;
+    if (parallel) options.for_each = ThreadedForEach;
+    std::vector<Eigen::VectorXd> from_sink, from_consuming;
+    const EmdResult streamed = Decompose(
+        x, options,
+        [&](int, const Eigen::VectorXd& imf, const ImfInfo&) { from_sink.push_back(imf); });
+    Eigen::VectorXd input = x;
+    int reloads = 0;
+    const EmdResult consumed = Decompose(
+        &input, options,
+        [&](int, const Eigen::VectorXd& imf, const ImfInfo&) { from_consuming.push_back(imf); },
+        [&](Eigen::VectorXd* v) {
+          ++reloads;
+          *v = x;
+        });
+    ASSERT_GE(from_sink.size(), 8u);
+    EXPECT_EQ(from_consuming, from_sink);
+    EXPECT_EQ(consumed.residue, streamed.residue);
+    EXPECT_EQ(consumed.summary.message, streamed.summary.message);
+    EXPECT_EQ(reloads, 1);
+    EXPECT_EQ(input, x);
+  }
+  Eigen::VectorXd ramp = Eigen::VectorXd::LinSpaced(1000, 0.0, 1.0);
+  const Eigen::VectorXd original = ramp;
+  const EmdResult none = Decompose(
+      &ramp, EmdOptions(), [](int, const Eigen::VectorXd&, const ImfInfo&) {},
+      [&](Eigen::VectorXd* v) { *v = original; });
+  EXPECT_EQ(none.summary.termination, Termination::kInsufficientData);
+  EXPECT_EQ(none.residue, original);
+  EXPECT_EQ(ramp, original);
+}
+
 }  // namespace
 }  // namespace fogpipe::emd

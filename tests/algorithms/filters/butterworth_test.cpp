@@ -212,5 +212,20 @@ TEST(Butterworth, ForwardBackwardEqualsTheTextbookFilterOfTheFullExtensionToTheL
   }
 }
 
+// The right extension's buffer is sized exactly: a grown vector would double its capacity, and
+// the band limit's slowest components have pads up to the record length.
+TEST(Butterworth, TheWorkBufferHoldsExactlyThePad) {
+  const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(5000, 0.0, 1.0).array().sin();
+  const std::vector<Biquad> sections = ButterworthSections(4, 0.01, 1.0);
+  std::vector<double> work(10);
+  Eigen::VectorXd out;
+  FilterForwardBackward(sections, x, 1000, &work, &out);
+  EXPECT_EQ(work.capacity(), 1000u);
+  FilterForwardBackward(sections, x, 3001, &work, &out);
+  EXPECT_EQ(work.capacity(), 3001u);
+  FilterForwardBackward(sections, x, 2000, &work, &out);
+  EXPECT_EQ(work.capacity(), 3001u) << "a large enough buffer is reused as it is";
+}
+
 }  // namespace
 }  // namespace fogpipe::filters

@@ -247,45 +247,72 @@ TEST(Method, StreamingThroughAStoreGivesTheNumbersOfKeepingEveryComponent) {
   }
 }
 
-// A store that fails (a full scratch device) fails the decomposition with its exception, serially
-// and on threads, after the components before it were stored; nothing hangs.
+// A store that fails (a full scratch device, a read error) fails the decomposition with its
+// exception, serially and on threads, after the components before it were stored; nothing hangs.
 class FailingStore : public ComponentStore {
  public:
-  explicit FailingStore(int fail_at) : fail_at_(fail_at) {}
+  /// Put of component `fail_put_at` throws, and so does Get of component `fail_get_at`.
+  explicit FailingStore(int fail_put_at, int fail_get_at = -1)
+      : fail_put_at_(fail_put_at), fail_get_at_(fail_get_at) {}
   void Put(Kind kind, int k, const Eigen::VectorXd& x) override {
-    if (kind == Kind::kComponent && k == fail_at_) throw std::runtime_error("scratch device full");
-    std::lock_guard<std::mutex> lock(mutex_);
-    stored_ = std::max(stored_, k + 1);
-    (void)x;
+    if (kind == Kind::kComponent && k == fail_put_at_)
+      throw std::runtime_error("scratch device full");
+    if (kind == Kind::kComponent) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stored_ = std::max(stored_, k + 1);
+    }
+    columns_.Put(kind, k, x);
   }
-  void Get(Kind, int, Eigen::VectorXd*) const override { throw std::logic_error("not stored"); }
-  bool Has(Kind, int) const override { return false; }
+  void Get(Kind kind, int k, Eigen::VectorXd* x) const override {
+    if (kind == Kind::kComponent && k == fail_get_at_)
+      throw std::runtime_error("scratch read error");
+    columns_.Get(kind, k, x);
+  }
+  bool Has(Kind kind, int k) const override { return columns_.Has(kind, k); }
   int stored() const { return stored_; }
 
  private:
-  const int fail_at_;
+  const int fail_put_at_;
+  const int fail_get_at_;
+  MemoryComponentStore columns_;
   std::mutex mutex_;
   int stored_ = 0;
 };
 
+// The error a streamed run on `store` ends with ("" when none), serially or on threads.
+std::string StreamedRunError(ComponentStore* store, bool threaded) {
+  StreamOptions stream;
+  stream.store = store;
+  if (threaded) {
+    stream.tasks = [] { return std::make_unique<ThreadTaskGroup>(); };
+    stream.for_each = ThreadedForEach;
+  }
+  MethodResult result;
+  try {
+    DecomposeAndModel(PaperRecording(3), 1.0, MethodOptions(), stream, &result);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
 TEST(Method, AFailingStoreFailsTheDecompositionWithItsError) {
-  const Eigen::VectorXd x = PaperRecording(3);
   for (const bool threaded : {false, true}) {
     FailingStore store(2);
-    StreamOptions stream;
-    stream.store = &store;
-    if (threaded) {
-      stream.tasks = [] { return std::make_unique<ThreadTaskGroup>(); };
-      stream.for_each = ThreadedForEach;
-    }
-    MethodResult result;
-    try {
-      DecomposeAndModel(x, 1.0, MethodOptions(), stream, &result);
-      ADD_FAILURE() << "no exception, threaded " << threaded;
-    } catch (const std::runtime_error& e) {
-      EXPECT_STREQ(e.what(), "scratch device full");
-    }
+    EXPECT_EQ(StreamedRunError(&store, threaded), "scratch device full") << "threaded " << threaded;
     EXPECT_EQ(store.stored(), 2) << "threaded " << threaded;
+  }
+}
+
+// The fits read their component back from the store (the in-place AR fit): a read that fails
+// fails the decomposition with its error, and the EMD stops within the components in flight.
+TEST(Method, AStoreThatCannotReadAComponentBackFailsTheDecompositionWithItsError) {
+  for (const bool threaded : {false, true}) {
+    FailingStore store(-1, 1);
+    EXPECT_EQ(StreamedRunError(&store, threaded), "scratch read error") << "threaded " << threaded;
+    EXPECT_GE(store.stored(), 2) << "threaded " << threaded;
+    EXPECT_LE(store.stored(), 1 + 2 + StreamOptions().components_in_flight)
+        << "threaded " << threaded;
   }
 }
 
