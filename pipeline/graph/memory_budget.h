@@ -24,16 +24,19 @@ std::uint64_t AutoMemoryBudgetBytes();
 /// Bytes one axis of `num_samples` samples needs while it is analysed: kDoublesPerSample x N x 8.
 /// The method streams the components (method.h DecomposeAndModel with a scratch-file store,
 /// io/spill_store.h), so the need no longer grows with the number of IMFs; what is held at once
-/// is, by phase: during the EMD the signal, the running remainder, the IMF being sifted, the
-/// running sum of the IMFs, the envelope knots, the band limit's low-pass output and its right end
-/// extension, and two IMFs with their AR fits (about 13 N doubles; the axis as read is released
-/// once preprocessed); during the filters the signal, the residue, method 1 and two components
-/// with their filters; then method 2 beside the reference filters (the Butterworth's GCV spectrum
-/// is the largest part); then the Allan tables of the seven outputs. Measured peak RSS minus
-/// FixedBytes(2), `run` with 2 threads and default options: 14.9 doubles per sample at 8.64e6
-/// samples (24 h at 100 Hz; docs/performance.md); 20 leaves a margin for other signals' extrema
-/// counts and for options that keep more (smoothing, stored filtered components). Saturates at
-/// UINT64_MAX instead of overflowing; never 0.
+/// is, by phase: during the EMD the running remainder (in the signal's own array: the signal
+/// waits in the scratch file), the IMF being sifted, the running sum of the IMFs, the envelope
+/// knots (sized down as the IMFs slow), the band limit's low-pass output and its right end
+/// extension, and two IMFs with one more array each for their AR fits (about 11 N doubles; the
+/// axis as read is released once preprocessed); during the filters the signal, the residue,
+/// method 1 and two components with their filters; then method 2 beside the reference filters
+/// (the Butterworth's GCV spectrum, about 7 N doubles while its FFT runs, is the largest part);
+/// then the Allan tables of the seven outputs. Measured peak RSS minus FixedBytes(2), `run` with
+/// 2 threads and default options at 8.64e6 samples (24 h at 100 Hz; docs/performance.md): 9.8 to
+/// 12.9 doubles per sample over runs, depending on which reference filters overlap the GCV's
+/// FFT; 20 leaves a margin for other signals' extrema counts and for options that keep more
+/// (smoothing, stored filtered components). Saturates at UINT64_MAX instead of overflowing;
+/// never 0.
 constexpr std::uint64_t kDoublesPerSample = 20;
 std::uint64_t BytesPerAxis(std::uint64_t num_samples);
 
