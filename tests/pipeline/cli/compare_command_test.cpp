@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -167,6 +168,24 @@ TEST(CompareCommand, NamesTheAuxTermOfAnyChannelAndStoresItWithItsUnit) {
   fs::remove_all(dir);
 }
 
+// Reads a recording's /rate and /aux/temperature, lets `add` change the rate (the recording's
+// units, deg/h), and writes it back.
+void AddToRate(const std::string& rec,
+               const std::function<void(const std::vector<double>& temperature,
+                                        std::vector<double>* rate)>& add) {
+  auto lock = hdf5::LockHdf5();
+  H5::H5File f(rec, H5F_ACC_RDWR);
+  H5::DataSet temperature_set = f.openDataSet("/aux/temperature"),
+              rate_set = f.openDataSet("/rate");
+  hsize_t n = 0;
+  rate_set.getSpace().getSimpleExtentDims(&n);
+  std::vector<double> temperature(n), rate(n);
+  temperature_set.read(temperature.data(), H5::PredType::NATIVE_DOUBLE);
+  rate_set.read(rate.data(), H5::PredType::NATIVE_DOUBLE);
+  add(temperature, &rate);
+  rate_set.write(rate.data(), H5::PredType::NATIVE_DOUBLE);
+}
+
 // A thermal hysteresis (a bias +-0.03 deg/h with the direction of the recorded temperature,
 // from the difference of its 120 s means after and before each sample) added to a simulated
 // navigation-grade record (seed 2), where the views pass and the long-tau check flags: compare
@@ -182,16 +201,9 @@ TEST(CompareCommand, NamesTheHysteresisTermThatClearsTheLongTauFlagAndStoresIt) 
   RunFogpipe("simulate --profile nav --seed 2 -o " + rec, &code);
   ASSERT_EQ(code, 0);
   const double amplitude_deg_h = 0.03;
-  {
-    auto lock = hdf5::LockHdf5();
-    H5::H5File f(rec, H5F_ACC_RDWR);
-    H5::DataSet temperature_set = f.openDataSet("/aux/temperature"),
-                rate_set = f.openDataSet("/rate");
-    hsize_t n = 0;
-    rate_set.getSpace().getSimpleExtentDims(&n);
-    std::vector<double> temperature(n), rate(n);
-    temperature_set.read(temperature.data(), H5::PredType::NATIVE_DOUBLE);
-    rate_set.read(rate.data(), H5::PredType::NATIVE_DOUBLE);
+  AddToRate(rec, [&](const std::vector<double>& temperature, std::vector<double>* rate_out) {
+    std::vector<double>& rate = *rate_out;
+    const hsize_t n = rate.size();
     const long half = 600;  // 60 s at 10 Hz
     std::vector<double> sum(n + 1, 0.0);
     for (hsize_t i = 0; i < n; ++i) sum[i + 1] = sum[i] + temperature[i];
@@ -201,8 +213,7 @@ TEST(CompareCommand, NamesTheHysteresisTermThatClearsTheLongTauFlagAndStoresIt) 
       const double right = (sum[hi + 1] - sum[i]) / (hi - i + 1);
       rate[i] += right >= left ? amplitude_deg_h : -amplitude_deg_h;
     }
-    rate_set.write(rate.data(), H5::PredType::NATIVE_DOUBLE);
-  }
+  });
   const std::string term = "aux_hysteresis:temperature";
   const nlohmann::json j =
       nlohmann::json::parse(RunFogpipe("compare --json -o " + results + " " + rec, &code));
@@ -264,25 +275,16 @@ TEST(CompareCommand, NamesTheAmLineOfTheTemperatureAndStoresIt) {
   ASSERT_EQ(code, 0);
   const double a0_deg_h = 0.3, f_hz = 0.7, phase = 0.4, fs = 10.0;
   double a1_deg_h_per_degc = 0;
-  {
-    auto lock = hdf5::LockHdf5();
-    H5::H5File f(rec, H5F_ACC_RDWR);
-    H5::DataSet temperature_set = f.openDataSet("/aux/temperature"),
-                rate_set = f.openDataSet("/rate");
-    hsize_t n = 0;
-    rate_set.getSpace().getSimpleExtentDims(&n);
-    std::vector<double> temperature(n), rate(n);
-    temperature_set.read(temperature.data(), H5::PredType::NATIVE_DOUBLE);
-    rate_set.read(rate.data(), H5::PredType::NATIVE_DOUBLE);
+  AddToRate(rec, [&](const std::vector<double>& temperature, std::vector<double>* rate) {
+    const hsize_t n = rate->size();
     double mean = 0;
     for (double t : temperature) mean += t / static_cast<double>(n);
     const auto [lo, hi] = std::minmax_element(temperature.begin(), temperature.end());
     a1_deg_h_per_degc = 0.5 * a0_deg_h / (0.5 * (*hi - *lo));
     for (hsize_t i = 0; i < n; ++i)
-      rate[i] += (a0_deg_h + a1_deg_h_per_degc * (temperature[i] - mean)) *
-                 std::sin(2 * M_PI * f_hz * static_cast<double>(i) / fs + phase);
-    rate_set.write(rate.data(), H5::PredType::NATIVE_DOUBLE);
-  }
+      (*rate)[i] += (a0_deg_h + a1_deg_h_per_degc * (temperature[i] - mean)) *
+                    std::sin(2 * M_PI * f_hz * static_cast<double>(i) / fs + phase);
+  });
   const std::string term = "aux_am:temperature";
   const nlohmann::json j =
       nlohmann::json::parse(RunFogpipe("compare --json -o " + results + " " + rec, &code));
