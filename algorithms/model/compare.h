@@ -49,7 +49,9 @@
 // Within a group they are sorted by error_after; those within 15 % (+0.05) of the group's best
 // error_after are statistically indistinguishable on the error, and are ordered among themselves by
 // delta_bic (the simpler explanation first, Schwarz 1978), those that clear the long-tau flag
-// first. The first suggestion is the one to add.
+// first; a supported aux_am against the sinusoid at its frequency (its nested model, whose
+// comparison with it is the modulation test) takes the lower of their delta_bic and goes first on
+// a tie. The first suggestion is the one to add.
 //
 // Verdict. "consistent" when the base model is; "inconsistent" with the first suggestion when it
 // makes a failing view pass (and, if the model with it still fails somewhere, the ranges that still

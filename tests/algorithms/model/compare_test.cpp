@@ -368,6 +368,55 @@ TEST(RankSuggestions, ATermThatBicRejectsIsNeverFirstAndIsMarked) {
   EXPECT_EQ(v.text, "inconsistent: suggestion warmup (makes the model consistent)");
 }
 
+// A line (the frequency view fails) that both sinusoid and aux_am:v fix. aux_am's delta_bic is the
+// Wald form, -W + 5 ln(n) = -(10^2 + m^2) + 46.1 with the carrier at 10 SE and the modulation at
+// m SE; the sinusoid's the RSS form, 10000 ln(0.9) + 3 ln(10000) = -1026. The modulation test's
+// critical value at the aux view's critical 3.0 is -2 ln(erfc(3 / sqrt 2)) = 11.8.
+TEST(RankSuggestions, ASupportedAmLineGoesAheadOfTheSinusoidAtItsFrequencyOnly) {
+  const Evaluation base = Synthetic(
+      {{ViewDomain::kTau, 0.5}, {ViewDomain::kFrequency, 5}, {ViewDomain::kTime, 0.5}}, 1.0, 1);
+  const ModelTerm am = ModelTerm::Aux(AuxForm::kAm, "v");
+  const std::vector<ModelTerm> tt = {Term::kSinusoid, am};
+  const auto trials = [&](double modulation_z, double am_frequency_hz) {
+    std::vector<Evaluation> t = {
+        Synthetic(
+            {{ViewDomain::kTau, 0.5}, {ViewDomain::kFrequency, 0.8}, {ViewDomain::kTime, 0.5}}, 0.9,
+            4),
+        Synthetic(
+            {{ViewDomain::kTau, 0.5}, {ViewDomain::kFrequency, 0.7}, {ViewDomain::kTime, 0.5}},
+            0.899, 6)};
+    t[0].deterministic.model.components.push_back(
+        {Term::kSinusoid, 1.0, 1e-3, {1e-5, 0.0}, {1e-6, 1e-6}, 0.0, ""});
+    DeterministicComponent line{am,
+                                am_frequency_hz,
+                                1e-3,
+                                {1e-5, 0.0, modulation_z * 1e-6, 0.0},
+                                {1e-6, 1e-6, 1e-6, 1e-6},
+                                20.0,
+                                "V"};
+    line.coefficients_covariance.assign(16, 0.0);
+    for (int i = 0; i < 4; ++i) line.coefficients_covariance[5 * i] = 1e-12;
+    t[1].deterministic.model.components.push_back(line);
+    t[1].views.aux.critical = 3.0;
+    return t;
+  };
+  // Supported (modulation at 5 SE: chi-square 25 > 11.8): ahead of the sinusoid, whose lower
+  // delta_bic it takes.
+  const auto supported = RankSuggestions(base, tt, trials(5.0, 1.0), {});
+  ASSERT_EQ(supported.size(), 2u);
+  EXPECT_EQ(supported[0].term, am);
+  EXPECT_NEAR(supported[0].delta_bic, -125.0 + 5.0 * std::log(10000.0), 1e-9);
+  EXPECT_EQ(supported[1].term, Term::kSinusoid);
+  // Not supported (modulation at 3 SE: 9 < 11.8): not a candidate at all.
+  const auto weak = RankSuggestions(base, tt, trials(3.0, 1.0), {});
+  ASSERT_EQ(weak.size(), 1u);
+  EXPECT_EQ(weak[0].term, Term::kSinusoid);
+  // A sinusoid elsewhere (1.1 Hz, 70 SE away) is not its nested model: the delta_bic decide.
+  const auto elsewhere = RankSuggestions(base, tt, trials(5.0, 1.1), {});
+  ASSERT_EQ(elsewhere.size(), 2u);
+  EXPECT_EQ(elsewhere[0].term, Term::kSinusoid);
+}
+
 TEST(RankSuggestions, WhenTheLongTauCheckFlagsATermThatClearsItAndThatBicAcceptsIsSuggested) {
   // Every view passes, but the base model's long-tau check flags. aux_hysteresis:temperature
   // clears the flag with RSS 1 -> 0.9 (delta_bic = 10^4 ln 0.9 + ln 10^4 < 0); aux:supply_voltage
