@@ -291,6 +291,24 @@ double TieBreakBic(const Suggestion& suggestion, const std::vector<Suggestion>& 
   return bic;
 }
 
+// An AM line's parameters as the evidence and the verdict quote them.
+struct AmLine {
+  double frequency = 0, amplitude = 0, modulation = 0;
+  std::string unit;  // the modulation's
+};
+AmLine AmLineOf(const std::vector<Parameter>& parameters) {
+  AmLine line;
+  for (const Parameter& parameter : parameters) {
+    if (parameter.name == "frequency") line.frequency = parameter.value;
+    if (parameter.name == "amplitude") line.amplitude = parameter.value;
+    if (parameter.name == "modulation") {
+      line.modulation = parameter.value;
+      line.unit = parameter.units;
+    }
+  }
+  return line;
+}
+
 std::string AuxEvidence(const Evaluation& base, const Evaluation& trial, const ModelTerm& term) {
   const auto* channel = AuxOf(base, term.channel);
   const auto parameters = ParametersOf(trial, term);
@@ -299,19 +317,11 @@ std::string AuxEvidence(const Evaluation& base, const Evaluation& trial, const M
     if (parameter.name == "coefficient") coefficient = &parameter;
   const double error_before = base.views.error, error_after = trial.views.error;
   if (term.aux == AuxForm::kAm) {
-    double frequency = 0, amplitude = 0, modulation = 0;
-    std::string unit;
-    for (const auto& parameter : parameters) {
-      if (parameter.name == "frequency") frequency = parameter.value;
-      if (parameter.name == "amplitude") amplitude = parameter.value;
-      if (parameter.name == "modulation") {
-        modulation = parameter.value;
-        unit = parameter.units;
-      }
-    }
+    const AmLine line = AmLineOf(parameters);
     const ModulationTest test = TestModulation(trial, term);
-    return Format("a line at %.5g Hz, amplitude %.3g deg/h, ", frequency, amplitude) +
-           "whose amplitude follows " + term.channel + Format(" by %.3g ", modulation) + unit +
+    return Format("a line at %.5g Hz, amplitude %.3g deg/h, ", line.frequency, line.amplitude) +
+           "whose amplitude follows " + term.channel + Format(" by %.3g ", line.modulation) +
+           line.unit +
            Format(
                " (modulation chi-square %.3g against %.3g; its sidebands are not separate "
                "lines; error %.3g -> %.3g)",
@@ -816,9 +826,17 @@ std::string FailureList(std::vector<Failure> failures, size_t limit = 4) {
   return out;
 }
 
-// The term as the verdict names it: a narrow band with its centre, width and rms.
+// The term as the verdict names it: a narrow band with its centre, width and rms; an AM line with
+// its frequency, amplitude and modulation.
 std::string SuggestionLabel(const Suggestion& suggestion) {
   std::string label = ToString(suggestion.term);
+  if (suggestion.term.aux == AuxForm::kAm) {
+    const AmLine line = AmLineOf(suggestion.parameters);
+    return label +
+           Format(" at %.5g Hz (amplitude %.3g deg/h, modulation %.3g ", line.frequency,
+                  line.amplitude, line.modulation) +
+           line.unit + ")";
+  }
   if (suggestion.term != Term::kNarrowBand) return label;
   double frequency = 0, bandwidth = 0, rms = 0;
   for (const Parameter& parameter : suggestion.parameters) {

@@ -291,6 +291,9 @@ TEST(CompareCommand, NamesTheAmLineOfTheTemperatureAndStoresIt) {
   ASSERT_EQ(code, 0);
   EXPECT_EQ(j["verdict"]["status"], "inconsistent") << j["verdict"]["text"];
   EXPECT_EQ(j["verdict"]["suggestion"], term) << j["verdict"]["text"];
+  // The verdict names the line: "... suggestion aux_am:temperature at 0.7 Hz (amplitude ...".
+  EXPECT_NE(j["verdict"]["text"].get<std::string>().find(term + " at 0.7"), std::string::npos)
+      << j["verdict"]["text"];
   ASSERT_FALSE(j["suggestions"].empty());
   EXPECT_EQ(j["suggestions"][0]["term"], term);
   EXPECT_LT(j["suggestions"][0]["delta_bic"].get<double>(), 0.0);
