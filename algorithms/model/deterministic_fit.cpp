@@ -614,6 +614,18 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
     return fit;
   }
   for (const auto& component : components) {
+    if (component.term.aux != AuxForm::kAm) continue;
+    // A constant channel makes the modulation's columns zero: the amplitude's change with it is
+    // not identifiable.
+    const Eigen::VectorXd& values = *AuxValues(ctx, component.term.channel);
+    if (values.maxCoeff() == values.minCoeff()) {
+      fit.summary.termination = Termination::kInsufficientData;
+      fit.summary.message = "term '" + ToString(component.term) +
+                            "': the channel is constant (the line's amplitude cannot follow it)";
+      return fit;
+    }
+  }
+  for (const auto& component : components) {
     if (!UsesDerivative(component.term) || !component.term.IsAux()) continue;
     const Eigen::VectorXd& derivative = AuxRate(&ctx, component.term.channel);
     if (component.term.aux != AuxForm::kHysteresis) continue;

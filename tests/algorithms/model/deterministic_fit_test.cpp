@@ -380,6 +380,18 @@ TEST(DeterministicFit, AnAmLinesStandardErrorsAreCalibratedOverSeeds) {
   EXPECT_LT(std::abs(mean), 3.0 / std::sqrt(static_cast<double>(z.size())));
 }
 
+// A channel that does not move leaves the modulation's columns zero: the term is refused (it
+// would be a sinusoid with two coefficients fixed at 0 and standard errors 0).
+TEST(DeterministicFit, AnAmLineOnAConstantChannelIsRefused) {
+  const AmSynthetic s = MakeAm(3);
+  const Eigen::VectorXd flat = Eigen::VectorXd::Constant(s.rate.size(), 12.0);
+  const std::vector<AuxSeries> channels = {{"v", "V", &flat}};
+  const DeterministicFit f =
+      FitDeterministic(s.rate, s.aux.fs, channels, {ModelTerm::Aux(AuxForm::kAm, "v")}, {});
+  EXPECT_EQ(f.summary.termination, Termination::kInsufficientData);
+  EXPECT_NE(f.summary.message.find("constant"), std::string::npos) << f.summary.message;
+}
+
 TEST(ModelCatalog, AuxTermsParseFromTheirChannelNamesAndPrintBack) {
   for (const char* name : {"aux:supply_voltage", "aux_rate:pressure", "aux_hysteresis:temperature",
                            "aux_am:temperature", "temperature", "white"}) {
