@@ -1263,7 +1263,7 @@ struct AmScore {
   std::vector<std::pair<std::string, double>> z;                 // (estimate - truth) / SE
   bool consistent_after = false;
   double error_before = 0, error_after = 0;
-  std::string failures;
+  std::string failures, failures_after;
   bool ParametersNearTruth() const {
     if (parameter_errors.empty()) return false;
     for (const auto& [name, x] : parameter_errors)
@@ -1322,6 +1322,8 @@ AmScore ScoreAm(AmCase kind, int seed, double k,
   }
   s.error_after = after.views.error;
   s.consistent_after = after.views.consistent;
+  for (const Failure& f : after.views.failures)
+    s.failures_after += (s.failures_after.empty() ? "" : ", ") + FormatFailure(f);
   return s;
 }
 
@@ -1437,8 +1439,8 @@ TEST(AmLineStudy, DISABLED_PassRates) {
       for (const auto& [pn, x] : s.parameter_errors) std::printf(" %s=%.2f", pn.c_str(), x);
       std::printf(" ] z [");
       for (const auto& [pn, x] : s.z) std::printf(" %s=%.2f", pn.c_str(), x);
-      std::printf(" ] consistent %d (%.2f->%.2f) failing: %s\n", s.consistent_after, s.error_before,
-                  s.error_after, s.failures.c_str());
+      std::printf(" ] consistent %d (%.2f->%.2f) failing: %s; after: %s\n", s.consistent_after,
+                  s.error_before, s.error_after, s.failures.c_str(), s.failures_after.c_str());
       std::fflush(stdout);
     }
   }
