@@ -8,6 +8,7 @@ namespace {
 constexpr std::string_view kAuxPrefix = "aux:";
 constexpr std::string_view kAuxRatePrefix = "aux_rate:";
 constexpr std::string_view kAuxHysteresisPrefix = "aux_hysteresis:";
+constexpr std::string_view kAuxAmPrefix = "aux_am:";
 
 // A channel name as input contract v1 allows it under /aux: non-empty, no '/' and no ','
 // (the term list separator).
@@ -37,6 +38,8 @@ std::string ToString(const ModelTerm& term) {
       return std::string(kAuxRatePrefix) + term.channel;
     case AuxForm::kHysteresis:
       return std::string(kAuxHysteresisPrefix) + term.channel;
+    case AuxForm::kAm:
+      return std::string(kAuxAmPrefix) + term.channel;
     case AuxForm::kNone:
       break;
   }
@@ -46,7 +49,8 @@ std::string ToString(const ModelTerm& term) {
 std::optional<ModelTerm> ParseModelTerm(std::string_view name) {
   for (auto [prefix, form] :
        {std::make_pair(kAuxPrefix, AuxForm::kValue), std::make_pair(kAuxRatePrefix, AuxForm::kRate),
-        std::make_pair(kAuxHysteresisPrefix, AuxForm::kHysteresis)}) {
+        std::make_pair(kAuxHysteresisPrefix, AuxForm::kHysteresis),
+        std::make_pair(kAuxAmPrefix, AuxForm::kAm)}) {
     if (name.substr(0, prefix.size()) != prefix) continue;
     const std::string_view channel = name.substr(prefix.size());
     if (!ValidChannel(channel)) return std::nullopt;
@@ -62,6 +66,10 @@ bool IsFittedOnRate(const ModelTerm& term) {
   return term.term == Term::kSinusoid || term.term == Term::kTemperature ||
          term.term == Term::kTemperatureRate || term.term == Term::kBiasStep ||
          term.term == Term::kWarmup;
+}
+
+bool IsLine(const ModelTerm& term) {
+  return term.IsAux() ? term.aux == AuxForm::kAm : term.term == Term::kSinusoid;
 }
 
 std::string AuxChannelOf(const ModelTerm& term) {
@@ -88,7 +96,7 @@ bool ParseTermList(const std::string& text, std::vector<ModelTerm>* terms, std::
     if (!term) {
       if (error) {
         *error = "unknown term '" + item + "'";
-        if (item == "aux" || item == "aux_rate" || item == "aux_hysteresis")
+        if (item == "aux" || item == "aux_rate" || item == "aux_hysteresis" || item == "aux_am")
           *error += " (aux terms name their channel: " + item + ":<channel>)";
       }
       return false;
@@ -99,7 +107,8 @@ bool ParseTermList(const std::string& text, std::vector<ModelTerm>* terms, std::
 }
 
 std::optional<Term> ThermalTermWithin(const ModelTerm& term) {
-  if (!term.IsAux() || term.channel != "temperature" || term.aux == AuxForm::kHysteresis)
+  if (!term.IsAux() || term.channel != "temperature" || term.aux == AuxForm::kHysteresis ||
+      term.aux == AuxForm::kAm)
     return std::nullopt;
   return term.aux == AuxForm::kRate ? Term::kTemperatureRate : Term::kTemperature;
 }

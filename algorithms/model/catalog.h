@@ -17,7 +17,11 @@
 //   aux_rate:<name>  bias proportional to the smoothed derivative dx/dt;
 //   aux_hysteresis:<name>  bias c h(t), h = +1 while the channel rises and -1 while it falls
 //                    (thermal hysteresis for the temperature: heating against cooling), decided
-//                    from the smoothed derivative with a dead band (deterministic_fit.h).
+//                    from the smoothed derivative with a dead band (deterministic_fit.h);
+//   aux_am:<name>    a line whose amplitude follows the channel (amplitude modulation),
+//                    (a0 + a1 (x - x_ref)) sin(2 pi f t + phi), x_ref the record's mean; linear in
+//                    four coefficients at a given f, which is found as the sinusoid's is
+//                    (deterministic_fit.h).
 // They are not in the shared catalog because their names depend on the recording, and the
 // simulator has no aux channel but the temperature. `temperature` and `temperature_rate` keep their
 // names, parameters and numbers (model files written before aux terms read the same): for the
@@ -43,7 +47,7 @@ using catalog::Term;
 using catalog::ToString;
 
 /// What an aux term is a function of (kNone: a fixed catalog term).
-enum class AuxForm { kNone, kValue, kRate, kHysteresis };
+enum class AuxForm { kNone, kValue, kRate, kHysteresis, kAm };
 
 /// One term of a model: a fixed catalog term, or an aux term on a named channel.
 struct ModelTerm {
@@ -58,10 +62,11 @@ struct ModelTerm {
 bool operator==(const ModelTerm& lhs, const ModelTerm& rhs);
 inline bool operator!=(const ModelTerm& lhs, const ModelTerm& rhs) { return !(lhs == rhs); }
 
-/// "white", ..., "aux:supply_voltage", "aux_rate:supply_voltage", "aux_hysteresis:temperature".
+/// "white", ..., "aux:supply_voltage", "aux_rate:supply_voltage", "aux_hysteresis:temperature",
+/// "aux_am:temperature".
 std::string ToString(const ModelTerm& term);
-/// Parses a catalog name or "aux:<channel>" / "aux_rate:<channel>" / "aux_hysteresis:<channel>";
-/// nullopt for anything else.
+/// Parses a catalog name or "aux:<channel>" / "aux_rate:<channel>" / "aux_hysteresis:<channel>" /
+/// "aux_am:<channel>"; nullopt for anything else.
 std::optional<ModelTerm> ParseModelTerm(std::string_view name);
 
 /// Every term of the fixed catalog, in catalog order.
@@ -69,6 +74,8 @@ inline const std::vector<Term>& CatalogTerms() { return catalog::AllTerms(); }
 /// True for the terms fitted by least squares on the rate (incl. sinusoid, see above; every aux
 /// term).
 bool IsFittedOnRate(const ModelTerm& term);
+/// True for the terms that are a line at a fitted frequency: sinusoid and aux_am.
+bool IsLine(const ModelTerm& term);
 /// The aux channel a term reads ("temperature" for the thermal terms), "" for none.
 std::string AuxChannelOf(const ModelTerm& term);
 /// True when the term reads the channel's smoothed derivative (temperature_rate, aux_rate,

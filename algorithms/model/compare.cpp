@@ -1,5 +1,6 @@
 #include "algorithms/model/compare.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -26,7 +27,7 @@ double DegH(double rad_s) { return units::RadPerSecondToDegPerHour(rad_s); }
 // Rate-fitted terms with a nonlinear parameter found by a search (frequency, step time, time
 // constant).
 bool HasNonlinearParameter(const ModelTerm& term) {
-  return term == Term::kSinusoid || term == Term::kBiasStep || term == Term::kWarmup;
+  return IsLine(term) || term == Term::kBiasStep || term == Term::kWarmup;
 }
 
 std::string Format(const char* fmt, double a, double b = 0, double c = 0, double d = 0,
@@ -60,7 +61,64 @@ std::string PerAuxUnit(const std::string& units, int power, bool rate) {
   return "deg/h/" + AuxUnit(units, true) + (power > 1 ? "^" + std::to_string(power) : "");
 }
 
+// A line a cos(2 pi f t) + b sin(2 pi f t) (rad/s, standard errors se_a, se_b) as an engineer reads
+// it: frequency, amplitude W and phase, a cos + b sin = W sin(2 pi f t + phase).
+std::vector<Parameter> LineParameters(const DeterministicComponent& component, double a, double b,
+                                      double se_a, double se_b) {
+  const double amplitude = std::hypot(a, b);
+  const double amplitude_se =
+      amplitude > 0 ? std::hypot(a * se_a, b * se_b) / amplitude : std::hypot(se_a, se_b);
+  // W sin(phase) = a, W cos(phase) = b.
+  return {
+      {"frequency", component.nonlinear, component.nonlinear_se, "Hz"},
+      {"amplitude", DegH(amplitude), DegH(amplitude_se), "deg/h"},
+      {"phase", std::atan2(a, b), amplitude > 0 ? amplitude_se / amplitude : units::kPi, "rad"}};
+}
+
+// aux_am's coefficient covariance (deterministic_fit.h) as a matrix; the diagonal of the squared
+// standard errors when it is missing (a model file).
+Eigen::Matrix4d AmCovariance(const DeterministicComponent& component) {
+  Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();
+  if (component.coefficients_covariance.size() == 16) {
+    for (int i = 0; i < 16; ++i) covariance(i / 4, i % 4) = component.coefficients_covariance[i];
+  } else {
+    for (int i = 0; i < 4 && i < static_cast<int>(component.coefficients_se.size()); ++i)
+      covariance(i, i) = component.coefficients_se[i] * component.coefficients_se[i];
+  }
+  return covariance;
+}
+
+// aux_am: the carrier (frequency, amplitude a0, phase) and the change of the amplitude per unit of
+// the channel, a1 = the component of (c1, s1) along the carrier's phasor (c0, s0), i.e.
+// (c0 c1 + s0 s1) / |(c0, s0)|, with the part in quadrature, (s0 c1 - c0 s1) / |(c0, s0)| (a phase
+// modulation; 0 for a pure amplitude modulation) beside it. Their standard errors by the delta
+// method on the four coefficients' covariance, the carrier's direction included.
+std::vector<Parameter> AmParameters(const DeterministicComponent& component) {
+  const std::vector<double>& c = component.coefficients;
+  const std::vector<double>& se = component.coefficients_se;
+  std::vector<Parameter> parameters = LineParameters(component, c[0], c[1], se[0], se[1]);
+  const double w = std::max(std::hypot(c[0], c[1]), 1e-300);
+  const double in_phase = (c[0] * c[2] + c[1] * c[3]) / w;
+  const double quadrature = (c[1] * c[2] - c[0] * c[3]) / w;
+  const Eigen::Vector4d in_phase_gradient(c[2] / w - in_phase * c[0] / (w * w),
+                                          c[3] / w - in_phase * c[1] / (w * w), c[0] / w, c[1] / w);
+  const Eigen::Vector4d quadrature_gradient(-c[3] / w - quadrature * c[0] / (w * w),
+                                            c[2] / w - quadrature * c[1] / (w * w), c[1] / w,
+                                            -c[0] / w);
+  const Eigen::Matrix4d covariance = AmCovariance(component);
+  const auto se_of = [&](const Eigen::Vector4d& gradient) {
+    return std::sqrt(std::max(0.0, gradient.dot(covariance * gradient)));
+  };
+  const std::string unit = PerAuxUnit(component.units, 1, false);
+  parameters.push_back({"modulation", DegH(in_phase), DegH(se_of(in_phase_gradient)), unit});
+  parameters.push_back(
+      {"modulation_quadrature", DegH(quadrature), DegH(se_of(quadrature_gradient)), unit});
+  parameters.push_back({"reference", component.reference, 0.0, AuxUnit(component.units, false)});
+  return parameters;
+}
+
 std::vector<Parameter> AuxParameters(const DeterministicComponent& component) {
+  if (component.term.aux == AuxForm::kAm) return AmParameters(component);
   if (component.term.aux == AuxForm::kHysteresis)
     return {{"coefficient", DegH(component.coefficients[0]), DegH(component.coefficients_se[0]),
              "deg/h"},
@@ -90,21 +148,9 @@ std::vector<Parameter> ParametersOfComponent(const DeterministicComponent& compo
       parameters.push_back({"coefficient", DegH(component.coefficients[0]),
                             DegH(component.coefficients_se[0]), "deg/h/(degC/s)"});
       break;
-    case Term::kSinusoid: {
-      const double a = component.coefficients[0], b = component.coefficients[1];
-      const double amplitude = std::hypot(a, b);
-      const double amplitude_se =
-          amplitude > 0
-              ? std::hypot(a * component.coefficients_se[0], b * component.coefficients_se[1]) /
-                    amplitude
-              : std::hypot(component.coefficients_se[0], component.coefficients_se[1]);
-      parameters.push_back({"frequency", component.nonlinear, component.nonlinear_se, "Hz"});
-      parameters.push_back({"amplitude", DegH(amplitude), DegH(amplitude_se), "deg/h"});
-      // a cos + b sin = W sin(2 pi f t + phase): W sin(phase) = a, W cos(phase) = b.
-      parameters.push_back({"phase", std::atan2(a, b),
-                            amplitude > 0 ? amplitude_se / amplitude : units::kPi, "rad"});
-      break;
-    }
+    case Term::kSinusoid:
+      return LineParameters(component, component.coefficients[0], component.coefficients[1],
+                            component.coefficients_se[0], component.coefficients_se[1]);
     case Term::kBiasStep:
       parameters.push_back({"time", component.nonlinear, component.nonlinear_se, "s"});
       parameters.push_back(
@@ -192,6 +238,77 @@ const AuxChannelView* AuxOf(const Evaluation& evaluation, const std::string& nam
   return nullptr;
 }
 
+// aux_am's modulation test: the Wald chi-square (2 degrees of freedom) of the amplitude's change
+// with the channel, (c1, s1) under its covariance, and its critical value at the aux view's
+// per-test level: the aux view tests each channel's |z| against `critical` (Bonferroni over its
+// tests), a two-sided tail p = erfc(critical / sqrt 2); the chi-square with 2 degrees of freedom
+// has the tail exp(-x / 2), so the same p gives -2 ln p.
+struct ModulationTest {
+  double chi_square = 0, critical = std::numeric_limits<double>::infinity();
+};
+// The Wald chi-square of aux_am's coefficients [first, last) under their covariance.
+double WaldChiSquare(const DeterministicComponent& component, int first, int last) {
+  const int size = last - first;
+  if (component.coefficients.size() != 4 || size <= 0) return 0.0;
+  const Eigen::MatrixXd covariance = AmCovariance(component).block(first, first, size, size);
+  Eigen::VectorXd beta(size);
+  for (int j = 0; j < size; ++j) beta[j] = component.coefficients[first + j];
+  const Eigen::LDLT<Eigen::MatrixXd> solver(covariance);
+  if (solver.info() != Eigen::Success) return 0.0;
+  return beta.dot(solver.solve(beta));
+}
+
+ModulationTest TestModulation(const Evaluation& trial, const ModelTerm& term) {
+  ModulationTest test;
+  const DeterministicComponent* component = LastComponent(trial, term);
+  if (component == nullptr || component->coefficients.size() != 4) return test;
+  test.chi_square = WaldChiSquare(*component, 2, 4);
+  const double tail = std::erfc(trial.views.aux.critical / std::sqrt(2.0));
+  test.critical = -2.0 * std::log(std::max(tail, 1e-300));
+  return test;
+}
+
+// The delta_bic that orders a suggestion among those tied on the error (compare.h). A supported
+// aux_am holds a sinusoid at its frequency (the nested model without the modulation), and the
+// modulation test is the comparison of the two; their delta_bic are of different forms (Wald,
+// RSS), so it takes the sinusoid's where that is lower, and goes first on a tie.
+double TieBreakBic(const Suggestion& suggestion, const std::vector<Suggestion>& sinusoids) {
+  if (suggestion.term.aux != AuxForm::kAm) return suggestion.delta_bic;
+  const auto frequency = [](const Suggestion& s) -> const Parameter* {
+    for (const Parameter& parameter : s.parameters)
+      if (parameter.name == "frequency") return &parameter;
+    return nullptr;
+  };
+  const Parameter* line = frequency(suggestion);
+  double bic = suggestion.delta_bic;
+  for (const Suggestion& sinusoid : sinusoids) {
+    const Parameter* other = frequency(sinusoid);
+    if (line && other &&
+        std::abs(line->value - other->value) <=
+            3.0 * std::hypot(line->standard_error, other->standard_error))
+      bic = std::min(bic, sinusoid.delta_bic);
+  }
+  return bic;
+}
+
+// An AM line's parameters as the evidence and the verdict quote them.
+struct AmLine {
+  double frequency = 0, amplitude = 0, modulation = 0;
+  std::string unit;  // the modulation's
+};
+AmLine AmLineOf(const std::vector<Parameter>& parameters) {
+  AmLine line;
+  for (const Parameter& parameter : parameters) {
+    if (parameter.name == "frequency") line.frequency = parameter.value;
+    if (parameter.name == "amplitude") line.amplitude = parameter.value;
+    if (parameter.name == "modulation") {
+      line.modulation = parameter.value;
+      line.unit = parameter.units;
+    }
+  }
+  return line;
+}
+
 std::string AuxEvidence(const Evaluation& base, const Evaluation& trial, const ModelTerm& term) {
   const auto* channel = AuxOf(base, term.channel);
   const auto parameters = ParametersOf(trial, term);
@@ -199,6 +316,17 @@ std::string AuxEvidence(const Evaluation& base, const Evaluation& trial, const M
   for (const auto& parameter : parameters)
     if (parameter.name == "coefficient") coefficient = &parameter;
   const double error_before = base.views.error, error_after = trial.views.error;
+  if (term.aux == AuxForm::kAm) {
+    const AmLine line = AmLineOf(parameters);
+    const ModulationTest test = TestModulation(trial, term);
+    return Format("a line at %.5g Hz, amplitude %.3g deg/h, ", line.frequency, line.amplitude) +
+           "whose amplitude follows " + term.channel + Format(" by %.3g ", line.modulation) +
+           line.unit +
+           Format(
+               " (modulation chi-square %.3g against %.3g; its sidebands are not separate "
+               "lines; error %.3g -> %.3g)",
+               test.chi_square, test.critical, error_before, error_after);
+  }
   if (term.aux == AuxForm::kHysteresis)
     return "the bias differs between rising and falling " + term.channel +
            Format(" (r = %.2f with its derivative): +-%.3g deg/h, a hysteresis",
@@ -478,6 +606,8 @@ std::vector<ModelTerm> TrialTerms(const CompareInput& input, const std::vector<M
     const std::optional<Term> value_within = ThermalTermWithin(value);
     if (!present(value) && !(value_within && present(*value_within))) trial_terms.push_back(value);
     if (!present(rate) && !ThermalTermWithin(rate)) trial_terms.push_back(rate);
+    const ModelTerm am = ModelTerm::Aux(AuxForm::kAm, channel.name);
+    if (!present(am)) trial_terms.push_back(am);
   }
   return trial_terms;
 }
@@ -486,7 +616,7 @@ namespace {
 
 // Terms that could explain a slow effect (SlowEffectTrialTerms).
 bool ExplainsSlowEffect(const ModelTerm& term) {
-  return term.IsAux() || term == Term::kBiasStep || term == Term::kWarmup ||
+  return (term.IsAux() && !IsLine(term)) || term == Term::kBiasStep || term == Term::kWarmup ||
          term == Term::kTemperature || term == Term::kTemperatureRate;
 }
 
@@ -509,6 +639,10 @@ std::vector<ModelTerm> SlowEffectTrialTerms(const CompareInput& input,
 bool AuxViewSupports(const Evaluation& evaluation, const ModelTerm& term) {
   const std::string channel = AuxChannelOf(term);
   if (channel.empty()) return true;
+  if (term.aux == AuxForm::kAm) {
+    const ModulationTest test = TestModulation(evaluation, term);
+    return test.chi_square > test.critical;
+  }
   const auto* view = AuxOf(evaluation, channel);
   if (view == nullptr) return false;
   return std::abs(UsesDerivative(term) ? view->z_derivative : view->z) >
@@ -560,7 +694,10 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
     const bool unflags = flagged && !trial.long_tau.flagged &&
                          (trial.long_tau.evaluated || trial.long_tau.nothing_to_absorb);
     if (!improves && !unflags) continue;
-    if (!unflags && !AuxViewSupports(base, term)) continue;
+    // aux_am's evidence is its own modulation test, in its trial; every other aux term's is the
+    // base model's aux view.
+    const bool supported = AuxViewSupports(term.aux == AuxForm::kAm ? trial : base, term);
+    if (!unflags && !supported) continue;
     if (term == thermal_polynomial && temperature_trialled && polynomial_order <= 1) continue;
     if (term == Term::kTemperature && polynomial_order >= 2) continue;
     Suggestion suggestion;
@@ -580,6 +717,12 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
       const NarrowBand& band = trial.stochastic.model.bands.back();
       suggestion.delta_bic =
           -band.minus_two_log_likelihood_drop + 3.0 * std::log(std::max(band.effective_bins, 2.0));
+    } else if (term.aux == AuxForm::kAm && LastComponent(trial, term) != nullptr) {
+      // Wald form (compare.h): the four amplitudes and the frequency.
+      const double added_parameters =
+          trial.deterministic.summary.num_parameters - base.deterministic.summary.num_parameters;
+      suggestion.delta_bic =
+          -WaldChiSquare(*LastComponent(trial, term), 0, 4) + added_parameters * std::log(n_eff);
     } else if (IsFittedOnRate(term)) {
       const double added_parameters =
           trial.deterministic.summary.num_parameters - base.deterministic.summary.num_parameters;
@@ -600,7 +743,7 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
     suggestion.clears_long_tau = unflags && suggestion.delta_bic < 0;
     // A term that only clears the flag is offered when BIC accepts it; one the aux view does not
     // support, only then.
-    if (!suggestion.clears_long_tau && (!improves || !AuxViewSupports(base, term))) continue;
+    if (!suggestion.clears_long_tau && (!improves || !supported)) continue;
     suggestions.push_back(suggestion);
   }
   // Groups (compare.h): fixes a failing view, clears the long-tau flag without fixing one, only
@@ -615,6 +758,9 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
               if (group(lhs) != group(rhs)) return group(lhs) < group(rhs);
               return lhs.error_after < rhs.error_after;
             });
+  std::vector<Suggestion> sinusoids;
+  for (const Suggestion& suggestion : suggestions)
+    if (suggestion.term == Term::kSinusoid) sinusoids.push_back(suggestion);
   for (auto first = suggestions.begin(); first != suggestions.end();) {
     const auto last = std::find_if(first, suggestions.end(), [&](const Suggestion& suggestion) {
       return group(suggestion) != group(*first);
@@ -622,9 +768,11 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
     const double limit = options.tie_ratio * first->error_after + options.tie_offset;
     const auto lead_end = std::find_if(
         first, last, [&](const Suggestion& suggestion) { return suggestion.error_after > limit; });
-    std::stable_sort(first, lead_end, [](const Suggestion& lhs, const Suggestion& rhs) {
+    std::stable_sort(first, lead_end, [&](const Suggestion& lhs, const Suggestion& rhs) {
       if (lhs.clears_long_tau != rhs.clears_long_tau) return lhs.clears_long_tau;
-      return lhs.delta_bic < rhs.delta_bic;
+      const double lhs_bic = TieBreakBic(lhs, sinusoids), rhs_bic = TieBreakBic(rhs, sinusoids);
+      if (lhs_bic != rhs_bic) return lhs_bic < rhs_bic;
+      return lhs.term.aux == AuxForm::kAm && rhs.term.aux != AuxForm::kAm;
     });
     first = last;
   }
@@ -643,7 +791,8 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
         std::remove_if(suggestions.begin() + 1, suggestions.end(),
                        [&](const Suggestion& suggestion) {
                          const std::string channel = AuxChannelOf(suggestion.term);
-                         if (suggestion.clears_long_tau) return false;  // its own evidence
+                         // Their own evidence: the flag, the modulation test.
+                         if (suggestion.clears_long_tau || IsLine(suggestion.term)) return false;
                          if (channel.empty() || channel == leader_channel || leader == nullptr)
                            return false;
                          return !AuxViewSupports(*leader, suggestion.term);
@@ -677,9 +826,17 @@ std::string FailureList(std::vector<Failure> failures, size_t limit = 4) {
   return out;
 }
 
-// The term as the verdict names it: a narrow band with its centre, width and rms.
+// The term as the verdict names it: a narrow band with its centre, width and rms; an AM line with
+// its frequency, amplitude and modulation.
 std::string SuggestionLabel(const Suggestion& suggestion) {
   std::string label = ToString(suggestion.term);
+  if (suggestion.term.aux == AuxForm::kAm) {
+    const AmLine line = AmLineOf(suggestion.parameters);
+    return label +
+           Format(" at %.5g Hz (amplitude %.3g deg/h, modulation %.3g ", line.frequency,
+                  line.amplitude, line.modulation) +
+           line.unit + ")";
+  }
   if (suggestion.term != Term::kNarrowBand) return label;
   double frequency = 0, bandwidth = 0, rms = 0;
   for (const Parameter& parameter : suggestion.parameters) {
@@ -764,8 +921,14 @@ std::vector<ModelTerm> TrialsToRun(const CompareInput& input, const std::vector<
                                    const Evaluation& base, std::vector<ModelTerm>* slow_terms) {
   std::vector<ModelTerm> trial_terms;
   if (!base.views.consistent) {
-    for (const ModelTerm& term : TrialTerms(input, terms))
-      if (!term.IsAux() || AuxViewSupports(base, term)) trial_terms.push_back(term);
+    for (const ModelTerm& term : TrialTerms(input, terms)) {
+      // aux_am, a line, is trialled where the frequency view fails (its support, the modulation
+      // test, is read from its trial).
+      const bool trialled = term.aux == AuxForm::kAm
+                                ? ViewErrorOf(base.views, ViewDomain::kFrequency) > 1.0
+                                : !term.IsAux() || AuxViewSupports(base, term);
+      if (trialled) trial_terms.push_back(term);
+    }
   }
   if (base.long_tau.flagged) *slow_terms = SlowEffectTrialTerms(input, terms);
   for (const ModelTerm& term : *slow_terms)

@@ -12,6 +12,12 @@
 // Aux terms (catalog.h) are trialled for every aux channel the aux view flags, and gated like the
 // thermal terms (below): aux:<x> needs the residual to follow x, aux_rate:<x> its derivative. The
 // polynomial's order is part of its fit (deterministic_fit.h), so its trial costs one evaluation.
+// aux_am:<x> (a line whose amplitude follows x) is the exception: a line's modulation leaves no
+// low-frequency trace for the aux view to score, so it is trialled for every channel whenever the
+// frequency view fails, and supported by its own modulation test in its trial (the Wald
+// chi-square of the amplitude's change with x, 2 degrees of freedom, at the aux view's per-test
+// level; compare.cpp). A sinusoid fitted to such a line leaves its sidebands, which a second
+// sinusoid would then take one at a time; aux_am explains the carrier and the sidebands together.
 //
 // Slow effects. When the base model's long-tau check flags (B, K or R absorbing a slow effect,
 // long_tau_check.h), the views may all pass: a thermal hysteresis, a square wave at the thermal
@@ -20,9 +26,9 @@
 // channel, aux, aux_rate and aux_hysteresis, whatever the aux view says) and runs the long-tau
 // check on those trials only (it costs a pass per tested tau). A trial `clears_long_tau` when its
 // check is evaluated and does not flag, or finds B, K and R too small at every tau to absorb
-// anything (LongTauCheck::nothing_to_absorb), and BIC accepts its term (delta_bic < 0, below); such a term is a
-// candidate even when the views pass or the aux view does not support it. Without a flag nothing
-// of this runs: the trials, their order and the ranking are those described below.
+// anything (LongTauCheck::nothing_to_absorb), and BIC accepts its term (delta_bic < 0, below); such
+// a term is a candidate even when the views pass or the aux view does not support it. Without a
+// flag nothing of this runs: the trials, their order and the ranking are those described below.
 //
 // Ranking. A trial is a candidate when the model is not consistent and the trial lowers the error
 // by at least 10 % (`min_improvement`) or makes a failing view pass (`fixes`: a view with error
@@ -43,7 +49,9 @@
 // Within a group they are sorted by error_after; those within 15 % (+0.05) of the group's best
 // error_after are statistically indistinguishable on the error, and are ordered among themselves by
 // delta_bic (the simpler explanation first, Schwarz 1978), those that clear the long-tau flag
-// first. The first suggestion is the one to add.
+// first; a supported aux_am against the sinusoid at its frequency (its nested model, whose
+// comparison with it is the modulation test) takes the lower of their delta_bic and goes first on
+// a tie. The first suggestion is the one to add.
 //
 // Verdict. "consistent" when the base model is; "inconsistent" with the first suggestion when it
 // makes a failing view pass (and, if the model with it still fails somewhere, the ranges that still
@@ -65,6 +73,14 @@
 // alternatives; Davies 1987, Siegmund 1988) in place of ln n. An early step and a warm-up explain
 // the start of a record about equally well; the step scan searches many more distinct
 // alternatives than the smooth warm-up family, and pays for it here.
+// aux_am: -W + dk ln(n / lambda), W the Wald chi-square of its four amplitudes under their
+// batch-means sandwich covariance (deterministic_fit.h), which measures the residual's power near
+// the line. The RSS form takes the residual as white at its total variance, which at 10 Hz the
+// angle quantization's blue noise rules (2-4x the white noise's per sample, far less near a line
+// below ~1 Hz): it priced the modulation's sidebands at a fraction of their evidence, and ranked
+// the sinusoid first on 14 of 20 design records that the modulation test supports. (The sinusoid
+// keeps the RSS form: its numbers and the tests on them are unchanged; the same argument applies
+// to it.)
 #pragma once
 
 #include <Eigen/Core>
@@ -199,8 +215,9 @@ Evaluation EvaluateModel(const CompareInput& input, const std::vector<ModelTerm>
 
 /// The terms to trial-fit: every catalog term not in `terms` (sinusoid always: there may be
 /// several), thermal terms only with an aux "temperature"; then, per aux channel of the rate's
-/// length, aux:<channel> and aux_rate:<channel> unless in `terms` (not aux_rate:temperature, which
-/// is temperature_rate, nor aux:temperature beside temperature, whose linear part it repeats).
+/// length, aux:<channel>, aux_rate:<channel> and aux_am:<channel> unless in `terms` (not
+/// aux_rate:temperature, which is temperature_rate, nor aux:temperature beside temperature, whose
+/// linear part it repeats).
 std::vector<ModelTerm> TrialTerms(const CompareInput& input, const std::vector<ModelTerm>& terms);
 
 /// The trial terms that could explain a slow effect absorbed by B, K or R (see the header
@@ -211,7 +228,8 @@ std::vector<ModelTerm> SlowEffectTrialTerms(const CompareInput& input,
 
 /// True when the base model's aux view supports a term that reads an aux channel: |z| of the
 /// residual against the channel (its derivative for temperature_rate and aux_rate) above the aux
-/// view's critical value. Terms that read no channel: always true.
+/// view's critical value. Terms that read no channel: always true. aux_am: `evaluation` is a model
+/// with the term, and its modulation test passes (see the header comment).
 bool AuxViewSupports(const Evaluation& evaluation, const ModelTerm& term);
 
 /// Builds the ranked suggestions from the base evaluation and the trials (trial i adds
@@ -236,8 +254,8 @@ using fogpipe::ForEach;
 /// EvaluateModel of the base model, then (through for_each, null: in order) the base model's IMF
 /// view and every trial, then RankSuggestions. Trials are run only when the base model is not
 /// consistent, and aux terms only where AuxViewSupports them (RankSuggestions would drop the
-/// others unread); when the base model's long-tau check flags, also the SlowEffectTrialTerms, with
-/// their long-tau check.
+/// others unread; aux_am where the frequency view fails); when the base model's long-tau check
+/// flags, also the SlowEffectTrialTerms, with their long-tau check.
 CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& terms,
                       const CompareOptions& options, const ForEach& for_each = nullptr);
 
@@ -245,7 +263,11 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
 /// aux:<x>: "order" (chosen by BIC), "coefficient", "coefficient_2", ... in deg/h per unit^k of x,
 /// and "reference" (x_ref, the unit of x); aux_rate:<x>: "coefficient" in deg/h/(unit/s);
 /// aux_hysteresis:<x>: "coefficient" in deg/h (the bias while x rises; minus it while x falls) and
-/// "dead_band" (the switch's half-width w, unit/s).
+/// "dead_band" (the switch's half-width w, unit/s); aux_am:<x>: "frequency" (Hz), "amplitude"
+/// (a0, deg/h) and "phase" (rad) of the line at x = x_ref, as the sinusoid's, "modulation" (a1,
+/// deg/h per unit of x: the amplitude's change in phase with the line), "modulation_quadrature"
+/// (deg/h per unit: the part 90 degrees from it, 0 for a pure amplitude modulation) and
+/// "reference" (x_ref, the unit of x).
 std::vector<Parameter> ParametersOf(const Evaluation& e, const ModelTerm& term);
 
 }  // namespace fogpipe::model

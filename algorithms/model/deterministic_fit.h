@@ -39,6 +39,13 @@
 // flat. Within h of the record's ends the window is clipped and the slope noisier (up to 2^1.5 at
 // the first sample): the band widens by the same gain there. The fitted w is the component's
 // reference (unit/s), so that a model evaluated on another record switches where the fit did.
+// aux_am:<x> is a line whose amplitude follows x (amplitude modulation, e.g. a vibration or
+// electronics line whose strength depends on the temperature): (a0 + a1 (x - x_ref)) sin(2 pi f t
+// + phi), fitted as (c0 + c1 x~) cos(2 pi f t) + (s0 + s1 x~) sin(2 pi f t), x~ = x - x_ref, x_ref
+// the record's mean: linear in (c0, s0, c1, s1) at a given f, and f searched as the sinusoid's (the
+// carrier is the largest peak of the line, its sidebands at f +- the channel's frequencies), its
+// refinement on the four-column profile. (c1, s1) not parallel to (c0, s0) is a modulation in
+// quadrature (a phase modulation to first order); compare.h reports both parts.
 // The order p of aux:<x> is chosen among 1..max_aux_order by the Gaussian BIC
 // n_eff ln RSS_p + p ln n_eff (Schwarz 1978) with the other components in the design and
 // n_eff = n / lambda, lambda the long-run variance ratio of the order-1 residual (below): the
@@ -79,7 +86,8 @@ struct DeterministicOptions {
 };
 
 /// One fitted deterministic component. Values in SI: rate coefficients in rad/s per unit of the
-/// regressor; the nonlinear parameter in Hz (sinusoid) or s (bias_step time, warmup constant).
+/// regressor; the nonlinear parameter in Hz (sinusoid, aux_am) or s (bias_step time, warmup
+/// constant).
 struct DeterministicComponent {
   ModelTerm term = Term::kTemperature;
   double nonlinear = 0.0;     ///< frequency_hz | step_time_s | time_constant_s; 0 if none
@@ -87,13 +95,18 @@ struct DeterministicComponent {
   /// Linear coefficients: temperature rad/s/degC; temperature_rate rad/s/(degC/s); sinusoid
   /// (cosine, sine) rad/s; bias_step size rad/s; warmup amplitude rad/s at t = 0; aux c_1..c_p
   /// in rad/s per unit^k of the channel; aux_rate rad/s per (unit/s); aux_hysteresis rad/s (half
-  /// the bias difference between rising and falling).
+  /// the bias difference between rising and falling); aux_am (c0, s0, c1, s1): the line's
+  /// cosine and sine amplitudes in rad/s, then their change in rad/s per unit of x - x_ref.
   std::vector<double> coefficients;
   std::vector<double> coefficients_se;
   /// Aux terms: the channel's mean over the fitted record (x_ref; aux_hysteresis: the dead band's
   /// half-width w, unit/s) and its units ("" if the recording gives none).
   double reference = 0.0;
   std::string units;
+  /// aux_am: the covariance of its coefficients (row-major, 4 x 4; the sandwich's, with the
+  /// frequency's uncertainty in it), for the parameters derived from several of them (compare.h);
+  /// empty for the other terms.
+  std::vector<double> coefficients_covariance;
 };
 
 /// An aux channel as the deterministic fit reads it (non-owning; values of the rate's length).

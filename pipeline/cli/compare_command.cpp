@@ -2,8 +2,8 @@
 // effect the comparison suggests, repeat).
 //
 //   fogpipe compare RECORDING [--model FILE | --terms a,b,c] [--add TERM ...] [--axis A|all]
-//   (TERM: a catalog name, aux:<channel>, aux_rate:<channel> or aux_hysteresis:<channel>;
-//   algorithms/model/catalog.h)
+//   (TERM: a catalog name, aux:<channel>, aux_rate:<channel>, aux_hysteresis:<channel> or
+//   aux_am:<channel>; algorithms/model/catalog.h)
 //                   [--json] [-o RESULTS] [--save-model FILE] [--progress]
 //   fogpipe compare --history RESULTS
 //
@@ -277,11 +277,12 @@ void AddCompareCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("--terms", args->terms,
                   "Comma-separated terms: catalog names, aux:<channel> (bias polynomial in an "
                   "/aux channel, order by BIC), aux_rate:<channel> (in its derivative), "
-                  "aux_hysteresis:<channel> (+- while it rises or falls); bias is implicit")
+                  "aux_hysteresis:<channel> (+- while it rises or falls), aux_am:<channel> (a "
+                  "line whose amplitude follows it); bias is implicit")
       ->excludes(model);
   cmd->add_option("--add", args->add,
-                  "Add a term: a catalog name, aux:<channel>, aux_rate:<channel> or "
-                  "aux_hysteresis:<channel> (repeatable)");
+                  "Add a term: a catalog name, aux:<channel>, aux_rate:<channel>, "
+                  "aux_hysteresis:<channel> or aux_am:<channel> (repeatable)");
   cmd->add_option("--axis", args->axis,
                   "Axis name, index, or all (every axis: one section, JSON object and history "
                   "step per axis)")

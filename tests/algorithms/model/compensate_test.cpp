@@ -73,6 +73,32 @@ TEST(Compensate, SubtractsAnAuxPolynomialEvaluatedOnItsOwnChannel) {
   EXPECT_LT((c.rate_rad_s.array() - 1e-5).abs().maxCoeff(), 1e-18);
 }
 
+TEST(Compensate, SubtractsAnAmLineWhoseAmplitudeFollowsItsChannel) {
+  // aux_am:supply_voltage: (c0 + c1 (V - V_ref)) cos(2 pi f t) + (s0 + s1 (V - V_ref)) sin(2 pi f
+  // t), written out with std::cos / std::sin. The evaluation's rotation recurrence (re-anchored
+  // every 1024 samples) and both sides' rounding of the phase (2 pi f t <= 2.3e4 rad at 36000
+  // samples: ~5e-12 rad) leave ~1e-17 on a 1.5e-6 rad/s envelope: bound 1e-15.
+  const double fs = 10.0, f = 1.3, v_ref = 28.0, c0 = 1e-6, s0 = -5e-7, c1 = 2e-6, s1 = 1e-6;
+  const long n = 36000;
+  Eigen::VectorXd rate(n), volts(n);
+  for (long i = 0; i < n; ++i) {
+    volts[i] = v_ref + 0.2 * std::sin(2 * M_PI * i / (fs * 900.0));
+    const double w = 2 * M_PI * f * i / fs, d = volts[i] - v_ref;
+    rate[i] = 1e-5 + (c0 + c1 * d) * std::cos(w) + (s0 + s1 * d) * std::sin(w);
+  }
+  DeterministicModel m;
+  m.components.push_back({ModelTerm::Aux(AuxForm::kAm, "supply_voltage"),
+                          f,
+                          0.0,
+                          {c0, s0, c1, s1},
+                          {0.0, 0.0, 0.0, 0.0},
+                          v_ref,
+                          "V"});
+  const Compensation c = Compensate(rate, fs, {{"supply_voltage", "V", &volts}}, m, {});
+  ASSERT_EQ(c.summary.termination, Termination::kSuccess) << c.summary.message;
+  EXPECT_LT((c.rate_rad_s.array() - 1e-5).abs().maxCoeff(), 1e-15);
+}
+
 TEST(Compensate, SubtractsAHysteresisTermWithTheDeadBandItWasFittedWith) {
   // aux_hysteresis:supply_voltage on a triangle wave (period 600 s at 10 Hz, +-0.5 V): +c while
   // the voltage rises, -c while it falls, written out in closed form. Its slope, 1/300 V/s, is 33
