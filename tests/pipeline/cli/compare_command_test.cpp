@@ -42,15 +42,23 @@ std::string RunFogpipe(const std::string& args, int* code,
   return out;
 }
 
-TEST(CompareCommand, FindsAHiddenThermalEffectAndRecordsTheHistory) {
-  const fs::path dir = fs::temp_directory_path() / ("fogpipe_compare_" + std::to_string(getpid()));
+/// A fresh folder `name` (made unique by the process id) holding rec.h5 from `fogpipe simulate
+/// --profile nav <simulate_args>`; *code receives the simulator's exit code.
+fs::path SimulatedRecording(const std::string& name, const std::string& simulate_args, int* code) {
+  const fs::path dir = fs::temp_directory_path() / (name + "_" + std::to_string(getpid()));
   fs::create_directories(dir);
-  const std::string rec = (dir / "rec.h5").string(), results = (dir / "results.h5").string();
+  RunFogpipe("simulate --profile nav " + simulate_args + " -o " + (dir / "rec.h5").string(), code);
+  return dir;
+}
+
+TEST(CompareCommand, FindsAHiddenThermalEffectAndRecordsTheHistory) {
   int code = 0;
   // 0.012 deg/h/degC on a 6-12 degC p-p cycle: ~5x the seed's noise Allan deviation at
   // 0.371 x period (hidden_effects.h explains the sizing).
-  RunFogpipe("simulate --profile nav --seed 11 --temperature-coef 0.012 -o " + rec, &code);
+  const fs::path dir =
+      SimulatedRecording("fogpipe_compare", "--seed 11 --temperature-coef 0.012", &code);
   ASSERT_EQ(code, 0);
+  const std::string rec = (dir / "rec.h5").string(), results = (dir / "results.h5").string();
   const nlohmann::json j =
       nlohmann::json::parse(RunFogpipe("compare --json -o " + results + " " + rec, &code));
   ASSERT_EQ(code, 0);
@@ -114,13 +122,11 @@ TEST(CompareCommand, FindsAHiddenThermalEffectAndRecordsTheHistory) {
 // compare names aux:coil_temperature with the channel's unit, adding it makes the model consistent,
 // the history and the model file carry the term by that name, and `validate` accepts the results.
 TEST(CompareCommand, NamesTheAuxTermOfAnyChannelAndStoresItWithItsUnit) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("fogpipe_compare_aux_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  const std::string rec = (dir / "rec.h5").string(), results = (dir / "results.h5").string();
   int code = 0;
-  RunFogpipe("simulate --profile nav --seed 11 --temperature-coef 0.012 -o " + rec, &code);
+  const fs::path dir =
+      SimulatedRecording("fogpipe_compare_aux", "--seed 11 --temperature-coef 0.012", &code);
   ASSERT_EQ(code, 0);
+  const std::string rec = (dir / "rec.h5").string(), results = (dir / "results.h5").string();
   {
     auto lock = hdf5::LockHdf5();
     H5::H5File f(rec, H5F_ACC_RDWR);
@@ -193,13 +199,10 @@ void AddToRate(const std::string& rec,
 // coefficient, and with it added the model is consistent and unflagged; the model file keeps the
 // term, its dead band and unit, and compare --model reads it back.
 TEST(CompareCommand, NamesTheHysteresisTermThatClearsTheLongTauFlagAndStoresIt) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("fogpipe_compare_hysteresis_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  const std::string rec = (dir / "rec.h5").string(), results = (dir / "results.h5").string();
   int code = 0;
-  RunFogpipe("simulate --profile nav --seed 2 -o " + rec, &code);
+  const fs::path dir = SimulatedRecording("fogpipe_compare_hysteresis", "--seed 2", &code);
   ASSERT_EQ(code, 0);
+  const std::string rec = (dir / "rec.h5").string(), results = (dir / "results.h5").string();
   const double amplitude_deg_h = 0.03;
   AddToRate(rec, [&](const std::vector<double>& temperature, std::vector<double>* rate_out) {
     std::vector<double>& rate = *rate_out;
@@ -266,13 +269,10 @@ TEST(CompareCommand, NamesTheHysteresisTermThatClearsTheLongTauFlagAndStoresIt) 
 // 0.3 deg/h/sqrt(Hz) at N = 0.005 deg/sqrt(h), 6 h, temperature sd ~3 degC): far from the
 // detection limit (docs/compare.md).
 TEST(CompareCommand, NamesTheAmLineOfTheTemperatureAndStoresIt) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("fogpipe_compare_am_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  const std::string rec = (dir / "rec.h5").string(), results = (dir / "results.h5").string();
   int code = 0;
-  RunFogpipe("simulate --profile nav --seed 2 -o " + rec, &code);
+  const fs::path dir = SimulatedRecording("fogpipe_compare_am", "--seed 2", &code);
   ASSERT_EQ(code, 0);
+  const std::string rec = (dir / "rec.h5").string(), results = (dir / "results.h5").string();
   const double a0_deg_h = 0.3, f_hz = 0.7, phase = 0.4, fs = 10.0;
   double a1_deg_h_per_degc = 0;
   AddToRate(rec, [&](const std::vector<double>& temperature, std::vector<double>* rate) {
@@ -334,12 +334,11 @@ TEST(CompareCommand, NamesTheAmLineOfTheTemperatureAndStoresIt) {
 
 /// A fresh folder `name` holding rec.h5: the nav profile with two axes x, y for `duration_s`.
 fs::path TwoAxisRecording(const std::string& name, int seed, int duration_s) {
-  const fs::path dir = fs::temp_directory_path() / (name + "_" + std::to_string(getpid()));
-  fs::create_directories(dir);
   int code = 0;
-  RunFogpipe("simulate --profile nav --axes 2 --seed " + std::to_string(seed) + " --duration-s " +
-                 std::to_string(duration_s) + " -o " + (dir / "rec.h5").string(),
-             &code);
+  const fs::path dir = SimulatedRecording(
+      name,
+      "--axes 2 --seed " + std::to_string(seed) + " --duration-s " + std::to_string(duration_s),
+      &code);
   EXPECT_EQ(code, 0);
   return dir;
 }
@@ -510,14 +509,11 @@ TEST(CompareCommand, NamesFitsAndStoresASimulatedVibrationBand) {
   // continuous resonance's sqrt(1 - 2 zeta^2)); and the rms against the
   // realised band's, the reference of the algorithm-level calibration), the frequency view pass,
   // and the band land in the history (with the bandwidth's standard error) and the model file.
-  const fs::path dir =
-      fs::temp_directory_path() / ("fogpipe_compare_simband_" + std::to_string(getpid()));
-  fs::create_directories(dir);
+  int code = 0;
+  const fs::path dir = SimulatedRecording("fogpipe_compare_simband", "--seed 11", &code);
+  ASSERT_EQ(code, 0);
   const std::string rec = (dir / "rec.h5").string(), results = (dir / "results.h5").string(),
                     model = (dir / "m.json").string();
-  int code = 0;
-  RunFogpipe("simulate --profile nav --seed 11 -o " + rec, &code);
-  ASSERT_EQ(code, 0);
   const double f0 = 1.5, zeta = 0.02;
   const double rms_true = AddVibrationBand(rec, f0, zeta, 10.0, 5);
 
