@@ -49,8 +49,12 @@ std::vector<std::string> EdfSourceNames(const std::vector<EdfSource>& sources) {
 
 void ConfidenceBounds(double sigma, double edf, double confidence, double* low, double* high) {
   const double tail = 0.5 * (1.0 - confidence);
-  *low = sigma * std::sqrt(edf / stats::ChiSquareQuantile(1.0 - tail, edf));
-  *high = sigma * std::sqrt(edf / stats::ChiSquareQuantile(tail, edf));
+  *low = ChiSquareBound(sigma, edf, stats::ChiSquareQuantile(1.0 - tail, edf));
+  *high = ChiSquareBound(sigma, edf, stats::ChiSquareQuantile(tail, edf));
+}
+
+double ChiSquareBound(double sigma, double edf, double quantile) {
+  return sigma * std::sqrt(edf / quantile);
 }
 
 namespace {
@@ -85,11 +89,18 @@ WeightedChiSquareLaw FewAveragesLaw(int d, int alpha, long long m, long long cou
   return OverlappingLawWeights(d, theta, m, count);
 }
 
-}  // namespace
+// A row's interval apart from its sigma (IntervalForNoiseType): the EDF and the two quantiles
+// its bounds divide by, of the estimate's law or of chi-square(edf).
+struct IntervalQuantiles {
+  double edf = std::numeric_limits<double>::quiet_NaN();
+  bool from_law = false;
+  double for_low = std::numeric_limits<double>::quiet_NaN();   // at 1 - tail: gives ci_low
+  double for_high = std::numeric_limits<double>::quiet_NaN();  // at tail: gives ci_high
+};
 
-NoiseTypeInterval IntervalForNoiseType(const AllanOptions& options, int alpha, long long m,
-                                       long long count, long long n, double sigma) {
-  NoiseTypeInterval out;
+IntervalQuantiles FindIntervalQuantiles(const AllanOptions& options, int alpha, long long m,
+                                        long long count, long long n) {
+  IntervalQuantiles out;
   const int d = DifferenceOrder(options.deviation);
   // The estimate's own law with few averages (estimate_law.h) belongs to the calibrated rule;
   // Stable32's rule keeps its chi-square bounds.
@@ -105,15 +116,75 @@ NoiseTypeInterval IntervalForNoiseType(const AllanOptions& options, int alpha, l
   if (!(out.edf > 0.0)) return out;
   const WeightedChiSquareLaw law =
       law_applies ? FewAveragesLaw(d, alpha, m, count) : WeightedChiSquareLaw();
-  if (!law.empty())
-    LawBounds(sigma, law, options.confidence, &out.ci_low, &out.ci_high);
+  const double tail = 0.5 * (1.0 - options.confidence);
+  out.from_law = !law.empty();
+  out.for_low = out.from_law ? WeightedChiSquareQuantile(law, 1.0 - tail)
+                             : stats::ChiSquareQuantile(1.0 - tail, out.edf);
+  out.for_high =
+      out.from_law ? WeightedChiSquareQuantile(law, tail) : stats::ChiSquareQuantile(tail, out.edf);
+  return out;
+}
+
+// FindIntervalQuantiles with the last results on this thread kept: they depend on the row's
+// shape only (not on the data), their laws take an eigendecomposition and saddlepoint
+// quantiles, and tables of one record length (a parameter sweep scores hundreds) repeat them.
+IntervalQuantiles CachedIntervalQuantiles(const AllanOptions& options, int alpha, long long m,
+                                          long long count, long long n) {
+  struct Kept {
+    Deviation deviation;
+    NoiseIdRule rule;
+    bool sampled_phase_edf;
+    double confidence;
+    int alpha;
+    long long m, count, n;
+    IntervalQuantiles value;
+  };
+  constexpr size_t kKept = 256;
+  thread_local std::vector<Kept> kept;
+  thread_local size_t next_slot = 0;
+  for (const Kept& k : kept)
+    if (k.m == m && k.count == count && k.n == n && k.alpha == alpha &&
+        k.deviation == options.deviation && k.rule == options.noise_id &&
+        k.sampled_phase_edf == options.sampled_phase_edf && k.confidence == options.confidence)
+      return k.value;
+  const Kept found{options.deviation,
+                   options.noise_id,
+                   options.sampled_phase_edf,
+                   options.confidence,
+                   alpha,
+                   m,
+                   count,
+                   n,
+                   FindIntervalQuantiles(options, alpha, m, count, n)};
+  if (kept.size() < kKept)
+    kept.push_back(found);
   else
-    ConfidenceBounds(sigma, out.edf, options.confidence, &out.ci_low, &out.ci_high);
+    kept[next_slot] = found;
+  next_slot = (next_slot + 1) % kKept;
+  return found.value;
+}
+
+}  // namespace
+
+NoiseTypeInterval IntervalForNoiseType(const AllanOptions& options, int alpha, long long m,
+                                       long long count, long long n, double sigma) {
+  NoiseTypeInterval out;
+  const IntervalQuantiles q = CachedIntervalQuantiles(options, alpha, m, count, n);
+  out.edf = q.edf;
+  if (!(out.edf > 0.0)) return out;
+  out.ci_low = q.from_law ? LawBound(sigma, q.for_low) : ChiSquareBound(sigma, q.edf, q.for_low);
+  out.ci_high = q.from_law ? LawBound(sigma, q.for_high) : ChiSquareBound(sigma, q.edf, q.for_high);
   return out;
 }
 
 AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double sample_rate_hz,
                          const AllanOptions& options) {
+  Eigen::VectorXd phase_work;
+  return ComputeAllan(rate, sample_rate_hz, options, &phase_work);
+}
+
+AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double sample_rate_hz,
+                         const AllanOptions& options, Eigen::VectorXd* phase_work) {
   AllanResult result;
   AllanSummary& summary = result.summary;
   AllanTable& table = result.table;
@@ -139,7 +210,8 @@ AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double s
     return result;
   }
   table.m = AveragingFactors(options.grid, max_m, n);
-  const Eigen::VectorXd phase = MeanRemovedPhase(rate);
+  MeanRemovedPhase(rate, phase_work);
+  const Eigen::VectorXd& phase = *phase_work;
   const std::vector<double> variance =
       DeviationVariances(phase, options.deviation, table.m, options.threads);
 

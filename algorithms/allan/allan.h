@@ -104,9 +104,15 @@ NoiseTypeInterval IntervalForNoiseType(const AllanOptions& options, int alpha, l
 
 AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double sample_rate_hz,
                          const AllanOptions& options);
+/// The same table, with the phase (n + 1 doubles) formed in *phase_work, whose memory a caller
+/// computing many tables of one length reuses (fresh pages are slow: docs/performance.md).
+AllanResult ComputeAllan(const Eigen::Ref<const Eigen::VectorXd>& rate, double sample_rate_hz,
+                         const AllanOptions& options, Eigen::VectorXd* phase_work);
 
 /// Confidence bounds of a deviation `sigma` with `edf` degrees of freedom at two-sided level
 /// `confidence` (NIST SP 1065 eq. 45; Stable32's convention sigma sqrt(edf / chi2)).
 void ConfidenceBounds(double sigma, double edf, double confidence, double* low, double* high);
+/// One of those bounds from its chi-square quantile q: sigma sqrt(edf / q).
+double ChiSquareBound(double sigma, double edf, double quantile);
 
 }  // namespace fogpipe::allan

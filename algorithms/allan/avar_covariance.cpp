@@ -230,6 +230,28 @@ Eigen::MatrixXd AvarCovarianceModel::Covariance(const std::array<double, 4>& the
   return c;
 }
 
+std::shared_ptr<const AvarCovarianceModel> SharedAvarCovarianceModel(
+    const std::vector<long long>& m, const std::vector<long long>& count, double sample_period_s) {
+  struct Entry {
+    std::vector<long long> m, count;
+    double sample_period_s = 0.0;
+    std::shared_ptr<const AvarCovarianceModel> model;
+  };
+  constexpr size_t kKept = 4;
+  thread_local std::vector<Entry> kept;  // most recently used last
+  for (auto it = kept.begin(); it != kept.end(); ++it) {
+    if (it->m != m || it->count != count || it->sample_period_s != sample_period_s) continue;
+    Entry hit = std::move(*it);
+    kept.erase(it);
+    kept.push_back(std::move(hit));
+    return kept.back().model;
+  }
+  if (kept.size() == kKept) kept.erase(kept.begin());
+  kept.push_back({m, count, sample_period_s,
+                  std::make_shared<const AvarCovarianceModel>(m, count, sample_period_s)});
+  return kept.back().model;
+}
+
 double AvarCovarianceBySum(long long ma, long long mb, long long count_a, long long count_b,
                            double sample_period_s, const std::array<double, 4>& theta, double r2) {
   const Pair pair{ma, mb, count_a, count_b};

@@ -27,6 +27,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <memory>
 #include <vector>
 
 namespace fogpipe::allan {
@@ -53,6 +54,13 @@ class AvarCovarianceModel {
   std::vector<std::array<double, 10>> s_;
   std::vector<std::array<double, 4>> h_;
 };
+
+/// The model for (m, count, sample_period_s), as constructed, shared with the callers that asked
+/// for the same rows: the last few models built on the calling thread are kept. Building one
+/// costs more than the fit that uses it, and a parameter sweep fits hundreds of tables of one
+/// record length, whose rows repeat.
+std::shared_ptr<const AvarCovarianceModel> SharedAvarCovarianceModel(
+    const std::vector<long long>& m, const std::vector<long long>& count, double sample_period_s);
 
 /// c_k(l) = Cov(D_i(m), D_{i+l}(m)) per unit theta_k with t0 = 1 for the d-th difference of the
 /// phase at lag m (d = 2 Allan: weights 1, -2, 1; d = 3 Hadamard: 1, -3, 3, -1), for the

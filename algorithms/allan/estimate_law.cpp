@@ -167,8 +167,10 @@ double WeightedChiSquareQuantile(const WeightedChiSquareLaw& mu, double p) {
 void LawBounds(double sigma, const WeightedChiSquareLaw& mu, double confidence, double* low,
                double* high) {
   const double tail = 0.5 * (1.0 - confidence);
-  *low = sigma / std::sqrt(WeightedChiSquareQuantile(mu, 1.0 - tail));
-  *high = sigma / std::sqrt(WeightedChiSquareQuantile(mu, tail));
+  *low = LawBound(sigma, WeightedChiSquareQuantile(mu, 1.0 - tail));
+  *high = LawBound(sigma, WeightedChiSquareQuantile(mu, tail));
 }
+
+double LawBound(double sigma, double quantile) { return sigma / std::sqrt(quantile); }
 
 }  // namespace fogpipe::allan

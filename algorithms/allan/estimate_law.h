@@ -72,5 +72,7 @@ double WeightedChiSquareQuantile(const WeightedChiSquareLaw& law, double p);
 /// [sigma / sqrt(q_high), sigma / sqrt(q_low)], q the (1 +- confidence) / 2 quantiles.
 void LawBounds(double sigma, const WeightedChiSquareLaw& law, double confidence, double* low,
                double* high);
+/// One of those bounds from its quantile q of the law: sigma / sqrt(q).
+double LawBound(double sigma, double quantile);
 
 }  // namespace fogpipe::allan

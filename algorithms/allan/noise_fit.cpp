@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
-#include <optional>
+#include <memory>
 #include <vector>
 
 #include "algorithms/allan/avar_covariance.h"
@@ -732,9 +732,10 @@ NoiseFitResult FitNoiseTerms(const AllanTable& table, const NoiseFitOptions& opt
   // Step 2: GLS on the model covariance of the overlapping Allan variances (kept for the upper
   // limits of step 3).
   double t0 = 0.0;
-  std::optional<AvarCovarianceModel> gls_cov;
+  std::shared_ptr<const AvarCovarianceModel> gls_cov;
   if (options.correlated && CovarianceModelApplies(table, p, &t0)) {
-    const AvarCovarianceModel& cov = gls_cov.emplace(p.m, p.count, t0);
+    gls_cov = SharedAvarCovarianceModel(p.m, p.count, t0);
+    const AvarCovarianceModel& cov = *gls_cov;
     Eigen::VectorXd theta_gls = theta;
     Whitened wg;
     if (GeneralizedFit(p, basis, cols, cov, 0.0, options.gls_iterations, &theta_gls, &converged,

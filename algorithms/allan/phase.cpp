@@ -40,8 +40,17 @@ CompensatedSum<double> Part(const CompensatedSum<Lanes>& sums, int c) {
 }  // namespace
 
 Eigen::VectorXd MeanRemovedPhase(const Eigen::Ref<const Eigen::VectorXd>& rate) {
+  Eigen::VectorXd x;
+  MeanRemovedPhase(rate, &x);
+  return x;
+}
+
+void MeanRemovedPhase(const Eigen::Ref<const Eigen::VectorXd>& rate, Eigen::VectorXd* phase) {
   const Eigen::Index n = rate.size();
-  if (n == 0) return Eigen::VectorXd();
+  if (n == 0) {
+    phase->resize(0);
+    return;
+  }
   // Four interleaved compensated sums for the mean break the dependency chain (in one vector,
   // element k summing elements 4j + k).
   CompensatedSum<Lanes> parts;
@@ -57,7 +66,8 @@ Eigen::VectorXd MeanRemovedPhase(const Eigen::Ref<const Eigen::VectorXd>& rate) 
     total.Add(p.carry);
   }
   const double mean = total.Value() / static_cast<double>(n);
-  Eigen::VectorXd x(n + 1);
+  phase->resize(n + 1);
+  Eigen::VectorXd& x = *phase;
   x[0] = 0.0;
   // The running sum in four parts side by side: each part's compensated sum from 0 (four
   // independent chains the CPU overlaps; one chain is bound by an addition's latency per sample,
@@ -96,7 +106,6 @@ Eigen::VectorXd MeanRemovedPhase(const Eigen::Ref<const Eigen::VectorXd>& rate) 
       for (Eigen::Index i = c * quarter; i < end; ++i) x[i + 1] = hi + (x[i + 1] + lo);
     }
   }
-  return x;
 }
 
 }  // namespace fogpipe::allan

@@ -14,5 +14,8 @@ namespace fogpipe::allan {
 /// summation with Knuth's TwoSum; Neumaier 1974), so each stored x_k is within about one rounding
 /// of the exact value even for 1e8 samples. Returns an empty vector for empty input.
 Eigen::VectorXd MeanRemovedPhase(const Eigen::Ref<const Eigen::VectorXd>& rate);
+/// The same values into *phase (resized to n + 1; its memory is reused when it already has that
+/// size, so a caller computing many tables of one length touches no fresh pages).
+void MeanRemovedPhase(const Eigen::Ref<const Eigen::VectorXd>& rate, Eigen::VectorXd* phase);
 
 }  // namespace fogpipe::allan

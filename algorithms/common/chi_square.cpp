@@ -116,7 +116,14 @@ double ChiSquareQuantile(double p, double dof) {
   double x = dof * std::pow(std::max(1.0 - h + z * std::sqrt(h), 1e-3), 3);
   // Bracket [lo, hi] with F(lo) < p < F(hi); Newton steps that leave it are replaced by bisection.
   double lo = 0.0, hi = std::max(2.0 * x, dof + 10.0 * std::sqrt(2.0 * dof) + 10.0);
-  while (ChiSquareCdf(hi, dof) < p) hi *= 2.0;
+  // Chi-square(dof) is sub-gamma with variance factor 2 dof and scale 2, so
+  // P(X >= dof + 2 sqrt(dof t) + 2 t) <= e^-t (Laurent & Massart 2000, Lemma 1; Boucheron, Lugosi
+  // & Massart 2013, section 2.4): with t = -ln(1 - p), an hi beyond that bound has F(hi) >= p and
+  // the CDF, a sum of about sqrt(36 dof) terms at large dof, need not be evaluated there.
+  const double tail = -std::log1p(-p);
+  const double bound = dof + 2.0 * std::sqrt(dof * tail) + 2.0 * tail;
+  if (!(hi > bound))
+    while (ChiSquareCdf(hi, dof) < p) hi *= 2.0;
   const double a = 0.5 * dof;
   for (int iter = 0; iter < 200; ++iter) {
     const double f = ChiSquareCdf(x, dof) - p;

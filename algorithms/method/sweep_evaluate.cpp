@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <numeric>
 #include <stdexcept>
 #include <utility>
@@ -35,6 +37,58 @@ constexpr Eigen::Index kSumRange = 2048;
 double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
+
+/// Work memory kept between uses: the settings' method-1 sums and the phases of their Allan
+/// tables, Burg's error arrays. Freed and allocated again, each would be fresh pages, which cost
+/// about as much as the arithmetic done in them on the machines measured (docs/performance.md).
+/// Holds at most what was in use at once; taking and giving are thread-safe.
+template <typename T>
+class IdlePool {
+ public:
+  /// The most recently given idle T for which fits(t) holds, else T().
+  template <typename Fits>
+  T Take(const Fits& fits) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    for (auto it = idle_.rbegin(); it != idle_.rend(); ++it) {
+      if (!fits(*it)) continue;
+      T t = std::move(*it);
+      idle_.erase(std::next(it).base());
+      return t;
+    }
+    return T();
+  }
+  void Give(T* t) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    idle_.push_back(std::move(*t));
+    *t = T();
+  }
+  void Release() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    idle_.clear();
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<T> idle_;
+};
+
+/// Signal-length buffers (IdlePool).
+class BufferPool {
+ public:
+  /// A buffer of n doubles (contents unspecified): an idle one of that size, else a new one.
+  Eigen::VectorXd Take(Eigen::Index n) {
+    Eigen::VectorXd v = idle_.Take([n](const Eigen::VectorXd& b) { return b.size() == n; });
+    if (v.size() != n) v.resize(n);
+    return v;
+  }
+  void Give(Eigen::VectorXd* v) {
+    if (v->size() > 0) idle_.Give(v);
+  }
+  void Release() { idle_.Release(); }
+
+ private:
+  IdlePool<Eigen::VectorXd> idle_;
+};
 
 /// The models of one component for every order 1..max_order from one Burg recursion.
 struct ComponentModels {
@@ -106,8 +160,11 @@ std::pair<double, double> FitsOfOrder(const ComponentModels& c, int p) {
 /// (signal + removed mean) - true rate when there is a truth. False, with the point's termination
 /// and message, when the Allan table has no result.
 bool ScoreSignal(const Eigen::VectorXd& signal, double sample_rate_hz, const SweepOptions& options,
-                 const Preprocessed& pre, const Eigen::VectorXd* truth, SweepPoint* point) {
-  point->allan.allan = allan::ComputeAllan(signal, sample_rate_hz, options.method.allan);
+                 const Preprocessed& pre, const Eigen::VectorXd* truth, BufferPool* buffers,
+                 SweepPoint* point) {
+  Eigen::VectorXd phase = buffers->Take(signal.size() + 1);
+  point->allan.allan = allan::ComputeAllan(signal, sample_rate_hz, options.method.allan, &phase);
+  buffers->Give(&phase);
   if (!HasResult(point->allan.allan.summary.termination)) {
     point->termination = point->allan.allan.summary.termination;
     point->message = "Allan variance: " + point->allan.allan.summary.message;
@@ -127,7 +184,8 @@ bool ScoreSignal(const Eigen::VectorXd& signal, double sample_rate_hz, const Swe
 
 /// The reference filters on the sweep's preprocessed signal, each scored like a grid setting.
 void EvaluateReferences(double sample_rate_hz, const SweepOptions& options,
-                        const Eigen::VectorXd* truth, const ForEach& for_each, SweepResult* out) {
+                        const Eigen::VectorXd* truth, const ForEach& for_each, BufferPool* buffers,
+                        SweepResult* out) {
   const auto start = std::chrono::steady_clock::now();
   RunReferenceFilters(sample_rate_hz, options.method, for_each, &out->base);
   const int count = static_cast<int>(out->base.reference.size());
@@ -145,7 +203,8 @@ void EvaluateReferences(double sample_rate_hz, const SweepOptions& options,
     r.point.message = o.message;
     r.point.rms_error = kNaN;
     if (!HasResult(o.termination)) return;
-    if (!ScoreSignal(o.signal, sample_rate_hz, options, out->base.preprocessed, truth, &r.point))
+    if (!ScoreSignal(o.signal, sample_rate_hz, options, out->base.preprocessed, truth, buffers,
+                     &r.point))
       return;
     r.point.seconds = filter_seconds + SecondsSince(allan_start);
   });
@@ -194,12 +253,14 @@ std::vector<ComponentModels> SetUpComponents(const MethodResult& base) {
 /// One Burg recursion up to the grid's largest order gives m's models of every order; then the
 /// one-step fit % of the orders some setting uses (min(p, orders reached) for every p of the
 /// grid). The simulation fits follow across components (FitSimulations).
-void FitAllOrders(const SweepGrid& grid, ComponentModels* m) {
+void FitAllOrders(const SweepGrid& grid, IdlePool<ar::BurgWork>* burg_work, ComponentModels* m) {
   if (m->constant) return;
   const Eigen::VectorXd& c = *m->signal;
   m->filter_variance_ok = kalman::FilterInputVariance(c, &m->filter_variance);
   const double mean = c.mean();
-  const ar::OrderSequence sequence = ar::BurgAllOrders(c, grid.max_order(), mean);
+  ar::BurgWork work = burg_work->Take([](const ar::BurgWork&) { return true; });
+  const ar::OrderSequence sequence = ar::BurgAllOrders(c, grid.max_order(), mean, &work);
+  burg_work->Give(&work);
   for (int p = 1; p <= sequence.orders_completed; ++p) {
     m->models.push_back(
         ar::MakeArModel(sequence.phi[p - 1], sequence.innovation_variance(p - 1), mean, c.size()));
@@ -273,6 +334,7 @@ struct SweepContext {
   double sample_rate_hz;
   const Eigen::VectorXd* truth;
   const ForEach& for_each;
+  BufferPool& buffers;
   int num_imfs() const { return static_cast<int>(components.size()) - 1; }
 };
 
@@ -344,9 +406,10 @@ std::vector<std::unique_ptr<kalman::ArFilterBank>> FilterComponents(const SweepC
 /// component, so the sums are equal to the last bit.
 std::vector<Eigen::VectorXd> SumComponents(
     const std::vector<ComponentModels>& components,
-    const std::vector<std::unique_ptr<kalman::ArFilterBank>>& banks, int count, Eigen::Index n) {
+    const std::vector<std::unique_ptr<kalman::ArFilterBank>>& banks, int count, Eigen::Index n,
+    BufferPool* buffers) {
   std::vector<Eigen::VectorXd> series(count);
-  for (Eigen::VectorXd& v : series) v.resize(n);  // (not copies of one: each filled below)
+  for (Eigen::VectorXd& v : series) v = buffers->Take(n);  // every sample is written below
   std::vector<double> range_sums(static_cast<std::size_t>(kSumRange) * count);
   std::vector<double*> sums(count);
   for (int j = 0; j < count; ++j) sums[j] = range_sums.data() + j;
@@ -470,7 +533,8 @@ void EvaluateOrder(const SweepContext& context, const OrderBlock& block,
   const std::vector<std::unique_ptr<kalman::ArFilterBank>> banks =
       FilterComponents(context, block, points);
   std::vector<Eigen::VectorXd> series =
-      SumComponents(context.components, banks, block.count, out->base.preprocessed.signal.size());
+      SumComponents(context.components, banks, block.count, out->base.preprocessed.signal.size(),
+                    &context.buffers);
   const std::vector<int> redo = DivergedSettings(context.components, banks, points, block.count);
   context.for_each(static_cast<int>(redo.size()),
                    [&](int r) { RefilterAlone(context, &points[redo[r]], &series[redo[r]]); });
@@ -480,13 +544,15 @@ void EvaluateOrder(const SweepContext& context, const OrderBlock& block,
     const auto setting_start = std::chrono::steady_clock::now();
     SweepPoint& point = points[j];
     if (!HasResult(point.termination)) return;
-    if (!ScoreSignal(series[j], context.sample_rate_hz, context.options, out->base.preprocessed,
-                     context.truth, &point))
-      return;
-    series[j] = Eigen::VectorXd();  // the series is not kept: free it for the other blocks
+    const bool scored =
+        ScoreSignal(series[j], context.sample_rate_hz, context.options, out->base.preprocessed,
+                    context.truth, &context.buffers, &point);
+    context.buffers.Give(&series[j]);  // the series is not kept: the other blocks reuse it
+    if (!scored) return;
     point.termination = Termination::kSuccess;
     point.seconds = filter_seconds + SecondsSince(setting_start);
   });
+  for (Eigen::VectorXd& s : series) context.buffers.Give(&s);  // those of failed settings
 }
 
 /// Every grid setting, one AR order's block at a time (EvaluateOrder). Highest orders first: their
@@ -526,7 +592,9 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
 
   const auto models_start = std::chrono::steady_clock::now();
   std::vector<ComponentModels> components = SetUpComponents(out.base);
-  for_each(num_imfs + 1, [&](int k) { FitAllOrders(options.grid, &components[k]); });
+  IdlePool<ar::BurgWork> burg_work;
+  for_each(num_imfs + 1, [&](int k) { FitAllOrders(options.grid, &burg_work, &components[k]); });
+  burg_work.Release();
   FitSimulations(for_each, &components);
   out.summary.models_seconds = SecondsSince(models_start);
   for (int k = 0; k <= num_imfs; ++k) {
@@ -537,8 +605,10 @@ SweepResult RunSweep(const Eigen::VectorXd& x, double sample_rate_hz, const Swee
     }
   }
 
-  EvaluateGrid({components, options, sample_rate_hz, truth, for_each}, &out);
-  EvaluateReferences(sample_rate_hz, options, truth, for_each, &out);
+  BufferPool buffers;
+  EvaluateGrid({components, options, sample_rate_hz, truth, for_each, buffers}, &out);
+  buffers.Release();  // (the reference filters need their own memory)
+  EvaluateReferences(sample_rate_hz, options, truth, for_each, &buffers, &out);
   for (const SweepPoint& point : out.points)
     out.summary.settings_ok += HasResult(point.termination);
   out.summary.termination =

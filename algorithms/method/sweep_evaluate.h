@@ -21,8 +21,10 @@
 // options to the last bit (tested in ar_kalman_test). The method-1 sums are filled range by range
 // (2048 samples of every setting and every component, in component order) so that they stay in
 // cache. Memory: the decomposition plus one signal-length sum per setting of every order in
-// flight (10 settings per order for a 3 x 3 grid: 29 MB per order for 1 h at 100 Hz), and the
-// filters' time-varying heads (about 4096 doubles per setting and component).
+// flight (10 settings per order for a 3 x 3 grid: 29 MB per order for 1 h at 100 Hz) and one
+// phase per Allan table in flight, kept between orders for reuse and released before the
+// reference filters run, and the filters' time-varying heads (about 4096 doubles per setting and
+// component).
 #pragma once
 
 #include <Eigen/Core>

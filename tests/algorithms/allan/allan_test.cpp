@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "algorithms/allan/edf.h"
+#include "algorithms/allan/phase.h"
 #include "tests/algorithms/allan/reference_data.h"
 
 namespace fogpipe::allan {
@@ -160,6 +161,27 @@ TEST(ComputeAllan, TauIsTheAveragingFactorOverTheSampleRate) {
   for (size_t k = 0; k < r.table.size(); ++k)
     EXPECT_DOUBLE_EQ(r.table.tau_s[k], static_cast<double>(r.table.m[k]) / 100.0);
   EXPECT_TRUE(std::isnan(r.table.ci_low[0]));
+}
+
+// A caller computing many tables (the sweep) passes one phase buffer to every call: each table
+// must equal the one computed with a fresh buffer, whatever the buffer held before (a longer or a
+// shorter record's phase), and a buffer of the right size must be reused, not reallocated.
+TEST(ComputeAllan, AReusedPhaseBufferGivesTheSameTableAndKeepsItsMemory) {
+  const Eigen::VectorXd y = testing::Nbs1000Point();
+  const Eigen::VectorXd shorter = y.head(700);
+  Eigen::VectorXd phase;
+  for (const Eigen::VectorXd* rate : {&y, &shorter, &y}) {
+    const AllanResult fresh = ComputeAllan(*rate, 10.0, AllanOptions());
+    const AllanResult reused = ComputeAllan(*rate, 10.0, AllanOptions(), &phase);
+    EXPECT_EQ(reused.table.sigma, fresh.table.sigma);
+    EXPECT_EQ(reused.table.edf, fresh.table.edf);
+    EXPECT_EQ(reused.table.ci_low, fresh.table.ci_low);
+    EXPECT_EQ(reused.table.alpha, fresh.table.alpha);
+    EXPECT_EQ(phase, MeanRemovedPhase(*rate));
+  }
+  const double* memory = phase.data();
+  ComputeAllan(y, 10.0, AllanOptions(), &phase);
+  EXPECT_EQ(phase.data(), memory);
 }
 
 // ---- MDEV, TDEV and TOTDEV against Stable32's octave reports ----------------------------------

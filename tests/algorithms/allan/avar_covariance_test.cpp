@@ -73,6 +73,26 @@ TEST(AvarCovarianceModel, QuadratureAgreesWithTheExplicitLagSum) {
     }
 }
 
+// The shared model is the constructed one: the same matrix for the rows asked, one object for
+// rows asked again (also after other rows were asked in between), another for other rows.
+TEST(AvarCovarianceModel, TheSharedModelEqualsTheConstructedOneAndIsReusedForTheSameRows) {
+  const std::array<double, 4> theta = {1e-4, 2e-3, 1e-4, 1e-6};
+  const std::vector<long long> m = {1, 2, 4, 8, 16}, other_m = {1, 2, 4, 8};
+  std::vector<long long> count, other_count;
+  for (long long mk : m) count.push_back(4001 - 2 * mk);
+  for (long long mk : other_m) other_count.push_back(4001 - 2 * mk);
+  const auto shared = SharedAvarCovarianceModel(m, count, 0.01);
+  EXPECT_EQ(shared->Covariance(theta, 1e-9),
+            AvarCovarianceModel(m, count, 0.01).Covariance(theta, 1e-9));
+  const auto other = SharedAvarCovarianceModel(other_m, other_count, 0.01);
+  const auto other_period = SharedAvarCovarianceModel(m, count, 0.02);
+  EXPECT_NE(other.get(), shared.get());
+  EXPECT_NE(other_period.get(), shared.get());
+  EXPECT_EQ(other_period->Covariance(theta, 0.0),
+            AvarCovarianceModel(m, count, 0.02).Covariance(theta, 0.0));
+  EXPECT_EQ(SharedAvarCovarianceModel(m, count, 0.01).get(), shared.get());
+}
+
 // Monte Carlo: 600 records of 8192 samples with all four noises; the sample covariance of the
 // OADEV variances at 6 taus against the model. Correlations: Fisher z has sd 1/sqrt(R - 3), so
 // 4 sd (a family of 55 correlations at ~6e-5 each) is tanh-ed back. Variances: var(s2_hat) of
