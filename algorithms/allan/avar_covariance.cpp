@@ -21,8 +21,12 @@ constexpr double kGlW[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548
 
 // Lag sums of the Gauss-Markov term's tail (beyond the differences' support, where it decays as
 // e^{-r |l|}) are summed over integer lags when it is this short, and integrated otherwise (the
-// integral's error relative to the sum is then O(r^2) < 1e-3).
-constexpr double kGaussMarkovDecays = 40.0;  // e^-40: the tail beyond is below double precision
+// integral's error relative to the sum is then O(r^2 / 24) < 1e-4).
+// The tail is taken over 25 Tc: beyond, c_G^2 is below e^-50 and c_G c_B below e^-25 of their
+// values at the edge. Its panels are at most 2 Tc wide (4-point Gauss-Legendre on e^-x over
+// [0, 4]: relative error ~1e-6).
+constexpr double kGaussMarkovDecays = 25.0;
+constexpr double kGaussMarkovPanelDecays = 2.0;
 constexpr long long kExactTailLags = 512;
 
 // e^-x - 1 + x - x^2 / 2 without cancellation: its Taylor series below x = 0.1 (the terms to
@@ -138,7 +142,7 @@ void Tail(const Pair& pair, long long first_lag, double direction, Sums* sums) {
   double x0 = first_lag - 0.5 * direction;
   if (pair.r > 0.0) {
     // The Gauss-Markov part: over kGaussMarkovDecays correlation times, summed exactly where that
-    // is short and otherwise on panels no wider than Tc.
+    // is short and otherwise on doubling panels no wider than kGaussMarkovPanelDecays Tc.
     const double extent = kGaussMarkovDecays / pair.r;
     double c[kTerms];
     if (extent <= kExactTailLags) {
@@ -153,13 +157,14 @@ void Tail(const Pair& pair, long long first_lag, double direction, Sums* sums) {
     } else {
       const double stop =
           direction > 0 ? std::min(x0 + extent, end + 0.5) : std::max(x0 - extent, end - 0.5);
-      double step = std::min(static_cast<double>(std::max(pair.ma, pair.mb)), 1.0 / pair.r);
+      const double widest = kGaussMarkovPanelDecays / pair.r;
+      double step = std::min(static_cast<double>(std::max(pair.ma, pair.mb)), widest);
       while ((stop - x0) * direction > 0.0) {
         double x1 = x0 + direction * step;
         if ((x1 - stop) * direction > 0.0) x1 = stop;
         GaussLegendre(pair, std::min(x0, x1), std::max(x0, x1), sums);
         x0 = x1;
-        step = std::min(2.0 * step, 1.0 / pair.r);
+        step = std::min(2.0 * step, widest);
       }
     }
   }
