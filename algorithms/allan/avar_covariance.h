@@ -29,7 +29,7 @@
 // polynomials of N and K; the white-PM deltas at the knots are added exactly). Outside the
 // support [-2 mb, 2 ma] only flicker, c ~ -ma^2 mb^2 / (pi l^2), and Gauss-Markov, c ~ e^{-|l| t0 /
 // Tc} (the differences do not overlap but the rate is correlated over Tc), remain; that tail is
-// summed or integrated over 40 Tc, then integrated on doubling panels and in closed form.
+// summed or integrated over 25 Tc, then integrated on doubling panels and in closed form.
 //
 // The covariance is quadratic in theta = (Q^2, N^2, B^2, K^2, sigma^2) and linear in R^2 theta,
 // so the lag sums are done once per table (and Tc) and the matrix for any amplitudes costs
