@@ -2,9 +2,12 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <utility>
 
+#include "algorithms/allan/avar_covariance.h"
 #include "algorithms/allan/nnls.h"
 #include "algorithms/allan/noise_model.h"
 #include "algorithms/common/units.h"
@@ -70,6 +73,9 @@ NnlsResult Nnls(const Eigen::MatrixXd& design, const Eigen::VectorXd& target,
 struct Fitted {
   NnlsResult nnls;
   double tc = 0;
+  Eigen::MatrixXd design;   // unit Allan laws at the fit's taus, one column per term
+  Eigen::VectorXd weights;  // the last iteration's weights
+  Eigen::VectorXd model;    // the fitted Allan variance, bands included
 };
 
 constexpr double kChiSquare1At95 = 3.841458820694124;  // chi-square(1) 0.95 quantile
@@ -152,9 +158,118 @@ Fitted FitAt(const std::vector<double>& tau, const Eigen::VectorXd& avar,
       weights[i] = 1.0 / ((2.0 / edf[i] + floor_squared) * model_value * model_value);
     }
     fitted.nnls = Nnls(design, target, weights);
+    fitted.weights = weights;
     model_avar = design * fitted.nnls.coefficients + offset;
   }
+  fitted.model = model_avar;
+  fitted.design = std::move(design);
   return fitted;
+}
+
+// Averaging factors m = tau fs and difference counts n + 1 - 2m of the overlapping Allan
+// variances behind `tau` (views.h ResidualAllan: integer factors of an n-sample record); false
+// when tau is not on that grid.
+bool OverlappingGrid(const std::vector<double>& tau, double fs, double record_s,
+                     std::vector<long long>* m, std::vector<long long>* count) {
+  const long long n = std::llround(record_s * fs);
+  for (double t : tau) {
+    const long long factor = std::llround(t * fs);
+    if (factor < 1 || std::abs(t * fs - factor) > 1e-6 * factor || n + 1 - 2 * factor < 1)
+      return false;
+    m->push_back(factor);
+    count->push_back(n + 1 - 2 * factor);
+  }
+  return true;
+}
+
+// Sandwich covariance of the Gauss-Markov fit's free parameters (the positive coefficients and,
+// when sigma^2 > 0, log Tc), Huber (1967) / White (1980) for a weighted least-squares
+// M-estimator: V = B^-1 X' W C W X B^-1 with B = X' W X, X the fit's Jacobian (the free columns
+// and sigma^2 dg/dlog Tc), W its final weights and C the covariance of the Allan points: their
+// sampling covariance under the fitted model (allan/avar_covariance.h, with its Gauss-Markov
+// term; neighbouring overlapping points are strongly correlated, which W, diagonal, ignores) plus
+// the weights' relative shape tolerance on the diagonal. Why a sandwich and not GLS: the point
+// estimates stay those of the diagonal fit, which does not lean on C being right (GLS on nearly
+// collinear Allan points follows the modelled correlations off the data where the model is
+// rejected, cf. allan/noise_fit.cpp's discrepancy term), and C is built once, at the fitted Tc,
+// where GLS would need it at every Tc of the search. The narrow bands are a fixed offset and
+// their sampling variance is not in C. V is multiplied by the dispersion: the weighted cost over
+// its expectation under C, tr(W R C R') with R = I - X B^-1 X' W, when above 1 (a model the data
+// reject). Returns false if C cannot be built (tau off the overlapping grid) or B is singular.
+struct Sandwich {
+  // Per term (0 for a term at 0): the variance of the coefficient given log Tc and its regression
+  // on log Tc, V_cl / V_ll (the variance itself when sigma^2 = 0 and Tc is not in the fit).
+  Eigen::VectorXd conditional_variance, slope_on_log_tc;
+};
+
+bool GaussMarkovSandwich(const Fitted& fit, const std::vector<double>& tau, double fs,
+                         double record_s, const std::vector<Term>& terms, double floor_squared,
+                         Sandwich* out) {
+  std::vector<long long> m, count;
+  if (!OverlappingGrid(tau, fs, record_s, &m, &count)) return false;
+  const int rows = static_cast<int>(tau.size());
+  std::array<double, 4> theta{};
+  double r2 = 0, gm_sigma2 = 0;
+  int gm_column = -1;
+  std::vector<int> free;
+  for (size_t j = 0; j < terms.size(); ++j) {
+    const double c = fit.nnls.coefficients[static_cast<Eigen::Index>(j)];
+    if (c > 0) free.push_back(static_cast<int>(j));
+    // theta's order in allan::AvarCovarianceModel: Q^2, N^2, B^2, K^2.
+    const Term order[4] = {Term::kQuantization, Term::kWhite, Term::kBiasInstability,
+                           Term::kRateRandomWalk};
+    for (int k = 0; k < 4; ++k)
+      if (terms[j] == order[k]) theta[static_cast<size_t>(k)] = c;
+    if (terms[j] == Term::kRateRamp) r2 = c;
+    if (terms[j] == Term::kGaussMarkov) gm_sigma2 = c, gm_column = static_cast<int>(j);
+  }
+  if (free.empty()) return false;
+  const bool with_tc = gm_column >= 0 && gm_sigma2 > 0;
+  const int cols = static_cast<int>(free.size()) + (with_tc ? 1 : 0);
+  Eigen::MatrixXd x(rows, cols);
+  for (size_t k = 0; k < free.size(); ++k)
+    x.col(static_cast<Eigen::Index>(k)) = fit.design.col(free[k]);
+  if (with_tc) {
+    const double h = 1e-4;
+    for (int i = 0; i < rows; ++i)
+      x(i, cols - 1) = gm_sigma2 *
+                       (UnitAllanLaw(Term::kGaussMarkov, tau[i], fit.tc * std::exp(h)) -
+                        UnitAllanLaw(Term::kGaussMarkov, tau[i], fit.tc * std::exp(-h))) /
+                       (2.0 * h);
+  }
+  Eigen::MatrixXd c =
+      allan::AvarCovarianceModel(m, count, 1.0 / fs, fit.tc).Covariance(theta, r2, gm_sigma2);
+  c.diagonal() += floor_squared * fit.model.cwiseAbs2();
+  // Columns scaled to unit weighted norm (the laws span many decades), unscaled in v.
+  const Eigen::VectorXd column_scale = (fit.weights.cwiseSqrt().asDiagonal() * x)
+                                           .colwise()
+                                           .norm()
+                                           .cwiseMax(1e-300)
+                                           .cwiseInverse()
+                                           .transpose();
+  const Eigen::MatrixXd xs = x * column_scale.asDiagonal();
+  const Eigen::MatrixXd wx = fit.weights.asDiagonal() * xs;
+  const Eigen::LDLT<Eigen::MatrixXd> bread(xs.transpose() * wx);
+  if (bread.info() != Eigen::Success || !(bread.rcond() > 1e-12)) return false;
+  const Eigen::MatrixXd b_inv_xtw =
+      column_scale.asDiagonal() * bread.solve(wx.transpose());  // B^-1 X' W, unscaled
+  const Eigen::MatrixXd v = b_inv_xtw * c * b_inv_xtw.transpose();
+  const Eigen::MatrixXd residual_map = Eigen::MatrixXd::Identity(rows, rows) - x * b_inv_xtw;  // R
+  const double expected_cost =
+      (fit.weights.asDiagonal() * residual_map * c * residual_map.transpose()).trace();
+  const double scale = expected_cost > 0 ? std::max(1.0, fit.nnls.cost / expected_cost) : 1.0;
+  out->conditional_variance = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(terms.size()));
+  out->slope_on_log_tc = out->conditional_variance;
+  const Eigen::Index l = cols - 1;
+  for (size_t k = 0; k < free.size(); ++k) {
+    const Eigen::Index i = static_cast<Eigen::Index>(k);
+    out->conditional_variance[free[k]] = scale * v(i, i);
+    if (with_tc && v(l, l) > 0) {
+      out->slope_on_log_tc[free[k]] = v(i, l) / v(l, l);
+      out->conditional_variance[free[k]] = scale * (v(i, i) - v(i, l) * v(i, l) / v(l, l));
+    }
+  }
+  return true;
 }
 
 }  // namespace
@@ -334,7 +449,8 @@ StochasticFit FitStochastic(const std::vector<double>& tau, const std::vector<do
     }
     // Standard error of Tc from the curvature of the cost in log(Tc): a weighted LS cost is a
     // chi-square, so var(log Tc) ~ 2 / cost'' (times the dispersion, below), or from the profile
-    // interval where that is wider.
+    // interval where that is wider. (The sandwich's linearised variance of log Tc, below, is not
+    // used for it; docs/compare.md compares the two over seeds.)
     const double log_step = 0.05, log_tc = std::log(best.tc);
     const Fitted minus =
         FitAt(fit_tau, avar_points, offset, edf, terms, std::exp(log_tc - log_step), floor_squared);
@@ -358,15 +474,25 @@ StochasticFit FitStochastic(const std::vector<double>& tau, const std::vector<do
     result.model.gm_correlation_time_high_s = std::exp(interval.high);
     result.model.gm_correlation_time_s = best.tc;
     result.model.gm_correlation_time_se = best.tc * std::sqrt(log_tc_variance);
-    // The coefficients' standard errors above hold Tc fixed; Tc is estimated too, and sigma^2
-    // trades against it along the cost valley. The delta method on the profile (first order, Tc
-    // and the coefficients at fixed Tc independent): var(c) = dispersion var(c | Tc) + (dc / dlog
-    // Tc)^2 var(log Tc), the slope by central differences of the fits at log Tc +- log_step.
+    // The coefficients' standard errors above hold Tc fixed and take the Allan points as
+    // independent; Tc is estimated too, and sigma^2 trades against it along the cost valley. The
+    // delta method on the profile (first order): var(c) = var(c | log Tc) + (dc / dlog Tc)^2
+    // var(log Tc), with var(c | log Tc) and the slope from the sandwich (GaussMarkovSandwich:
+    // the conditional variance and the regression on log Tc of its joint covariance), which
+    // holds the points' correlations. Where the sandwich cannot be built, var(c | log Tc) is the
+    // independent points' times the dispersion and the slope is by central differences of the
+    // fits at log Tc +- log_step.
+    Sandwich sandwich;
+    const bool has_sandwich =
+        GaussMarkovSandwich(best, fit_tau, fs, record_s, terms, floor_squared, &sandwich);
     for (long j = 0; j < best.nnls.coefficients.size(); ++j) {
-      const double slope =
-          (plus.nnls.coefficients[j] - minus.nnls.coefficients[j]) / (2.0 * log_step);
-      best.nnls.se[j] = std::sqrt(dispersion * best.nnls.se[j] * best.nnls.se[j] +
-                                  slope * slope * log_tc_variance);
+      const double slope = has_sandwich ? sandwich.slope_on_log_tc[j]
+                                        : (plus.nnls.coefficients[j] - minus.nnls.coefficients[j]) /
+                                              (2.0 * log_step);
+      const double conditional_variance = has_sandwich
+                                              ? sandwich.conditional_variance[j]
+                                              : dispersion * best.nnls.se[j] * best.nnls.se[j];
+      best.nnls.se[j] = std::sqrt(conditional_variance + slope * slope * log_tc_variance);
     }
   }
   auto root = [](double coefficient, double se, double* value, double* value_se) {

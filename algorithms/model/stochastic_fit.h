@@ -16,9 +16,12 @@
 // parameters) when that exceeds 1 (quasi-likelihood, McCullagh & Nelder 1989, 9.2), and the
 // interval holds the Tc within chi2_1(0.95) = 3.84 of the minimum; a flat or two-valleyed profile
 // gives a wide interval where the local curvature would give a small standard error. The
-// standard error of log Tc is the larger of the curvature's and the interval's half-width / 1.96,
-// and the amplitudes' standard errors add their trade-off with Tc (the delta method on the
-// profile). PSD laws (two-sided, IEEE Std 952 Annex C) are given for the frequency
+// standard error of log Tc is the larger of the curvature's and the interval's half-width / 1.96.
+// The amplitudes' standard errors are a sandwich (Huber 1967, White 1980) of the weighted fit with
+// the Allan points' modelled covariance (allan/avar_covariance.h, Gauss-Markov term included:
+// neighbouring overlapping points are strongly correlated, and the fit's weights take them as
+// independent, which understates the errors), plus their trade-off with Tc (the delta method on
+// the profile). PSD laws (two-sided, IEEE Std 952 Annex C) are given for the frequency
 // view; they are the same processes as the Allan laws.
 // Narrow bands (narrow_band.h) are fitted on the spectrum, not here: FitStochastic takes them as
 // known and fits the other terms to what they leave, with the bands' Allan variance as a fixed
