@@ -236,6 +236,25 @@ void FinishSummary(const ArKalmanOptions& options, const DareSolution& dare, boo
                 "; " + s.message;
   }
 }
+namespace {
+// The smoother's output replaced by the filter's where the record contradicts the model in the
+// smoother's direction (SmootherContradictsModel, rts_smoother.h).
+void ReplaceContradictedSmoother(const Eigen::Ref<const Eigen::VectorXd>& z,
+                                 ArKalmanResult* result) {
+  double filtered_ms = 0.0, smoothed_ms = 0.0;
+  if (!SmootherContradictsModel(z, result->filtered, result->smoothed, &filtered_ms, &smoothed_ms))
+    return;
+  result->smoothed = result->filtered;
+  result->summary.smoother_replaced = true;
+  char text[200];
+  std::snprintf(text, sizeof(text),
+                "smoothed residual mean square %.3g x the filtered one (the model predicts >= 1): "
+                "the model takes noise for signal; the smoother's output is the filter's",
+                smoothed_ms / filtered_ms);
+  result->summary.smoother_note = text;
+}
+}  // namespace
+
 void RunFilter(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd& phi,
                const ArKalmanOptions& options, const DareSolution& dare, double z_variance,
                ArKalmanResult* result_out, Eigen::VectorXd* reuse) {
@@ -277,6 +296,7 @@ void RunFilter(const Eigen::Ref<const Eigen::VectorXd>& z, const Eigen::VectorXd
     RtsSmoothInPlace(z, options.mean, phi, history, &innovations);
     result.smoothed = std::move(innovations);
     result.steady_state_smoothed_error_variance = SteadyStateSmoothedVariance(phi, dare);
+    if (options.smoother_model_check) ReplaceContradictedSmoother(z, &result);
   }
 
   if (!result.filtered.allFinite()) {

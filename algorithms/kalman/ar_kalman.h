@@ -123,6 +123,15 @@ struct ArKalmanOptions {
   /// time-varying step (none for the steady-state start, at most max_time_varying_steps unless
   /// the filter finds no usable constant gain).
   bool smooth = false;
+  /// With smooth: when the record contradicts the model in the smoother's direction
+  /// (SmootherContradictsModel, rts_smoother.h: the smoothed residuals' mean square below the
+  /// filtered ones', which a correctly specified model never gives in expectation), the smoothed
+  /// series is replaced by the filtered one and ArKalmanSummary::smoother_replaced says so. Off by
+  /// default: the residuals also hold the signal a misspecified filter lags behind, which the
+  /// smoother follows, so the check can fire where the smoother is better (measured on the raw
+  /// signal and at other q than method 1's rule: docs/filtering.md, "S5"). Method 1's components
+  /// under their rule's own q and R turn it on (ComponentFilterOptions, component.h).
+  bool smoother_model_check = false;
   /// Options of the DARE solver.
   DareOptions dare;
 
@@ -153,6 +162,11 @@ struct ArKalmanSummary {
   /// The constant-gain loop would not be stable as it runs (steady_state_filter.h,
   /// ConstantGainLoopStable): the filter failed without output; a lower AR order may work.
   bool loop_unstable = false;
+  /// The smoothed series is the filtered one: the record contradicted the model in the
+  /// smoother's direction (ArKalmanOptions::smoother_model_check); smoother_note says by how much.
+  bool smoother_replaced = false;
+  /// Empty, or why the smoother's output was replaced by the filter's.
+  std::string smoother_note;
 };
 
 struct ArKalmanResult {

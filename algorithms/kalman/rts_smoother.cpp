@@ -118,4 +118,14 @@ double SteadyStateSmoothedVariance(const Eigen::VectorXd& phi, const DareSolutio
   return std::numeric_limits<double>::quiet_NaN();
 }
 
+bool SmootherContradictsModel(const Eigen::Ref<const Eigen::VectorXd>& z,
+                              const Eigen::VectorXd& filtered, const Eigen::VectorXd& smoothed,
+                              double* filtered_residual_ms, double* smoothed_residual_ms) {
+  *filtered_residual_ms = *smoothed_residual_ms = 0.0;
+  if (z.size() == 0) return false;
+  *filtered_residual_ms = (z - filtered).squaredNorm() / static_cast<double>(z.size());
+  *smoothed_residual_ms = (z - smoothed).squaredNorm() / static_cast<double>(z.size());
+  return *smoothed_residual_ms < *filtered_residual_ms;
+}
+
 }  // namespace fogpipe::kalman

@@ -44,4 +44,19 @@ void RtsSmoothInPlace(const Eigen::Ref<const Eigen::VectorXd>& z, double mean,
 /// stable (the doubling does not converge within 64 steps).
 double SteadyStateSmoothedVariance(const Eigen::VectorXd& phi, const DareSolution& dare);
 
+/// Whether the record contradicts the model in the direction that makes the smoother take noise
+/// for signal. Under the state-space model, z(k) - x(k|k) = E[v(k) | z(1..k)] and
+/// z(k) - x(k|N) = E[v(k) | z(1..N)], so by the law of total variance their mean squares are
+/// R - P(k|k) <= R - P(k|N) at every k (Durbin & Koopman 2012, sec. 4.5.3, smoothed
+/// disturbances): the smoother takes at least as much of the measurement for noise as the filter
+/// does. When the smoothed residuals' mean square over the record is below the filtered ones',
+/// the smoother follows z more closely than its own filter, which a correctly specified model does
+/// not do in expectation; on EMD components whose AR model describes band-passed noise as signal
+/// it does, and the smoother then loses to the filter (docs/filtering.md, "S5"). Both series
+/// include the model mean; the means of the residual mean squares are returned in
+/// *filtered_residual_ms and *smoothed_residual_ms (units of z^2).
+bool SmootherContradictsModel(const Eigen::Ref<const Eigen::VectorXd>& z,
+                              const Eigen::VectorXd& filtered, const Eigen::VectorXd& smoothed,
+                              double* filtered_residual_ms, double* smoothed_residual_ms);
+
 }  // namespace fogpipe::kalman

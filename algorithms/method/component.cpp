@@ -32,6 +32,11 @@ kalman::ArKalmanOptions ComponentFilterOptions(const ComponentOptions& options, 
   if (kalman.q >= 0.0 || kalman.r >= 0.0) return kalman;
   kalman.q = noise.q;
   if (noise.pure_noise) kalman.initial_variance = 0.0;
+  // The share rule's own q and R on an EMD component: where the smoother's model check was
+  // measured to remove every loss of the smoother to its filter and no gain (kalman.h,
+  // smoother_model_check; docs/filtering.md, "S5").
+  kalman.smoother_model_check = options.noise_rule == ComponentNoiseRule::kShareOfInnovation &&
+                                kalman.q_scale == 1.0 && kalman.r_scale == 1.0;
   return kalman;
 }
 
@@ -103,7 +108,8 @@ bool FilterBrokeDown(const kalman::ArKalmanResult& result, double model_mean,
     return true;
   }
   if (!HasResult(result.summary.termination)) return false;
-  if (result.smoothed.size() == 0) {
+  // A smoother replaced by its filter (ArKalmanSummary::smoother_replaced) is judged as a filter.
+  if (result.smoothed.size() == 0 || result.summary.smoother_replaced) {
     return FilterDiverged((result.filtered.array() - model_mean).square().mean(),
                           component_variance, message, rms_ratio);
   }

@@ -68,7 +68,9 @@ bool IsConstantComponent(const Eigen::VectorXd& x);
 /// The Kalman options of a filter on a component with `model` (an AR model fitted to it):
 /// options.kalman with the model's mean and, unless q or R is given explicitly (>= 0), the noise
 /// rule's q (white_noise.h), and for a pure-noise component P(0|0) = 0 (step 3: q = 0 from
-/// P(0|0) = 0 gives gain 0, the output is the mean; ar_kalman.h). `white_share` and `variance` are
+/// P(0|0) = 0 gives gain 0, the output is the mean; ar_kalman.h); with the share rule at q and R
+/// scales 1 also the smoother's model check (kalman::ArKalmanOptions::smoother_model_check, set
+/// whatever options.kalman says; off otherwise). `white_share` and `variance` are
 /// the component's white-noise share and variance, units of x^2. *r receives the rule's R, the
 /// white-noise variance to give kalman::FilterAr (an explicit options.kalman.r overrides it
 /// there). ModelComponent and the sweep's default-rule setting configure their filters with it, so
@@ -90,7 +92,8 @@ bool FilterDiverged(double estimate_mean_square, double component_variance, std:
 /// constant-gain loop would not be stable as it runs (kalman::ArKalmanSummary::loop_unstable; the
 /// filter then has no output), or its estimate diverged about `model_mean` (FilterDiverged
 /// against `component_variance`, units of x^2): the filtered one above rms_ratio, the smoothed one
-/// (if there is one) above the smaller of rms_ratio and kSmoothedRmsBound. Fills *message.
+/// (if there is one and was not replaced by the filtered one, ArKalmanSummary::smoother_replaced)
+/// above the smaller of rms_ratio and kSmoothedRmsBound. Fills *message.
 /// ModelComponent and the sweep's fallback judge their filters with it.
 bool FilterBrokeDown(const kalman::ArKalmanResult& result, double model_mean,
                      double component_variance, std::string* message,

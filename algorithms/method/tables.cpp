@@ -15,6 +15,7 @@ FitRow MakeFitRow(const std::string& name, const ComponentModel& c) {
   row.order = c.fit.model.order;
   row.fit_one_step_percent = c.fit.diagnostics.fit_one_step_percent;
   row.fit_simulation_percent = c.fit.diagnostics.fit_simulation_percent;
+  row.smoother_replaced = c.kalman.summary.smoother_replaced;
   return row;
 }
 
@@ -78,6 +79,14 @@ std::string FormatTable3(const std::vector<FitRow>& rows) {
     std::snprintf(line, sizeof(line), "%-16s %5d %14.2f %s\n", r.component.c_str(), r.order,
                   r.fit_one_step_percent, simulation);
     out += line;
+  }
+  std::string replaced;
+  for (const FitRow& r : rows)
+    if (r.smoother_replaced) replaced += (replaced.empty() ? "" : ", ") + r.component;
+  if (!replaced.empty()) {
+    out += "  smoother: " + replaced +
+           " output their filter's estimate (the record contradicts the model in the smoother's "
+           "direction: smoothed residuals below the filtered ones)\n";
   }
   return out;
 }

@@ -18,6 +18,9 @@ struct FitRow {
   int order = 0;                        ///< AR order p
   double fit_one_step_percent = 0.0;    ///< 100 (1 - ||y - yhat|| / ||y - mean y||), one step ahead
   double fit_simulation_percent = 0.0;  ///< the same with yhat simulated from the model
+  /// With the smoother: its output was replaced by the filter's, the record contradicting the
+  /// model in the smoother's direction (kalman::ArKalmanSummary::smoother_replaced).
+  bool smoother_replaced = false;
 };
 
 /// One row of Table 5, in engineer's units (algorithms/common/units.h); NaN where not fitted.

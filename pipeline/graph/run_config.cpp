@@ -380,7 +380,8 @@ Rows KalmanOptions() {
        "smooth",
        &C::smooth,
        [](const bool& v, O* o) { return Store(&o->method.component.kalman.smooth, v); },
-       "Use the RTS smoother output instead of the filter's",
+       "Use the RTS smoother output instead of the filter's (method 1 components whose record "
+       "contradicts their model in the smoother's direction keep the filter's; Table 3 names them)",
        "",
        {},
        nullptr,

@@ -70,6 +70,19 @@ void ReadFitRows(const Group& models, const std::string& label_override,
   }
 }
 
+// FitRow::smoother_replaced from the Kalman tables (absent in files written before it was added):
+// rows[0] is method 2's, then method 1's components in the kalman table's order.
+void ReadSmootherReplaced(const Group& axis, std::vector<method::FitRow>* rows) {
+  const auto read = [&](const std::string& path, std::size_t first_row) {
+    if (!axis.Exists(path)) return;
+    const std::vector<long long> replaced = axis.OpenDataset(path).ReadInt64s();
+    for (std::size_t i = 0; i < replaced.size() && first_row + i < rows->size(); ++i)
+      (*rows)[first_row + i].smoother_replaced = replaced[i] != 0;
+  };
+  read("signals/method2_kalman/smoother_replaced", 0);
+  read("kalman/smoother_replaced", 1);
+}
+
 }  // namespace
 
 NoiseTable ReadNoiseTable(const hdf5::Group& noise) {
@@ -145,6 +158,7 @@ ResultsSummary ReadResultsSummary(const std::string& path) {
       axis.data_warning = pre.ReadStringAttribute("repeat_warning");
     ReadFitRows(g.OpenGroup("signals/method2_model"), "raw (method 2)", &axis.table3);
     ReadFitRows(g.OpenGroup("models"), "", &axis.table3);
+    ReadSmootherReplaced(g, &axis.table3);
     const Group allan = g.OpenGroup("allan");
     axis.table5 = {ReadNoiseRow(allan, "raw", "raw"), ReadNoiseRow(allan, "method1", "method 1"),
                    ReadNoiseRow(allan, "method2", "method 2")};

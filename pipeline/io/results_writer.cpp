@@ -105,9 +105,12 @@ void WriteKalmanTable(Group group, const std::vector<std::string>& names,
                       const std::vector<const ComponentModel*>& components) {
   group.WriteStringDataset("component", names);
   std::vector<double> q, r, white, error_variance;
-  std::vector<long long> switched;
+  std::vector<long long> switched, smoother_replaced;
+  std::vector<std::string> smoother_note;
   std::vector<Eigen::VectorXd> gain;
   for (const ComponentModel* c : components) {
+    smoother_replaced.push_back(c->kalman.summary.smoother_replaced ? 1 : 0);
+    smoother_note.push_back(c->kalman.summary.smoother_note);
     q.push_back(c->kalman.q);
     r.push_back(c->kalman.r);
     white.push_back(c->white_noise_variance);
@@ -121,6 +124,8 @@ void WriteKalmanTable(Group group, const std::vector<std::string>& names,
   WritePadded(group, "steady_state_gain", gain, "1");
   group.WriteDataset("steady_state_error_variance", error_variance, results::kRateVarianceUnits);
   group.WriteDataset("switched_at_sample", switched, "samples");
+  group.WriteDataset("smoother_replaced", smoother_replaced, "1");
+  group.WriteStringDataset("smoother_note", smoother_note);
 }
 
 void WriteAllan(Group group, const method::AllanEvaluation& evaluation);

@@ -155,6 +155,7 @@ TEST(FilterBrokeDown, AnExactSmootherNeverExceedsItsComponent) {
     o.r = r;
     o.mean = sim.z.mean();
     o.smooth = true;
+    o.smoother_model_check = false;  // the smoother's own output
     const kalman::ArKalmanResult res = kalman::FilterAr(sim.z, phi, -1, -1, o);
     ASSERT_TRUE(HasResult(res.summary.termination)) << res.summary.message;
     const double variance = (sim.z.array() - o.mean).square().mean();
@@ -166,6 +167,26 @@ TEST(FilterBrokeDown, AnExactSmootherNeverExceedsItsComponent) {
     EXPECT_LE(ratio, 1.0 + 3.5e-9) << "case " << c;
   }
   RecordProperty("worst_smoothed_rms_ratio", std::to_string(worst));
+}
+
+// The smoother's model check is measured for the share rule's own q and R on EMD components only
+// (docs/filtering.md, "S5"): scaled, explicit or innovation-matched q and R leave it off.
+TEST(ComponentFilterOptions, TurnsTheSmoothersModelCheckOnOnlyForTheShareRulesOwnQAndR) {
+  ar::ArModel model;
+  model.phi = Eigen::VectorXd::Constant(1, 0.9);
+  model.innovation_variance = 1.0;
+  double r = 0.0;
+  ComponentOptions options;
+  EXPECT_TRUE(ComponentFilterOptions(options, 0.5, 2.0, model, &r).smoother_model_check);
+  ComponentOptions scaled = options;
+  scaled.kalman.q_scale = 10.0;
+  EXPECT_FALSE(ComponentFilterOptions(scaled, 0.5, 2.0, model, &r).smoother_model_check);
+  ComponentOptions explicit_q = options;
+  explicit_q.kalman.q = 0.1;
+  EXPECT_FALSE(ComponentFilterOptions(explicit_q, 0.5, 2.0, model, &r).smoother_model_check);
+  ComponentOptions innovation = options;
+  innovation.noise_rule = ComponentNoiseRule::kInnovationMatch;
+  EXPECT_FALSE(ComponentFilterOptions(innovation, 0.5, 2.0, model, &r).smoother_model_check);
 }
 
 }  // namespace

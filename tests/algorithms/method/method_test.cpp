@@ -103,6 +103,19 @@ TEST(Method, Table3PrintsADivergedFreeRunAsDivergedNotAsANumber) {
   EXPECT_EQ(count, 2u) << table;
 }
 
+// Components whose smoother output was replaced by the filter's are named once, under the table;
+// without any, the table has no such line.
+TEST(Method, Table3NamesTheComponentsWhoseSmootherKeptTheFiltersOutput) {
+  std::vector<FitRow> rows = {
+      {"imf1", 4, 80.0, 12.5}, {"imf2", 8, 99.0, 1.0}, {"residue", 2, 99.9, 3.0}};
+  EXPECT_EQ(FormatTable3(rows).find("smoother:"), std::string::npos);
+  rows[1].smoother_replaced = true;
+  rows[2].smoother_replaced = true;
+  const std::string table = FormatTable3(rows);
+  EXPECT_NE(table.find("smoother: imf2, residue output their filter's estimate"), std::string::npos)
+      << table;
+}
+
 TEST(Method, EveryComponentFitsAtLeastAsWellAsTheRawModel) {
   for (std::uint64_t seed : kSeeds) {
     const MethodResult& r = PaperResult(seed);
