@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "algorithms/allan/model_edf.h"
+#include "algorithms/common/idle_pool.h"
 #include "algorithms/method/white_noise.h"
 
 namespace fogpipe::method {
@@ -105,7 +106,8 @@ class ImfStream {
       : options_(options),
         stream_(stream),
         limiter_(options.band_limit),
-        buffers_(stream.store ? stream.components_in_flight : 0) {
+        buffers_(stream.store ? stream.components_in_flight : 0),
+        idle_work_(static_cast<std::size_t>(std::max(0, stream.components_in_flight))) {
     for (int slot = 0; slot < stream.components_in_flight; ++slot) {
       limit_groups_.push_back(MakeTaskGroup(stream.tasks));
       fit_groups_.push_back(MakeTaskGroup(stream.tasks));
@@ -159,7 +161,7 @@ class ImfStream {
   /// residue.
   void Finish(bool decomposed, Eigen::VectorXd* residue) {
     WaitAll();
-    idle_work_.clear();
+    idle_work_.Release();
     if (decomposed) limiter_.Finish(residue);
   }
 
@@ -305,17 +307,10 @@ class ImfStream {
   /// as the second array; 2 N without), as many as the fits that run at once would allocate, and
   /// they are released when the EMD ends.
   std::unique_ptr<ar::ArWork> TakeWork() {
-    std::lock_guard<std::mutex> lock(work_mutex_);
-    if (idle_work_.empty()) return std::make_unique<ar::ArWork>();
-    std::unique_ptr<ar::ArWork> work = std::move(idle_work_.back());
-    idle_work_.pop_back();
-    return work;
+    std::unique_ptr<ar::ArWork> work = idle_work_.Take();
+    return work ? std::move(work) : std::make_unique<ar::ArWork>();
   }
-  void ReturnWork(std::unique_ptr<ar::ArWork> work) {
-    std::lock_guard<std::mutex> lock(work_mutex_);
-    if (static_cast<int>(idle_work_.size()) < stream_.components_in_flight)
-      idle_work_.push_back(std::move(work));
-  }
+  void ReturnWork(std::unique_ptr<ar::ArWork> work) { idle_work_.Give(&work); }
 
  public:
   const MethodOptions& options_;
@@ -335,8 +330,7 @@ class ImfStream {
   int chain_slot_ = 0;         // the slot of the component the chain is at
   int limited_ = 0;            // components band limited (in order), their fits started
   bool failed_ = false;        // a component's band limit or store failed
-  std::mutex work_mutex_;
-  std::vector<std::unique_ptr<ar::ArWork>> idle_work_;  // of the fits, between fits
+  IdlePool<std::unique_ptr<ar::ArWork>> idle_work_;  // of the fits, between fits
 };
 
 /// Step 1 and EMD, the IMFs handed to `imfs` as extracted. False (with the failure in the

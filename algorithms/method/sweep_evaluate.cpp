@@ -3,10 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <iterator>
 #include <limits>
 #include <memory>
-#include <mutex>
 #include <numeric>
 #include <stdexcept>
 #include <utility>
@@ -15,6 +13,7 @@
 #include "algorithms/ar/burg.h"
 #include "algorithms/ar/diagnostics.h"
 #include "algorithms/ar/order_selection.h"
+#include "algorithms/common/idle_pool.h"
 #include "algorithms/common/units.h"
 #include "algorithms/kalman/ar_filter_bank.h"
 #include "algorithms/method/component.h"
@@ -38,41 +37,8 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// Work memory kept between uses: the settings' method-1 sums and the phases of their Allan
-/// tables, Burg's error arrays. Freed and allocated again, each would be fresh pages, which cost
-/// about as much as the arithmetic done in them on the machines measured (docs/performance.md).
-/// Holds at most what was in use at once; taking and giving are thread-safe.
-template <typename T>
-class IdlePool {
- public:
-  /// The most recently given idle T for which fits(t) holds, else T().
-  template <typename Fits>
-  T Take(const Fits& fits) {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    for (auto it = idle_.rbegin(); it != idle_.rend(); ++it) {
-      if (!fits(*it)) continue;
-      T t = std::move(*it);
-      idle_.erase(std::next(it).base());
-      return t;
-    }
-    return T();
-  }
-  void Give(T* t) {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    idle_.push_back(std::move(*t));
-    *t = T();
-  }
-  void Release() {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    idle_.clear();
-  }
-
- private:
-  std::mutex mutex_;
-  std::vector<T> idle_;
-};
-
-/// Signal-length buffers (IdlePool).
+/// Signal-length buffers (common/idle_pool.h): the settings' method-1 sums and the phases of
+/// their Allan tables.
 class BufferPool {
  public:
   /// A buffer of n doubles (contents unspecified): an idle one of that size, else a new one.
@@ -258,7 +224,7 @@ void FitAllOrders(const SweepGrid& grid, IdlePool<ar::BurgWork>* burg_work, Comp
   const Eigen::VectorXd& c = *m->signal;
   m->filter_variance_ok = kalman::FilterInputVariance(c, &m->filter_variance);
   const double mean = c.mean();
-  ar::BurgWork work = burg_work->Take([](const ar::BurgWork&) { return true; });
+  ar::BurgWork work = burg_work->Take();
   const ar::OrderSequence sequence = ar::BurgAllOrders(c, grid.max_order(), mean, &work);
   burg_work->Give(&work);
   for (int p = 1; p <= sequence.orders_completed; ++p) {

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "algorithms/allan/avar_covariance.h"
+#include "algorithms/allan/deviation.h"
 #include "algorithms/allan/nnls.h"
 #include "algorithms/allan/noise_model.h"
 #include "algorithms/common/units.h"
@@ -174,10 +175,11 @@ bool OverlappingGrid(const std::vector<double>& tau, double fs, double record_s,
   const long long n = std::llround(record_s * fs);
   for (double t : tau) {
     const long long factor = std::llround(t * fs);
-    if (factor < 1 || std::abs(t * fs - factor) > 1e-6 * factor || n + 1 - 2 * factor < 1)
-      return false;
+    const long long differences =
+        allan::DifferenceCount(allan::Deviation::kOverlappingAllan, n, factor);
+    if (factor < 1 || std::abs(t * fs - factor) > 1e-6 * factor || differences < 1) return false;
     m->push_back(factor);
-    count->push_back(n + 1 - 2 * factor);
+    count->push_back(differences);
   }
   return true;
 }
