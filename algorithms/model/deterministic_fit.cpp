@@ -28,6 +28,9 @@ struct Context {
   // term reads.
   std::vector<AuxSeries> aux;
   std::vector<std::pair<std::string, Eigen::VectorXd>> aux_rate;
+  // The rising/falling state of those an aux_hysteresis term reads (a channel has at most one
+  // such term, so one dead band per channel).
+  std::vector<std::pair<std::string, Eigen::VectorXd>> aux_state;
   double smoothing_s = 120.0;
 };
 
@@ -45,6 +48,17 @@ const Eigen::VectorXd& AuxRate(Context* ctx, const std::string& name) {
   ctx->aux_rate.emplace_back(name,
                              SmoothedDerivative(*AuxValues(*ctx, name), ctx->fs, ctx->smoothing_s));
   return ctx->aux_rate.back().second;
+}
+
+// The aux_hysteresis state of a component's channel, computed once per context.
+const Eigen::VectorXd& AuxState(Context* ctx, const DeterministicComponent& component) {
+  for (const auto& [channel, state] : ctx->aux_state)
+    if (channel == component.term.channel) return state;
+  const Eigen::VectorXd& derivative = AuxRate(ctx, component.term.channel);
+  ctx->aux_state.emplace_back(
+      component.term.channel,
+      HysteresisState(derivative, component.reference, ctx->fs, ctx->smoothing_s));
+  return ctx->aux_state.back().second;
 }
 
 Eigen::MatrixXd Columns(const Context& ctx, Term term, double nonlinear);
@@ -65,12 +79,10 @@ Eigen::MatrixXd ComponentColumns(const Context& ctx, const DeterministicComponen
     return columns;
   }
   if (component.term.aux == AuxForm::kRate || component.term.aux == AuxForm::kHysteresis) {
-    for (const auto& [channel, derivative] : ctx.aux_rate)
-      if (channel == component.term.channel)
-        return component.term.aux == AuxForm::kRate
-                   ? Eigen::MatrixXd(derivative)
-                   : Eigen::MatrixXd(
-                         HysteresisState(derivative, component.reference, ctx.fs, ctx.smoothing_s));
+    // Computed beforehand (AuxRate, AuxState): the context is shared and read-only here.
+    const auto& series = component.term.aux == AuxForm::kRate ? ctx.aux_rate : ctx.aux_state;
+    for (const auto& [channel, column] : series)
+      if (channel == component.term.channel) return Eigen::MatrixXd(column);
     return Eigen::MatrixXd(ctx.n, 0);
   }
   const Eigen::VectorXd* values = AuxValues(ctx, component.term.channel);
@@ -627,12 +639,11 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
   }
   for (const auto& component : components) {
     if (!UsesDerivative(component.term) || !component.term.IsAux()) continue;
-    const Eigen::VectorXd& derivative = AuxRate(&ctx, component.term.channel);
+    AuxRate(&ctx, component.term.channel);
     if (component.term.aux != AuxForm::kHysteresis) continue;
     // A state of one sign all along (a channel that only rises, as in a warm-up, or never leaves
     // the band) is the bias column itself, or zero: the coefficient is not identifiable.
-    const Eigen::VectorXd state =
-        HysteresisState(derivative, component.reference, fs, ctx.smoothing_s);
+    const Eigen::VectorXd& state = AuxState(&ctx, component);
     if (!(state.maxCoeff() > 0.0 && state.minCoeff() < 0.0)) {
       fit.summary.termination = Termination::kInsufficientData;
       fit.summary.message = "term '" + ToString(component.term) + "': the channel " +
@@ -813,6 +824,7 @@ Eigen::VectorXd EvaluateDeterministic(const DeterministicModel& model, long n, d
     const std::string channel = AuxChannelOf(component.term);
     if (!channel.empty() && AuxValues(ctx, channel) == nullptr) continue;
     if (component.term.IsAux() && UsesDerivative(component.term)) AuxRate(&ctx, channel);
+    if (component.term.aux == AuxForm::kHysteresis) AuxState(&ctx, component);
     const Eigen::MatrixXd columns =
         ComponentColumns(ctx, component, static_cast<int>(Width(component)));
     for (long j = 0; j < columns.cols() && j < static_cast<long>(component.coefficients.size());
