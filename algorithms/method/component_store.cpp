@@ -23,4 +23,9 @@ bool MemoryComponentStore::Has(Kind kind, int k) const {
   return columns_.count({kind, k}) > 0;
 }
 
+void MemoryComponentStore::Release(Kind kind, int k) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  columns_.erase({kind, k});
+}
+
 }  // namespace fogpipe::method

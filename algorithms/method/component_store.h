@@ -23,8 +23,11 @@ class ComponentStore {
   /// Column k of `kind` into *x (resized to its length). Throws std::runtime_error when it was
   /// never put or cannot be read back. Thread-safe.
   virtual void Get(Kind kind, int k, Eigen::VectorXd* x) const = 0;
-  /// Whether column k of `kind` was put.
+  /// Whether column k of `kind` was put (and not released).
   virtual bool Has(Kind kind, int k) const = 0;
+  /// The caller reads column k of `kind` no more: its space may be given back at once (a later
+  /// Get throws as for a column never put). Nothing if it is not stored. Thread-safe.
+  virtual void Release(Kind kind, int k) = 0;
 };
 
 /// A ComponentStore in memory.
@@ -33,6 +36,7 @@ class MemoryComponentStore : public ComponentStore {
   void Put(Kind kind, int k, const Eigen::VectorXd& x) override;
   void Get(Kind kind, int k, Eigen::VectorXd* x) const override;
   bool Has(Kind kind, int k) const override;
+  void Release(Kind kind, int k) override;
 
  private:
   mutable std::mutex mutex_;

@@ -352,6 +352,7 @@ bool DecomposeStreamed(const Eigen::VectorXd& x, double sample_rate_hz,
     result->decomposition = emd::Decompose(&signal, options.emd, sink, [&](Eigen::VectorXd* x) {
       stream.store->Get(ComponentStore::Kind::kSignal, 0, x);
     });
+    stream.store->Release(ComponentStore::Kind::kSignal, 0);
   } else {
     result->decomposition = emd::Decompose(signal, options.emd, sink);
   }

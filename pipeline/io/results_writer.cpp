@@ -287,7 +287,8 @@ void WritePreprocessing(Group g, const AxisResults& axis) {
 }
 
 /// Component k (IMFs, then the residue) of `kind`, from the store when the method streamed them
-/// there, else from the result; read back one column at a time into one buffer.
+/// there, else from the result; read back one column at a time into one buffer. Each column is
+/// read once, so the store releases it as soon as it is read.
 class ComponentColumns {
  public:
   ComponentColumns(const AxisResults& axis, method::ComponentStore::Kind kind)
@@ -296,6 +297,7 @@ class ComponentColumns {
     const MethodResult& r = *axis_.result;
     if (axis_.store != nullptr) {
       axis_.store->Get(kind_, k, &buffer_);
+      axis_.store->Release(kind_, k);
       if (buffer_.size() != r.preprocessed.signal.size())
         throw std::runtime_error("scratch file: component " + std::to_string(k) + " has " +
                                  std::to_string(buffer_.size()) + " samples, the signal " +

@@ -64,8 +64,9 @@ struct AxisResults {
   ReadReport read;          ///< what the reader found: NaN runs bridged, the longest repeated run
   const method::MethodResult* result = nullptr;
   /// Where the IMFs, the residue and the filtered components are when the method streamed them
-  /// (method::StreamOptions::store); null: in *result.
-  const method::ComponentStore* store = nullptr;
+  /// (method::StreamOptions::store); null: in *result. The writer releases each column once it
+  /// has read it.
+  method::ComponentStore* store = nullptr;
 };
 
 /// Writes `final_path` through a temporary file in the same folder renamed when complete

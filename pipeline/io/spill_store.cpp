@@ -1,7 +1,9 @@
 #include "pipeline/io/spill_store.h"
 
 #include <fcntl.h>
+#include <linux/falloc.h>
 #include <stdlib.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -92,9 +94,33 @@ void SpillStore::Get(Kind kind, int k, Eigen::VectorXd* x) const {
   }
 }
 
+void SpillStore::Release(Kind kind, int k) {
+  Extent extent;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = extents_.find({kind, k});
+    if (it == extents_.end()) return;
+    extent = it->second;
+    extents_.erase(it);
+  }
+  // A file system without hole punching keeps the bytes until the file is closed: nothing is
+  // lost but the early release, so the result is not checked.
+  const off_t size = static_cast<off_t>(extent.samples) * static_cast<off_t>(sizeof(double));
+  if (size > 0) {
+    [[maybe_unused]] const int ignored = ::fallocate(
+        fd_, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, static_cast<off_t>(extent.offset), size);
+  }
+}
+
 bool SpillStore::Has(Kind kind, int k) const {
   std::lock_guard<std::mutex> lock(mutex_);
   return extents_.count({kind, k}) > 0;
+}
+
+std::uint64_t SpillStore::allocated_bytes() const {
+  struct stat status {};
+  if (::fstat(fd_, &status) != 0) return 0;
+  return static_cast<std::uint64_t>(status.st_blocks) * 512;  // st_blocks counts 512-byte units
 }
 
 std::uint64_t SpillStore::bytes() const {

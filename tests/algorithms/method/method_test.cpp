@@ -282,6 +282,7 @@ class FailingStore : public ComponentStore {
     columns_.Get(kind, k, x);
   }
   bool Has(Kind kind, int k) const override { return columns_.Has(kind, k); }
+  void Release(Kind kind, int k) override { columns_.Release(kind, k); }
   int stored() const { return stored_; }
 
  private:

@@ -95,6 +95,42 @@ TEST(SpillStore, ManyThreadsPuttingAndGettingAtOnceKeepEveryColumnApart) {
   }
 }
 
+TEST(SpillStore, AReleasedColumnIsGoneAndItsNeighboursComeBackBitForBit) {
+  const fs::path folder = FreshFolder("release");
+  SpillStore store(folder.string());
+  // Odd lengths: the released column's ends fall inside pages its neighbours share.
+  const Eigen::VectorXd a = Noise(100003, 4), b = Noise(70001, 5), c = Noise(5003, 6);
+  store.Put(Kind::kComponent, 0, a);
+  store.Put(Kind::kComponent, 1, b);
+  store.Put(Kind::kFiltered, 0, c);
+  store.Release(Kind::kComponent, 1);
+  store.Release(Kind::kComponent, 7);  // never stored: nothing happens
+  EXPECT_FALSE(store.Has(Kind::kComponent, 1));
+  Eigen::VectorXd back;
+  EXPECT_THROW(store.Get(Kind::kComponent, 1, &back), ScratchError);
+  store.Get(Kind::kComponent, 0, &back);
+  ASSERT_EQ(back.size(), a.size());
+  EXPECT_EQ(std::memcmp(back.data(), a.data(), sizeof(double) * a.size()), 0);
+  store.Get(Kind::kFiltered, 0, &back);
+  ASSERT_EQ(back.size(), c.size());
+  EXPECT_EQ(std::memcmp(back.data(), c.data(), sizeof(double) * c.size()), 0);
+}
+
+TEST(SpillStore, ReleasingColumnsGivesTheirSpaceBack) {
+  const fs::path folder = FreshFolder("release_space");
+  SpillStore store(folder.string());
+  constexpr Eigen::Index kSamples = 1 << 18;  // 2 MiB per column
+  for (int k = 0; k < 4; ++k) store.Put(Kind::kComponent, k, Noise(kSamples, 10 + k));
+  const std::uint64_t before = store.allocated_bytes();
+  if (before == 0) GTEST_SKIP() << "the file system reports no blocks for the scratch file";
+  store.Release(Kind::kComponent, 1);
+  store.Release(Kind::kComponent, 2);
+  // Two columns' bytes (4 MiB) punched out, less at most one partial block at each end.
+  const std::uint64_t released = 2 * kSamples * sizeof(double);
+  EXPECT_LE(store.allocated_bytes(), before - released + 2 * 65536)
+      << "before " << before << " bytes, after " << store.allocated_bytes();
+}
+
 TEST(SpillStore, TheScratchFileHasNoNameInItsFolder) {
   const fs::path folder = FreshFolder("unnamed");
   {
