@@ -472,7 +472,7 @@ void FitBands(int count, double fs, int num_views, const CompareOptions& options
 
 bool CompareOptions::IsValid(std::string* error) const {
   if (!deterministic.IsValid(error) || !stochastic.IsValid(error) || !views.IsValid(error) ||
-      !imf.IsValid(error) || !long_tau.IsValid(error))
+      !imf.IsValid(error) || !long_tau.IsValid(error) || !angle_lattice.IsValid(error))
     return false;
   if (!(min_improvement > 0 && min_improvement <= 1) || !(tie_ratio >= 1) || !(tie_offset >= 0)) {
     if (error) *error = "min_improvement in (0, 1], tie_ratio >= 1, tie_offset >= 0";
@@ -912,6 +912,29 @@ Verdict MakeVerdict(const Evaluation& base, const std::vector<ModelTerm>& trial_
   return verdict;
 }
 
+void NameCoarseQuantization(const AngleLattice& lattice, Verdict* verdict) {
+  if (!lattice.coarse || verdict->status == "consistent" || verdict->consistent_with_suggestion)
+    return;
+  const double step_arcsec = lattice.step_rad * units::kArcsecPerRad;
+  const std::string prefix = "unexplained: ";
+  if (verdict->status == "unexplained" && verdict->text.compare(0, prefix.size(), prefix) == 0) {
+    verdict->text = prefix +
+                    Format(
+                        "coarse angle quantization (an undithered angle counter, step %.4g "
+                        "arcsec: its error is not white, and its idle tones are outside the "
+                        "catalog); ",
+                        step_arcsec) +
+                    verdict->text.substr(prefix.size());
+  } else {
+    verdict->text += Format(
+        "; the recording is an undithered angle counter (step %.4g arcsec) "
+        "whose coarse quantization error is not white: its idle tones, "
+        "outside the catalog, may be what still fails",
+        step_arcsec);
+  }
+  verdict->coarse_angle_quantization = true;
+}
+
 namespace {
 
 // The terms Compare trials: those of TrialTerms when the base model is not consistent (aux terms
@@ -958,6 +981,8 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
   result.summary.termination = result.base.termination;
   result.summary.message = result.base.message;
   if (!HasResult(result.base.termination)) return result;
+  result.angle_lattice =
+      DetectAngleLattice(*input.rate_rad_s, input.sample_rate_hz, options.angle_lattice);
   // Tasks: the trials, those with a nonlinear search (the longest) first so that a parallel
   // ForEach finishes together, then the base model's IMF view (one EMD per compare). Each task
   // writes only its own slot.
@@ -1003,6 +1028,7 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
     result.summary.num_trials = static_cast<int>(trial_terms.size());
     result.suggestions = RankSuggestions(result.base, trial_terms, result.trials, options);
     result.verdict = MakeVerdict(result.base, trial_terms, result.trials, result.suggestions);
+    NameCoarseQuantization(result.angle_lattice, &result.verdict);
   }
   // Whatever the views say: a consistent model whose K absorbs a step is the case this warns of.
   if (flagged) {
