@@ -19,6 +19,15 @@
 // level; compare.cpp). A sinusoid fitted to such a line leaves its sidebands, which a second
 // sinusoid would then take one at a time; aux_am explains the carrier and the sidebands together.
 //
+// Angle counters. Compare tests the recorded rate for an angle counter (angle_lattice.h,
+// CompareResult::angle_lattice). angle_quantizer is trialled only when the counter is coarse (an
+// undithered counter whose error is not white); its trial, like every evaluation with the term,
+// replaces the counter's error in the rate by a draw of the angle within its steps before every
+// fit and view (angle_quantizer.h). Its delta_bic is the counter's own evidence, the critical
+// value minus the portmanteau of the increments beyond lag 1 (negative whenever it is trialled).
+// Where the counter is coarse and no suggestion makes the model consistent, the verdict names it
+// (NameCoarseQuantization).
+//
 // Slow effects. When the base model's long-tau check flags (B, K or R absorbing a slow effect,
 // long_tau_check.h), the views may all pass: a thermal hysteresis, a square wave at the thermal
 // period, is absorbed by the fitted B and K. Compare then also trials every term that could
@@ -94,6 +103,7 @@
 #include "algorithms/common/for_each.h"
 #include "algorithms/common/status.h"
 #include "algorithms/model/angle_lattice.h"
+#include "algorithms/model/angle_quantizer.h"
 #include "algorithms/model/catalog.h"
 #include "algorithms/model/deterministic_fit.h"
 #include "algorithms/model/imf_view.h"
@@ -119,9 +129,10 @@ struct CompareOptions {
   ImfViewOptions imf;  ///< the IMF view (base model only; diagnostic, not part of the error)
   LongTauCheckOptions long_tau;       ///< the long-tau terms' check (diagnostic, not in the error)
   AngleLatticeOptions angle_lattice;  ///< the angle-counter test of the rate (angle_lattice.h)
-  double min_improvement = 0.9;       ///< a suggestion must bring error_after <= this * error
-  double tie_ratio = 1.15;            ///< error_after within tie_ratio * best + tie_offset ...
-  double tie_offset = 0.05;           ///< ... are ranked by delta_bic
+  AngleQuantizerOptions angle_quantizer;  ///< the angle_quantizer term's draw (angle_quantizer.h)
+  double min_improvement = 0.9;           ///< a suggestion must bring error_after <= this * error
+  double tie_ratio = 1.15;                ///< error_after within tie_ratio * best + tie_offset ...
+  double tie_offset = 0.05;               ///< ... are ranked by delta_bic
   bool IsValid(std::string* error) const;
 };
 
@@ -158,6 +169,12 @@ struct Evaluation {
   /// Do the long-tau data behave as the fitted B, K and R say, or do they absorb a slow effect
   /// (long_tau_check.h)? A diagnostic: not part of `views.error`.
   LongTauCheck long_tau;
+  /// With angle_quantizer in the model: the counter and the draw that replaced its error in the
+  /// rate before every fit and view (angle_quantizer.h).
+  AngleQuantizerFit angle_quantizer;
+  /// ... and the rate with the draw, which the model was fitted to (empty without the term;
+  /// Compare's trials of a model with the term fit the base model's).
+  Eigen::VectorXd angle_quantizer_rate_rad_s;
   Termination termination = Termination::kSuccess;
   std::string message;
 };

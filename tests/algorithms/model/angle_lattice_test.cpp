@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <random>
 #include <string>
 
@@ -224,8 +225,9 @@ TEST(AngleLattice, FogpipesUnditheredQuantizerIsACoarseCounterThatTheVerdictName
   }
 }
 
-// The verdict's wording: the cause first in "unexplained", a note behind a suggestion that leaves
-// failures, nothing when the suggestion makes the model consistent or the counter is not coarse.
+// The verdict's wording: the cause first in "unexplained", a note behind another suggestion that
+// leaves failures, the flag alone behind angle_quantizer (the suggestion names it), nothing when
+// another suggestion makes the model consistent or the counter is not coarse.
 TEST(NameCoarseQuantization, NamesTheCounterOnlyWhereNoSuggestionMakesTheModelConsistent) {
   AngleLattice lattice;
   lattice.on_lattice = lattice.coarse = true;
@@ -255,6 +257,14 @@ TEST(NameCoarseQuantization, NamesTheCounterOnlyWhereNoSuggestionMakesTheModelCo
   NameCoarseQuantization(lattice, &fixed);
   EXPECT_FALSE(fixed.coarse_angle_quantization);
   EXPECT_EQ(fixed.text, "inconsistent: suggestion sinusoid (makes the model consistent)");
+  Verdict suggested;
+  suggested.status = "inconsistent";
+  suggested.suggestion = ModelTerm(Term::kAngleQuantizer);
+  suggested.text = "inconsistent: suggestion angle_quantizer (step 6.928 arcsec) (fixes time)";
+  const std::string text = suggested.text;
+  NameCoarseQuantization(lattice, &suggested);
+  EXPECT_TRUE(suggested.coarse_angle_quantization);
+  EXPECT_EQ(suggested.text, text);
   Verdict consistent;
   NameCoarseQuantization(lattice, &consistent);
   EXPECT_EQ(consistent.text, "consistent");

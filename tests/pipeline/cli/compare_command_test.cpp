@@ -144,6 +144,22 @@ TEST(CompareCommand, NamesACoarseAngleCounterWithItsStep) {
   EXPECT_TRUE(j["verdict"]["coarse_angle_quantization"].get<bool>()) << j["verdict"]["text"];
   EXPECT_NE(j["verdict"]["text"].get<std::string>().find("step 6.928 arcsec"), std::string::npos)
       << j["verdict"]["text"];
+  EXPECT_EQ(j["verdict"]["suggestion"], "angle_quantizer") << j["verdict"]["text"];
+  // The loop's next step: with the term the counter's error is replaced by a draw of the angle
+  // within its steps, and its step is a fitted parameter in arcsec and as a rate.
+  const nlohmann::json j2 = nlohmann::json::parse(
+      RunFogpipe("compare --add angle_quantizer --json " + (dir / "rec.h5").string(), &code));
+  ASSERT_EQ(code, 0);
+  EXPECT_LE(10.0 * j2["error"].get<double>(), j["error"].get<double>());
+  bool found = false;
+  for (const auto& term : j2["model"]["fitted"]) {
+    if (term["term"] != "angle_quantizer") continue;
+    found = true;
+    EXPECT_NEAR(term["parameters"]["step"]["value"].get<double>(), 2.0 * std::sqrt(12.0), 1e-5);
+    EXPECT_EQ(term["parameters"]["step"]["units"], "arcsec");
+    EXPECT_EQ(term["parameters"]["rate_step"]["units"], "deg/h");
+  }
+  EXPECT_TRUE(found) << j2["model"]["fitted"];
   fs::remove_all(dir);
 }
 
