@@ -12,15 +12,16 @@
 // Why a draw and not the conditional mean. Below sigma ~ q / 3 the counter has destroyed the
 // angle's detail within a step: E[x | counts] is smoother than x, and its differences lack part
 // of the white noise (tried: the default model then fails at every short tau; docs/compare.md).
-// A draw from p(x | counts) (forward filtering,
-// backward sampling; Frühwirth-Schnatter 1994, Carter & Kohn 1994: data augmentation, Tanner &
-// Wong 1987) has, under the model, the law of an unquantized angle and the counts' information
-// at every scale above a step: its differences are what the rate would have been without the
-// counter, up to the draw's randomness within the boxes. The rest of the fit (N, B, K and the
-// other terms) and the views then see the rate they describe. The draw uses the N of the model
-// fitted to the raw counter (its Allan variance at the taus where N rules is little affected by
-// the counter); it is seeded by the record's length, so a compare is reproducible.
-//
+// A draw from p(x | counts) (forward filtering, backward sampling; Frühwirth-Schnatter 1994,
+// Carter & Kohn 1994: data augmentation, Tanner & Wong 1987) has, under the model, the law of an
+// unquantized angle and the counts' information at every scale above a step: its differences are
+// what the rate would have been without the counter, up to the draw's randomness within the
+// boxes. The rest of the fit (N, B, K and the other terms) and the views then see the rate they
+// describe. sigma is not known beforehand: compare starts from the N of the model fitted to the
+// raw counter, refits N on the draw and draws again until N settles (a stochastic EM, Celeux &
+// Diebolt 1985; compare.cpp, AngleQuantizerOptions). Each draw is seeded by the record's length,
+// so a compare is reproducible.
+
 // The chain is filtered on a grid of `cells` over the box (at least `min_cells`, and fine enough
 // for sigma to span `cells_per_sigma` of them, at most `max_cells`); the transition is a Gaussian
 // convolution truncated at 7 sigma. The filter's probabilities are kept every ~sqrt(n) samples and
