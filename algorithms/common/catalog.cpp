@@ -4,9 +4,10 @@ namespace fogpipe::catalog {
 
 const std::vector<Term>& AllTerms() {
   static const std::vector<Term> kAll = {
-      Term::kWhite,       Term::kQuantization,    Term::kBiasInstability, Term::kRateRandomWalk,
-      Term::kRateRamp,    Term::kGaussMarkov,     Term::kSinusoid,        Term::kNarrowBand,
-      Term::kTemperature, Term::kTemperatureRate, Term::kBiasStep,        Term::kWarmup};
+      Term::kWhite,          Term::kQuantization, Term::kAngleQuantizer,  Term::kBiasInstability,
+      Term::kRateRandomWalk, Term::kRateRamp,     Term::kGaussMarkov,     Term::kSinusoid,
+      Term::kNarrowBand,     Term::kTemperature,  Term::kTemperatureRate, Term::kBiasStep,
+      Term::kWarmup};
   return kAll;
 }
 
@@ -28,6 +29,8 @@ const char* ToString(Term term) {
       return "sinusoid";
     case Term::kNarrowBand:
       return "narrow_band";
+    case Term::kAngleQuantizer:
+      return "angle_quantizer";
     case Term::kTemperature:
       return "temperature";
     case Term::kTemperatureRate:

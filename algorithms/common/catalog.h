@@ -24,13 +24,17 @@ enum class Term {
   kBiasStep,         ///< a jump of the bias at a time.
   kWarmup,           ///< start-up transient A exp(-t/tau).
   // The values seed the simulator's and the tests' random streams: new terms go last.
-  kNarrowBand,  ///< vibration band: noise through a damped resonance (f0, zeta, rms); more than
-                ///< one allowed. Fitted by compare; not made by the simulator.
+  kNarrowBand,      ///< vibration band: noise through a damped resonance (f0, zeta, rms); more than
+                    ///< one allowed. Fitted by compare; not made by the simulator.
+  kAngleQuantizer,  ///< coarse angle counter (step q): its error replaced by a draw of the angle
+                    ///< on the lattice (algorithms/model/angle_quantizer.h). Fitted by compare;
+                    ///< the simulator makes it with its quantizer option, not as a term.
 };
 
 enum class TermKind { kStochastic, kDeterministic };
 
-/// Every term, in catalog order (narrow_band after sinusoid, not in enum order).
+/// Every term, in catalog order (narrow_band after sinusoid, angle_quantizer after quantization,
+/// not in enum order).
 const std::vector<Term>& AllTerms();
 /// The catalog name, e.g. "bias_instability".
 const char* ToString(Term term);

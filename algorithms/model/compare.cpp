@@ -406,6 +406,15 @@ std::string Evidence(const Evaluation& base, const Evaluation& trial, const Mode
           "a band of excess power centred at %.4g Hz, half-power width %.3g Hz, rms %.3g deg/h: "
           "vibration or a structural resonance (error %.3g -> %.3g)",
           val("frequency"), val("bandwidth"), val("rms"), error_before, error_after);
+    case Term::kAngleQuantizer: {
+      const AngleLattice& lattice = trial.angle_quantizer.lattice;
+      return Format(
+          "the rate is an angle counter of step %.4g arcsec whose increments are correlated "
+          "beyond lag 1 (%.4g against %.4g): an undithered counter's coarse error, its idle "
+          "tones; the angle drawn within the steps (error %.3g -> %.3g)",
+          val("step"), lattice.whiteness_statistic, lattice.whiteness_critical, error_before,
+          error_after);
+    }
     case Term::kWhite:
       return "the short-tau Allan slope -1/2 is not covered: white rate noise (angle random walk)";
     case Term::kQuantization:
@@ -472,7 +481,8 @@ void FitBands(int count, double fs, int num_views, const CompareOptions& options
 
 bool CompareOptions::IsValid(std::string* error) const {
   if (!deterministic.IsValid(error) || !stochastic.IsValid(error) || !views.IsValid(error) ||
-      !imf.IsValid(error) || !long_tau.IsValid(error))
+      !imf.IsValid(error) || !long_tau.IsValid(error) || !angle_lattice.IsValid(error) ||
+      !angle_quantizer.IsValid(error))
     return false;
   if (!(min_improvement > 0 && min_improvement <= 1) || !(tie_ratio >= 1) || !(tie_offset >= 0)) {
     if (error) *error = "min_improvement in (0, 1], tie_ratio >= 1, tie_offset >= 0";
@@ -485,6 +495,17 @@ std::vector<Parameter> ParametersOf(const Evaluation& evaluation, const ModelTer
   if (IsFittedOnRate(term)) {
     const auto* component = LastComponent(evaluation, term);
     return component ? ParametersOfComponent(*component) : std::vector<Parameter>{};
+  }
+  if (term == Term::kAngleQuantizer) {
+    const AngleQuantizerFit& fit = evaluation.angle_quantizer;
+    if (!fit.ok) return {};
+    const double step = fit.lattice.step_rad, step_se = fit.lattice.step_se_rad;
+    const double per_second = fit.rate_step_rad_s / step;  // the sample rate
+    return {{"step", units::QuantizationToArcsec(step), units::QuantizationToArcsec(step_se),
+             units::kQuantizationUnit},
+            {"rate_step", DegH(fit.rate_step_rad_s), DegH(step_se * per_second), "deg/h"},
+            {"noise_per_sample", units::QuantizationToArcsec(fit.noise_per_sample_rad), 0.0,
+             units::kQuantizationUnit}};
   }
   return StochasticParameters(evaluation.stochastic.model, term.term);
 }
@@ -504,8 +525,46 @@ Evaluation EvaluateModel(const CompareInput& input, const std::vector<ModelTerm>
     evaluation.message = "no rate or sample rate";
     return evaluation;
   }
-  const Eigen::VectorXd& rate = *input.rate_rad_s;
   const double fs = input.sample_rate_hz;
+  // angle_quantizer: the counter's error is replaced by a draw of the angle within its boxes
+  // before everything else (angle_quantizer.h), with the white noise of the model fitted to the
+  // raw counter.
+  Eigen::VectorXd imputed;
+  if (std::find(terms.begin(), terms.end(), ModelTerm(Term::kAngleQuantizer)) != terms.end()) {
+    std::vector<ModelTerm> without;
+    for (const ModelTerm& term : terms)
+      if (term != Term::kAngleQuantizer) without.push_back(term);
+    CompareOptions raw_options = options;
+    raw_options.views.targeted_scans = false;
+    raw_options.long_tau.enabled = false;
+    const Evaluation raw = EvaluateModel(input, without, raw_options, prepared);
+    const AngleLattice lattice = DetectAngleLattice(*input.rate_rad_s, fs, options.angle_lattice);
+    double sigma =
+        HasResult(raw.termination) ? raw.stochastic.model.n_rad_sqrt_s / std::sqrt(fs) : 0.0;
+    // Stochastic EM (Celeux & Diebolt 1985): draw with sigma, refit N on the draw, until N moves
+    // by less than the tolerance (angle_quantizer.h).
+    for (int round = 0; round < options.angle_quantizer.max_rounds; ++round) {
+      imputed = ImputeAngleOnLattice(*input.rate_rad_s, fs, lattice, sigma, options.angle_quantizer,
+                                     &evaluation.angle_quantizer);
+      if (!evaluation.angle_quantizer.ok || round + 1 == options.angle_quantizer.max_rounds) break;
+      CompareInput drawn = input;
+      drawn.rate_rad_s = &imputed;
+      const Evaluation refit = EvaluateModel(drawn, without, raw_options, prepared);
+      if (!HasResult(refit.termination)) break;
+      const double next = refit.stochastic.model.n_rad_sqrt_s / std::sqrt(fs);
+      const bool settled =
+          std::abs(next - sigma) <= options.angle_quantizer.relative_tolerance * sigma;
+      sigma = next;
+      if (settled) break;
+    }
+    if (!evaluation.angle_quantizer.ok) {
+      evaluation.termination = Termination::kInsufficientData;
+      evaluation.message = evaluation.angle_quantizer.message;
+      return evaluation;
+    }
+  }
+  if (imputed.size() > 0) evaluation.angle_quantizer_rate_rad_s = imputed;
+  const Eigen::VectorXd& rate = imputed.size() > 0 ? imputed : *input.rate_rad_s;
   // Coordinate descent re-searches each nonlinear parameter with the others fixed; with at most
   // one nonlinear term (every trial of the default model) a pass repeats the first search against
   // the same fixed design (deterministic_fit.cpp): the warm-up and step searches return the same
@@ -717,6 +776,11 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
       const NarrowBand& band = trial.stochastic.model.bands.back();
       suggestion.delta_bic =
           -band.minus_two_log_likelihood_drop + 3.0 * std::log(std::max(band.effective_bins, 2.0));
+    } else if (term == Term::kAngleQuantizer && trial.angle_quantizer.ok) {
+      // The evidence is the counter's own: the portmanteau of its increments beyond lag 1 against
+      // its critical value (angle_lattice.h), as bias_step's scan statistic against its own.
+      const AngleLattice& lattice = trial.angle_quantizer.lattice;
+      suggestion.delta_bic = lattice.whiteness_critical - lattice.whiteness_statistic;
     } else if (term.aux == AuxForm::kAm && LastComponent(trial, term) != nullptr) {
       // Wald form (compare.h): the four amplitudes and the frequency.
       const double added_parameters =
@@ -837,6 +901,11 @@ std::string SuggestionLabel(const Suggestion& suggestion) {
                   line.amplitude, line.modulation) +
            line.unit + ")";
   }
+  if (suggestion.term == Term::kAngleQuantizer) {
+    for (const Parameter& parameter : suggestion.parameters)
+      if (parameter.name == "step") return label + Format(" (step %.4g arcsec)", parameter.value);
+    return label;
+  }
   if (suggestion.term != Term::kNarrowBand) return label;
   double frequency = 0, bandwidth = 0, rms = 0;
   for (const Parameter& parameter : suggestion.parameters) {
@@ -912,13 +981,41 @@ Verdict MakeVerdict(const Evaluation& base, const std::vector<ModelTerm>& trial_
   return verdict;
 }
 
+void NameCoarseQuantization(const AngleLattice& lattice, Verdict* verdict) {
+  if (!lattice.coarse || verdict->status == "consistent") return;
+  if (verdict->suggestion && *verdict->suggestion == Term::kAngleQuantizer) {
+    verdict->coarse_angle_quantization = true;  // the suggestion names it
+    return;
+  }
+  if (verdict->consistent_with_suggestion) return;
+  const double step_arcsec = lattice.step_rad * units::kArcsecPerRad;
+  const std::string prefix = "unexplained: ";
+  if (verdict->status == "unexplained" && verdict->text.compare(0, prefix.size(), prefix) == 0) {
+    verdict->text = prefix +
+                    Format(
+                        "coarse angle quantization (an undithered angle counter, step %.4g "
+                        "arcsec, whose error is not white; angle_quantizer does not make a "
+                        "failing view pass either); ",
+                        step_arcsec) +
+                    verdict->text.substr(prefix.size());
+  } else {
+    verdict->text += Format(
+        "; the recording is an undithered angle counter (step %.4g arcsec) "
+        "whose coarse quantization error is not white, which may be what "
+        "still fails",
+        step_arcsec);
+  }
+  verdict->coarse_angle_quantization = true;
+}
+
 namespace {
 
 // The terms Compare trials: those of TrialTerms when the base model is not consistent (aux terms
 // where the aux view supports them), and when its long-tau check flags, the SlowEffectTrialTerms
 // too (also in *slow_terms: their trials run the check).
 std::vector<ModelTerm> TrialsToRun(const CompareInput& input, const std::vector<ModelTerm>& terms,
-                                   const Evaluation& base, std::vector<ModelTerm>* slow_terms) {
+                                   const Evaluation& base, const AngleLattice& lattice,
+                                   std::vector<ModelTerm>* slow_terms) {
   std::vector<ModelTerm> trial_terms;
   if (!base.views.consistent) {
     for (const ModelTerm& term : TrialTerms(input, terms)) {
@@ -939,6 +1036,10 @@ std::vector<ModelTerm> TrialsToRun(const CompareInput& input, const std::vector<
   if (ViewErrorOf(base.views, ViewDomain::kFrequency) <= 1.0)
     trial_terms.erase(std::remove(trial_terms.begin(), trial_terms.end(), Term::kNarrowBand),
                       trial_terms.end());
+  // angle_quantizer only for a coarse counter: a white error is the Q term's (angle_lattice.h).
+  if (!lattice.coarse)
+    trial_terms.erase(std::remove(trial_terms.begin(), trial_terms.end(), Term::kAngleQuantizer),
+                      trial_terms.end());
   return trial_terms;
 }
 
@@ -958,17 +1059,21 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
   result.summary.termination = result.base.termination;
   result.summary.message = result.base.message;
   if (!HasResult(result.base.termination)) return result;
+  result.angle_lattice =
+      DetectAngleLattice(*input.rate_rad_s, input.sample_rate_hz, options.angle_lattice);
   // Tasks: the trials, those with a nonlinear search (the longest) first so that a parallel
   // ForEach finishes together, then the base model's IMF view (one EMD per compare). Each task
   // writes only its own slot.
   const bool flagged = result.base.long_tau.flagged;
   std::vector<ModelTerm> slow_terms;
-  const std::vector<ModelTerm> trial_terms = TrialsToRun(input, terms, result.base, &slow_terms);
+  const std::vector<ModelTerm> trial_terms =
+      TrialsToRun(input, terms, result.base, result.angle_lattice, &slow_terms);
   result.trials.resize(trial_terms.size());
   std::vector<int> order(trial_terms.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_partition(order.begin(), order.end(), [&](int i) {
-    return HasNonlinearParameter(trial_terms[i]) || trial_terms[i] == Term::kNarrowBand;
+    return HasNonlinearParameter(trial_terms[i]) || trial_terms[i] == Term::kNarrowBand ||
+           trial_terms[i] == Term::kAngleQuantizer;
   });
   const int count = 1 + static_cast<int>(trial_terms.size());
   // The trials' own step and warm-up scans would never be read (RankSuggestions and the verdict
@@ -980,6 +1085,9 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
   trial_options.long_tau.enabled = false;
   CompareOptions slow_trial_options = trial_options;
   slow_trial_options.long_tau.enabled = options.long_tau.enabled;
+  CompareInput drawn_input = input;
+  drawn_input.rate_rad_s =
+      result.base.angle_quantizer.ok ? &result.base.angle_quantizer_rate_rad_s : nullptr;
   const auto task = [&](int task_index) {
     if (task_index == count - 1) {
       result.base.imf = ComputeImfView(result.base.deterministic.residual, input.sample_rate_hz,
@@ -991,8 +1099,19 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
     with_term.push_back(trial_terms[i]);
     const bool slow =
         std::find(slow_terms.begin(), slow_terms.end(), trial_terms[i]) != slow_terms.end();
-    result.trials[i] =
-        EvaluateModel(input, with_term, slow ? slow_trial_options : trial_options, &prepared);
+    const CompareOptions& trial_options_i = slow ? slow_trial_options : trial_options;
+    if (drawn_input.rate_rad_s == nullptr) {
+      result.trials[i] = EvaluateModel(input, with_term, trial_options_i, &prepared);
+      return;
+    }
+    // angle_quantizer in the model: every trial fits the base model's draw (one draw per compare,
+    // and the trials differ from the base by their term only), and carries its fit.
+    std::vector<ModelTerm> on_draw;
+    for (const ModelTerm& term : with_term)
+      if (term != Term::kAngleQuantizer) on_draw.push_back(term);
+    result.trials[i] = EvaluateModel(drawn_input, on_draw, trial_options_i, &prepared);
+    result.trials[i].terms = with_term;
+    result.trials[i].angle_quantizer = result.base.angle_quantizer;
   };
   if (for_each) {
     for_each(count, task);
@@ -1003,6 +1122,9 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
     result.summary.num_trials = static_cast<int>(trial_terms.size());
     result.suggestions = RankSuggestions(result.base, trial_terms, result.trials, options);
     result.verdict = MakeVerdict(result.base, trial_terms, result.trials, result.suggestions);
+    // With angle_quantizer in the model the counter is accounted for; what fails is not it.
+    if (std::find(terms.begin(), terms.end(), ModelTerm(Term::kAngleQuantizer)) == terms.end())
+      NameCoarseQuantization(result.angle_lattice, &result.verdict);
   }
   // Whatever the views say: a consistent model whose K absorbs a step is the case this warns of.
   if (flagged) {

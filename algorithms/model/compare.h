@@ -19,6 +19,15 @@
 // level; compare.cpp). A sinusoid fitted to such a line leaves its sidebands, which a second
 // sinusoid would then take one at a time; aux_am explains the carrier and the sidebands together.
 //
+// Angle counters. Compare tests the recorded rate for an angle counter (angle_lattice.h,
+// CompareResult::angle_lattice). angle_quantizer is trialled only when the counter is coarse (an
+// undithered counter whose error is not white); its trial, like every evaluation with the term,
+// replaces the counter's error in the rate by a draw of the angle within its steps before every
+// fit and view (angle_quantizer.h). Its delta_bic is the counter's own evidence, the critical
+// value minus the portmanteau of the increments beyond lag 1 (negative whenever it is trialled).
+// Where the counter is coarse and no suggestion makes the model consistent, the verdict names it
+// (NameCoarseQuantization).
+//
 // Slow effects. When the base model's long-tau check flags (B, K or R absorbing a slow effect,
 // long_tau_check.h), the views may all pass: a thermal hysteresis, a square wave at the thermal
 // period, is absorbed by the fitted B and K. Compare then also trials every term that could
@@ -93,6 +102,8 @@
 #include "algorithms/allan/noise_fit.h"
 #include "algorithms/common/for_each.h"
 #include "algorithms/common/status.h"
+#include "algorithms/model/angle_lattice.h"
+#include "algorithms/model/angle_quantizer.h"
 #include "algorithms/model/catalog.h"
 #include "algorithms/model/deterministic_fit.h"
 #include "algorithms/model/imf_view.h"
@@ -116,10 +127,12 @@ struct CompareOptions {
   StochasticFitOptions stochastic;
   ViewOptions views;
   ImfViewOptions imf;  ///< the IMF view (base model only; diagnostic, not part of the error)
-  LongTauCheckOptions long_tau;  ///< the long-tau terms' check (diagnostic, not in the error)
-  double min_improvement = 0.9;  ///< a suggestion must bring error_after <= this * error
-  double tie_ratio = 1.15;       ///< error_after within tie_ratio * best + tie_offset ...
-  double tie_offset = 0.05;      ///< ... are ranked by delta_bic
+  LongTauCheckOptions long_tau;       ///< the long-tau terms' check (diagnostic, not in the error)
+  AngleLatticeOptions angle_lattice;  ///< the angle-counter test of the rate (angle_lattice.h)
+  AngleQuantizerOptions angle_quantizer;  ///< the angle_quantizer term's draw (angle_quantizer.h)
+  double min_improvement = 0.9;           ///< a suggestion must bring error_after <= this * error
+  double tie_ratio = 1.15;                ///< error_after within tie_ratio * best + tie_offset ...
+  double tie_offset = 0.05;               ///< ... are ranked by delta_bic
   bool IsValid(std::string* error) const;
 };
 
@@ -156,6 +169,12 @@ struct Evaluation {
   /// Do the long-tau data behave as the fitted B, K and R say, or do they absorb a slow effect
   /// (long_tau_check.h)? A diagnostic: not part of `views.error`.
   LongTauCheck long_tau;
+  /// With angle_quantizer in the model: the counter and the draw that replaced its error in the
+  /// rate before every fit and view (angle_quantizer.h).
+  AngleQuantizerFit angle_quantizer;
+  /// ... and the rate with the draw, which the model was fitted to (empty without the term;
+  /// Compare's trials of a model with the term fit the base model's).
+  Eigen::VectorXd angle_quantizer_rate_rad_s;
   Termination termination = Termination::kSuccess;
   std::string message;
 };
@@ -190,6 +209,9 @@ struct Verdict {
   /// long_tau); `text` then ends with "; warning: " and its finding, whatever the status, and
   /// with "; adding TERM clears it" when a suggestion clears_long_tau (the first such).
   bool absorbing_slow_effect = false;
+  /// The rate is a coarse angle counter (CompareResult::angle_lattice) and the verdict names it as
+  /// the likely cause of what no suggestion makes consistent (NameCoarseQuantization).
+  bool coarse_angle_quantization = false;
   std::string text = "consistent";  ///< one line, e.g. "unexplained: ... failing: frequency ..."
 };
 
@@ -201,6 +223,7 @@ struct CompareSummary {
 
 struct CompareResult {
   Evaluation base;
+  AngleLattice angle_lattice;      ///< is the recorded rate an angle counter, and is it coarse?
   std::vector<Evaluation> trials;  ///< one per TrialTerms() entry
   std::vector<Suggestion> suggestions;
   Verdict verdict;
@@ -243,6 +266,13 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
 Verdict MakeVerdict(const Evaluation& base, const std::vector<ModelTerm>& trial_terms,
                     const std::vector<Evaluation>& trials,
                     const std::vector<Suggestion>& suggestions);
+
+/// Names a coarse angle counter (lattice.coarse) in a verdict that is not consistent and that no
+/// suggestion makes consistent: its quantization error is not white, and the comb of idle tones
+/// it leaves is outside the catalog (angle_lattice.h). "unexplained" gets it as the cause ahead of
+/// the failures; "inconsistent" (the suggestion fixes some views only) gets it as what may remain.
+/// Sets verdict->coarse_angle_quantization when it names it; otherwise leaves the verdict as is.
+void NameCoarseQuantization(const AngleLattice& lattice, Verdict* verdict);
 
 /// One failure as text: "tau 0.1-2 s", "frequency 17.9-24.6 Hz", "time 0-156 s", "aux temperature".
 std::string FormatFailure(const Failure& failure);

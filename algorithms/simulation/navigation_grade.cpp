@@ -165,6 +165,9 @@ void AddNavigationGradeTerm(Term term, std::uint64_t seed, GyroSimulatorOptions*
     case Term::kNarrowBand:
       // Not simulated: the simulator's error model has no band (the compare tests add one
       // themselves); `simulate --add` rejects it.
+    case Term::kAngleQuantizer:
+      // Not a term of the error model: the simulator's quantizer option makes it
+      // (`simulate --angle-quantizer`); `simulate --add` rejects it.
       break;
   }
 }

@@ -136,6 +136,8 @@ void PrintText(const model::CompareResult& r) {
   }
   PrintImfView(r.base.imf);
   PrintLongTauCheck(r.base.long_tau);
+  std::printf("angle lattice (is the rate an angle counter, and is its error white?): %s\n",
+              r.angle_lattice.message.c_str());
   std::printf("model:\n");
   for (const auto& ft : r.base.fitted)
     for (const auto& p : ft.parameters)

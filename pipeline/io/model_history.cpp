@@ -12,6 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "algorithms/common/units.h"
 #include "pipeline/hdf5/atomic_output_file.h"
 #include "pipeline/hdf5/file.h"
 #include "pipeline/hdf5/group.h"
@@ -218,6 +219,24 @@ json ImfJson(const model::ImfView& v) {
           {"message", v.summary.message},     {"imfs", imfs}};
 }
 
+// The angle-counter test of the rate (algorithms/model/angle_lattice.h), the step in arcsec.
+json AngleLatticeJson(const model::AngleLattice& a) {
+  return {{"evaluated", a.evaluated},
+          {"on_lattice", a.on_lattice},
+          {"step_arcsec", Number(units::QuantizationToArcsec(a.step_rad))},
+          {"step_se_arcsec", Number(units::QuantizationToArcsec(a.step_se_rad))},
+          {"offset_arcsec", Number(units::QuantizationToArcsec(a.offset_rad))},
+          {"on_lattice_fraction", Number(a.on_lattice_fraction)},
+          {"levels", a.levels},
+          {"spread_steps", Number(a.spread_steps)},
+          {"lag1_correlation", Number(a.lag1_correlation)},
+          {"whiteness_statistic", Number(a.whiteness_statistic)},
+          {"whiteness_critical", Number(a.whiteness_critical)},
+          {"whiteness_dof", a.whiteness_dof},
+          {"coarse", a.coarse},
+          {"message", a.message}};
+}
+
 json LongTauJson(const model::LongTauCheck& c) {
   json points = json::array();
   for (const auto& p : c.points)
@@ -303,6 +322,7 @@ json CompareJson(const model::CompareResult& r) {
   // scripts rely on.
   model["imf"] = ImfJson(r.base.imf);
   model["long_tau_check"] = LongTauJson(r.base.long_tau);
+  model["angle_lattice"] = AngleLatticeJson(r.angle_lattice);
   json suggestions = json::array();
   for (const auto& s : r.suggestions)
     suggestions.push_back({{"term", model::ToString(s.term)},
@@ -321,6 +341,7 @@ json CompareJson(const model::CompareResult& r) {
       {"fixes", DomainNames(v.fixes)},
       {"consistent_with_suggestion", v.consistent_with_suggestion},
       {"absorbing_slow_effect", v.absorbing_slow_effect},
+      {"coarse_angle_quantization", v.coarse_angle_quantization},
       {"still_failing", FailuresJson(v.still_failing)},
       {"unexplained", FailuresJson(v.unexplained)},
       {"text", v.text}};

@@ -8,11 +8,20 @@
 namespace fogpipe::catalog {
 namespace {
 
-TEST(Catalog, ListsTheTwelveTermsWithTheirFixedNames) {
-  const std::vector<std::string> expected = {
-      "white",       "quantization",     "bias_instability", "rate_random_walk",
-      "rate_ramp",   "gauss_markov",     "sinusoid",         "narrow_band",
-      "temperature", "temperature_rate", "bias_step",        "warmup"};
+TEST(Catalog, ListsTheThirteenTermsWithTheirFixedNames) {
+  const std::vector<std::string> expected = {"white",
+                                             "quantization",
+                                             "angle_quantizer",
+                                             "bias_instability",
+                                             "rate_random_walk",
+                                             "rate_ramp",
+                                             "gauss_markov",
+                                             "sinusoid",
+                                             "narrow_band",
+                                             "temperature",
+                                             "temperature_rate",
+                                             "bias_step",
+                                             "warmup"};
   ASSERT_EQ(AllTerms().size(), expected.size());
   for (size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(ToString(AllTerms()[i]), expected[i]);
 }

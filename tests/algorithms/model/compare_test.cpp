@@ -910,7 +910,9 @@ double AuxSignatureK(int seed) {
 
 struct AuxScore {
   bool inconsistent = false;
-  bool suggested = false;    // the verdict names a term to add
+  // The verdict names a term to add; angle_quantizer on a record made with the undithered
+  // quantizer is that record's own explanation (angle_quantizer_test.cpp), not counted here.
+  bool suggested = false;
   bool first_right = false;  // ... and it is the hidden aux term
   std::string first = "none";
   std::string failures;  // the default model's failures, e.g. "time 0-338 s, aux magnetic_field"
@@ -974,7 +976,8 @@ AuxScore ScoreAux(AuxEffect effect, int seed, double k) {
   const CompareResult before = Compare(c.input, DefaultTerms(), options);
   if (!HasResult(before.summary.termination)) return s;
   ReadBase(before, &s.error_before, &s.inconsistent, &s.failures);
-  s.suggested = before.verdict.suggestion.has_value();
+  s.suggested =
+      before.verdict.suggestion.has_value() && *before.verdict.suggestion != Term::kAngleQuantizer;
   if (s.suggested) s.first = ToString(*before.verdict.suggestion);
   if (truth.empty()) return s;
   s.first_right = s.suggested && *before.verdict.suggestion == hidden;
@@ -1287,7 +1290,9 @@ AmScore ScoreAm(AmCase kind, int seed, double k,
   const CompareResult before = Compare(input, base, options);
   if (!HasResult(before.summary.termination)) return s;
   ReadBase(before, &s.error_before, &s.inconsistent, &s.failures);
-  s.suggested = before.verdict.suggestion.has_value();
+  // angle_quantizer on an undithered control is its own explanation (see AuxScore).
+  s.suggested =
+      before.verdict.suggestion.has_value() && *before.verdict.suggestion != Term::kAngleQuantizer;
   if (!before.suggestions.empty()) s.first = ToString(before.suggestions.front().term);
   if (before.suggestions.size() > 1) s.second = ToString(before.suggestions[1].term);
   for (const Suggestion& suggestion : before.suggestions)

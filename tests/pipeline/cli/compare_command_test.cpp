@@ -90,6 +90,9 @@ TEST(CompareCommand, FindsAHiddenThermalEffectAndRecordsTheHistory) {
   EXPECT_TRUE(j["verdict"]["absorbing_slow_effect"].get<bool>()) << j["verdict"]["text"];
   EXPECT_TRUE(j["model"]["long_tau_check"]["flagged"].get<bool>());
   EXPECT_NE(j["verdict"]["text"].get<std::string>().find("warning: "), std::string::npos);
+  // The simulator's default quantization is white angle noise: no counter.
+  EXPECT_FALSE(j["model"]["angle_lattice"]["on_lattice"].get<bool>());
+  EXPECT_FALSE(j["verdict"]["coarse_angle_quantization"].get<bool>());
 
   const std::string model = (dir / "m.json").string();
   const nlohmann::json j2 = nlohmann::json::parse(RunFogpipe(
@@ -121,6 +124,45 @@ TEST(CompareCommand, FindsAHiddenThermalEffectAndRecordsTheHistory) {
 // its channel renamed /aux/coil_temperature (units kept), so that only the aux term can take it.
 // compare names aux:coil_temperature with the channel's unit, adding it makes the model consistent,
 // the history and the model file carry the term by that name, and `validate` accepts the results.
+// An undithered angle counter of step 2 sqrt(12) arcsec, stored as float32 in deg/h: found on
+// its lattice with the step (to float32's resolution), coarse, and named by the verdict
+// (algorithms/model/angle_lattice.h; the rates over seeds are in angle_lattice_test.cpp).
+TEST(CompareCommand, NamesACoarseAngleCounterWithItsStep) {
+  int code = 0;
+  const fs::path dir = SimulatedRecording(
+      "fogpipe_compare_counter", "--seed 1 --angle-quantizer --q-arcsec 2 --dtype float32", &code);
+  ASSERT_EQ(code, 0);
+  const nlohmann::json j =
+      nlohmann::json::parse(RunFogpipe("compare --json " + (dir / "rec.h5").string(), &code));
+  ASSERT_EQ(code, 0);
+  const auto& lattice = j["model"]["angle_lattice"];
+  EXPECT_TRUE(lattice["on_lattice"].get<bool>());
+  EXPECT_TRUE(lattice["coarse"].get<bool>()) << lattice["message"];
+  const double step = lattice["step_arcsec"].get<double>();
+  EXPECT_LE(std::abs(step - 2.0 * std::sqrt(12.0)), 3.0 * lattice["step_se_arcsec"].get<double>());
+  EXPECT_FALSE(j["consistent"].get<bool>());
+  EXPECT_TRUE(j["verdict"]["coarse_angle_quantization"].get<bool>()) << j["verdict"]["text"];
+  EXPECT_NE(j["verdict"]["text"].get<std::string>().find("step 6.928 arcsec"), std::string::npos)
+      << j["verdict"]["text"];
+  EXPECT_EQ(j["verdict"]["suggestion"], "angle_quantizer") << j["verdict"]["text"];
+  // The loop's next step: with the term the counter's error is replaced by a draw of the angle
+  // within its steps, and its step is a fitted parameter in arcsec and as a rate.
+  const nlohmann::json j2 = nlohmann::json::parse(
+      RunFogpipe("compare --add angle_quantizer --json " + (dir / "rec.h5").string(), &code));
+  ASSERT_EQ(code, 0);
+  EXPECT_LE(10.0 * j2["error"].get<double>(), j["error"].get<double>());
+  bool found = false;
+  for (const auto& term : j2["model"]["fitted"]) {
+    if (term["term"] != "angle_quantizer") continue;
+    found = true;
+    EXPECT_NEAR(term["parameters"]["step"]["value"].get<double>(), 2.0 * std::sqrt(12.0), 1e-5);
+    EXPECT_EQ(term["parameters"]["step"]["units"], "arcsec");
+    EXPECT_EQ(term["parameters"]["rate_step"]["units"], "deg/h");
+  }
+  EXPECT_TRUE(found) << j2["model"]["fitted"];
+  fs::remove_all(dir);
+}
+
 TEST(CompareCommand, NamesTheAuxTermOfAnyChannelAndStoresItWithItsUnit) {
   int code = 0;
   const fs::path dir =

@@ -1,0 +1,182 @@
+#include "algorithms/model/angle_quantizer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <vector>
+
+#include "algorithms/simulation/random.h"
+
+namespace fogpipe::model {
+
+bool AngleQuantizerOptions::IsValid(std::string* error) const {
+  auto fail = [&](const char* message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (min_cells < 4) return fail("angle_quantizer.min_cells must be >= 4");
+  if (!(cells_per_sigma > 0)) return fail("angle_quantizer.cells_per_sigma must be > 0");
+  if (max_cells < min_cells) return fail("angle_quantizer.max_cells must be >= min_cells");
+  if (max_rounds < 1) return fail("angle_quantizer.max_rounds must be >= 1");
+  if (!(relative_tolerance > 0)) return fail("angle_quantizer.relative_tolerance must be > 0");
+  return true;
+}
+
+namespace {
+
+// Stream of the draw: the record's length, so that a compare is reproducible.
+constexpr std::uint64_t kDrawStream = 0x616E676C65710000ULL;
+
+// The transition of u over one sample with increment count n: u_new - u_old = w - q n,
+// w ~ N(mu, sigma^2), on the grid as a convolution over j = cell_new - cell_old, truncated at
+// 7 sigma. weight[j - first] for j in [first, first + size).
+struct Kernel {
+  int first = 0;
+  std::vector<double> weight;
+  double At(int j) const {
+    const int index = j - first;
+    return index >= 0 && index < static_cast<int>(weight.size()) ? weight[index] : 0.0;
+  }
+};
+
+Kernel MakeKernel(long long count, double q, double mu, double sigma, double cell, int cells) {
+  const double shift = q * static_cast<double>(count) - mu;
+  const int low =
+      std::max(-(cells - 1), static_cast<int>(std::ceil((-7.0 * sigma - shift) / cell)));
+  const int high = std::min(cells - 1, static_cast<int>(std::floor((7.0 * sigma - shift) / cell)));
+  Kernel kernel;
+  kernel.first = low;
+  for (int j = low; j <= high; ++j) {
+    const double z = (j * cell + shift) / sigma;
+    kernel.weight.push_back(std::exp(-0.5 * z * z));
+  }
+  return kernel;
+}
+
+// alpha_new(a) = sum_b K(a - b) alpha_old(b), normalised; uniform where the truncated kernel
+// leaves no mass (a jump further than 7 sigma, which the model deems impossible).
+void Propagate(const Kernel& kernel, const Eigen::VectorXd& old, Eigen::VectorXd* out) {
+  const int cells = static_cast<int>(old.size());
+  out->setZero(cells);
+  for (int k = 0; k < static_cast<int>(kernel.weight.size()); ++k) {
+    const int j = kernel.first + k;
+    const int a0 = std::max(0, j), a1 = std::min(cells, cells + j);
+    if (a0 >= a1) continue;
+    out->segment(a0, a1 - a0).noalias() += kernel.weight[k] * old.segment(a0 - j, a1 - a0);
+  }
+  const double total = out->sum();
+  if (total > 0)
+    *out /= total;
+  else
+    out->setConstant(1.0 / cells);
+}
+
+int Draw(const Eigen::VectorXd& weights, simulation::RandomSource* rng) {
+  const double total = weights.sum();
+  const int cells = static_cast<int>(weights.size());
+  if (!(total > 0)) return std::min(cells - 1, static_cast<int>(rng->Uniform() * cells));
+  const double target = rng->Uniform() * total;
+  double sum = 0;
+  for (int i = 0; i < cells; ++i) {
+    sum += weights[i];
+    if (sum > target) return i;
+  }
+  return cells - 1;
+}
+
+}  // namespace
+
+Eigen::VectorXd ImputeAngleOnLattice(const Eigen::VectorXd& rate_rad_s, double sample_rate_hz,
+                                     const AngleLattice& lattice, double noise_per_sample_rad,
+                                     const AngleQuantizerOptions& options, AngleQuantizerFit* fit) {
+  fit->lattice = lattice;
+  fit->noise_per_sample_rad = noise_per_sample_rad;
+  fit->ok = false;
+  const Eigen::Index n = rate_rad_s.size();
+  if (!options.IsValid(&fit->message)) return rate_rad_s;
+  if (!lattice.on_lattice || !(lattice.step_rad > 0)) {
+    fit->message = "angle_quantizer: the rate is not an angle counter (" + lattice.message + ")";
+    return rate_rad_s;
+  }
+  if (!(noise_per_sample_rad > 0) || !(sample_rate_hz > 0) || n < 2) {
+    fit->message = "angle_quantizer: no white rate noise to draw the angle with";
+    return rate_rad_s;
+  }
+  const double q = lattice.step_rad, dt = 1.0 / sample_rate_hz;
+  fit->rate_step_rad_s = q * sample_rate_hz;
+  std::vector<long long> counts(static_cast<size_t>(n));
+  double mean_count = 0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const double increment = rate_rad_s[k] * dt;
+    if (!std::isfinite(increment)) {
+      fit->message = "angle_quantizer: non-finite samples";
+      return rate_rad_s;
+    }
+    counts[static_cast<size_t>(k)] = std::llround((increment - lattice.offset_rad) / q);
+    mean_count += static_cast<double>(counts[static_cast<size_t>(k)]);
+  }
+  const double mu = q * mean_count / static_cast<double>(n);
+  const double sigma = noise_per_sample_rad;
+  const int cells = std::clamp(static_cast<int>(std::ceil(options.cells_per_sigma * q / sigma)),
+                               options.min_cells, options.max_cells);
+  fit->cells = cells;
+  const double cell = q / cells;
+  std::map<long long, Kernel> kernels;
+  const auto kernel = [&](long long count) -> const Kernel& {
+    auto found = kernels.find(count);
+    if (found == kernels.end())
+      found = kernels.emplace(count, MakeKernel(count, q, mu, sigma, cell, cells)).first;
+    return found->second;
+  };
+  // States t = 0..n: t = 0 before the first sample, t = k + 1 after sample k (its transition
+  // reads counts[k]). Forward filter, kept every `block` states.
+  const Eigen::Index states = n + 1;
+  const Eigen::Index block =
+      std::max<Eigen::Index>(1, static_cast<Eigen::Index>(std::ceil(std::sqrt(double(states)))));
+  std::vector<Eigen::VectorXd> kept;
+  Eigen::VectorXd alpha = Eigen::VectorXd::Constant(cells, 1.0 / cells), next(cells);
+  for (Eigen::Index t = 0; t < states; ++t) {
+    if (t > 0) {
+      Propagate(kernel(counts[static_cast<size_t>(t - 1)]), alpha, &next);
+      alpha.swap(next);
+    }
+    if (t % block == 0) kept.push_back(alpha);
+  }
+  // Backward sampling, block by block from the last: recompute the block's filter from its kept
+  // state, then draw u_t given u_{t+1}.
+  simulation::RandomSource rng(simulation::DeriveSeed(static_cast<std::uint64_t>(n), kDrawStream));
+  Eigen::VectorXd u(states);
+  int next_cell = -1;
+  std::vector<Eigen::VectorXd> filtered;
+  for (Eigen::Index b = static_cast<Eigen::Index>(kept.size()) - 1; b >= 0; --b) {
+    const Eigen::Index t0 = b * block, t1 = std::min(states, t0 + block);
+    filtered.assign(static_cast<size_t>(t1 - t0), Eigen::VectorXd());
+    filtered[0] = kept[static_cast<size_t>(b)];
+    for (Eigen::Index t = t0 + 1; t < t1; ++t)
+      Propagate(kernel(counts[static_cast<size_t>(t - 1)]), filtered[t - t0 - 1],
+                &filtered[t - t0]);
+    for (Eigen::Index t = t1 - 1; t >= t0; --t) {
+      const Eigen::VectorXd& filter = filtered[static_cast<size_t>(t - t0)];
+      int drawn = 0;
+      if (next_cell < 0) {
+        drawn = Draw(filter, &rng);
+      } else {
+        // p(u_t | u_{t+1}, counts) ~ alpha_t(u_t) K(u_{t+1} - u_t), K of the step into t + 1.
+        const Kernel& into = kernel(counts[static_cast<size_t>(t)]);
+        Eigen::VectorXd weights(cells);
+        for (int i = 0; i < cells; ++i) weights[i] = filter[i] * into.At(next_cell - i);
+        drawn = Draw(weights.sum() > 0 ? weights : filter, &rng);
+      }
+      u[t] = -0.5 * q + (drawn + rng.Uniform()) * cell;
+      next_cell = drawn;
+    }
+  }
+  Eigen::VectorXd corrected(n);
+  for (Eigen::Index k = 0; k < n; ++k)
+    corrected[k] = rate_rad_s[k] + (u[k + 1] - u[k]) * sample_rate_hz;
+  fit->ok = true;
+  fit->message = "";
+  return corrected;
+}
+
+}  // namespace fogpipe::model
