@@ -44,11 +44,10 @@ class SpillStore : public method::ComponentStore {
   void Put(Kind kind, int k, const Eigen::VectorXd& x) override;
   void Get(Kind kind, int k, Eigen::VectorXd* x) const override;
   bool Has(Kind kind, int k) const override;
-  /// Punches the column's bytes out of the file (where the file system can), so its page-cache
-  /// pages are free at once. Why: on VMs that hand free memory back to the host, a fresh page
-  /// costs a fault on the host as well (about 15 us per 4 KiB); the results file, written while
-  /// its columns are read back and released, then takes these warm pages instead
-  /// (docs/performance.md, "Fresh pages").
+  /// Punches the column's bytes out of the file (where the file system can), so its disk space
+  /// and page-cache pages are free at once: the results writer releases each column as it reads
+  /// it, so the scratch file shrinks while the results file grows, and the output device needs
+  /// about the larger of the two instead of their sum (docs/performance.md, "Disk space").
   void Release(Kind kind, int k) override;
 
   /// Bytes written so far.
