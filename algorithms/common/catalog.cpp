@@ -6,7 +6,8 @@ const std::vector<Term>& AllTerms() {
   static const std::vector<Term> kAll = {
       Term::kWhite,       Term::kQuantization,    Term::kBiasInstability, Term::kRateRandomWalk,
       Term::kRateRamp,    Term::kGaussMarkov,     Term::kSinusoid,        Term::kNarrowBand,
-      Term::kTemperature, Term::kTemperatureRate, Term::kBiasStep,        Term::kWarmup};
+      Term::kTemperature, Term::kTemperatureRate, Term::kBiasStep,        Term::kBiasLevels,
+      Term::kWarmup};
   return kAll;
 }
 
@@ -34,6 +35,8 @@ const char* ToString(Term term) {
       return "temperature_rate";
     case Term::kBiasStep:
       return "bias_step";
+    case Term::kBiasLevels:
+      return "bias_levels";
     case Term::kWarmup:
       return "warmup";
   }
@@ -52,6 +55,7 @@ TermKind KindOf(Term term) {
     case Term::kTemperature:
     case Term::kTemperatureRate:
     case Term::kBiasStep:
+    case Term::kBiasLevels:
     case Term::kWarmup:
       return TermKind::kDeterministic;
     default:

@@ -26,6 +26,9 @@ enum class Term {
   // The values seed the simulator's and the tests' random streams: new terms go last.
   kNarrowBand,  ///< vibration band: noise through a damped resonance (f0, zeta, rms); more than
                 ///< one allowed. Fitted by compare; not made by the simulator.
+  kBiasLevels,  ///< piecewise-constant bias: k >= 2 jumps (times, sizes), k chosen by BIC; random
+                ///< telegraph switching is its two-level case. Fitted by compare; not made by the
+                ///< simulator.
 };
 
 enum class TermKind { kStochastic, kDeterministic };
