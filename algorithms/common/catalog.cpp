@@ -7,7 +7,7 @@ const std::vector<Term>& AllTerms() {
       Term::kWhite,          Term::kQuantization, Term::kAngleQuantizer,  Term::kBiasInstability,
       Term::kRateRandomWalk, Term::kRateRamp,     Term::kGaussMarkov,     Term::kSinusoid,
       Term::kNarrowBand,     Term::kTemperature,  Term::kTemperatureRate, Term::kBiasStep,
-      Term::kWarmup};
+      Term::kBiasLevels,     Term::kWarmup};
   return kAll;
 }
 
@@ -37,6 +37,8 @@ const char* ToString(Term term) {
       return "temperature_rate";
     case Term::kBiasStep:
       return "bias_step";
+    case Term::kBiasLevels:
+      return "bias_levels";
     case Term::kWarmup:
       return "warmup";
   }
@@ -55,6 +57,7 @@ TermKind KindOf(Term term) {
     case Term::kTemperature:
     case Term::kTemperatureRate:
     case Term::kBiasStep:
+    case Term::kBiasLevels:
     case Term::kWarmup:
       return TermKind::kDeterministic;
     default:

@@ -29,6 +29,9 @@ enum class Term {
   kAngleQuantizer,  ///< coarse angle counter (step q): its error replaced by a draw of the angle
                     ///< on the lattice (algorithms/model/angle_quantizer.h). Fitted by compare;
                     ///< the simulator makes it with its quantizer option, not as a term.
+  kBiasLevels,  ///< piecewise-constant bias: k >= 2 jumps (times, sizes), k chosen by BIC; random
+                ///< telegraph switching is its two-level case. Fitted by compare; not made by the
+                ///< simulator.
 };
 
 enum class TermKind { kStochastic, kDeterministic };

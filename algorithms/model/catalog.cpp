@@ -65,7 +65,7 @@ bool IsFittedOnRate(const ModelTerm& term) {
   if (term.IsAux()) return true;
   return term.term == Term::kSinusoid || term.term == Term::kTemperature ||
          term.term == Term::kTemperatureRate || term.term == Term::kBiasStep ||
-         term.term == Term::kWarmup;
+         term.term == Term::kBiasLevels || term.term == Term::kWarmup;
 }
 
 bool IsLine(const ModelTerm& term) {

@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "algorithms/common/units.h"
+#include "algorithms/model/bias_levels.h"
 #include "algorithms/model/spectrum.h"
 
 namespace fogpipe::model {
@@ -27,7 +28,43 @@ double DegH(double rad_s) { return units::RadPerSecondToDegPerHour(rad_s); }
 // Rate-fitted terms with a nonlinear parameter found by a search (frequency, step time, time
 // constant).
 bool HasNonlinearParameter(const ModelTerm& term) {
-  return IsLine(term) || term == Term::kBiasStep || term == Term::kWarmup;
+  return IsLine(term) || term == Term::kBiasStep || term == Term::kBiasLevels ||
+         term == Term::kWarmup;
+}
+
+// True when the base model's time view shows several levels (bias_levels.h).
+bool LevelsShow(const TimeView& view) { return view.levels_ratio > 1.0; }
+
+// The segment levels of a bias_levels component (bias + the sizes so far), rad/s, and their
+// standard errors (the step size's: a level is known at least as well as the jump into it).
+void SegmentLevelsOf(double bias_rad_s, const DeterministicComponent& component,
+                     std::vector<double>* levels, std::vector<double>* levels_se) {
+  double level = bias_rad_s;
+  levels->assign(1, level);
+  levels_se->assign(1, component.coefficients_se.empty() ? 0.0 : component.coefficients_se[0]);
+  for (size_t j = 0; j < component.coefficients.size(); ++j) {
+    level += component.coefficients[j];
+    levels->push_back(level);
+    levels_se->push_back(component.coefficients_se[j]);
+  }
+}
+
+// The record's length, s, as the time view's windows tile it (up to less than one window).
+double RecordSecondsOf(const Evaluation& evaluation) {
+  const TimeView& time = evaluation.views.time;
+  return time.center_s.empty() ? 0.0 : time.center_s.back() + 0.5 * time.window_s;
+}
+
+// How the levels of an evaluation's bias_levels component read (bias_levels.h); num_levels 0
+// without the component.
+LevelsReading LevelsReadingOf(const Evaluation& evaluation) {
+  const DeterministicComponent* component = nullptr;
+  for (const auto& candidate : evaluation.deterministic.model.components)
+    if (candidate.term == Term::kBiasLevels) component = &candidate;
+  if (component == nullptr) return {};
+  std::vector<double> levels, levels_se;
+  SegmentLevelsOf(evaluation.deterministic.model.bias_rad_s, *component, &levels, &levels_se);
+  return DescribeLevels(levels, levels_se, RecordSecondsOf(evaluation));
 }
 
 std::string Format(const char* fmt, double a, double b = 0, double c = 0, double d = 0,
@@ -155,6 +192,16 @@ std::vector<Parameter> ParametersOfComponent(const DeterministicComponent& compo
       parameters.push_back({"time", component.nonlinear, component.nonlinear_se, "s"});
       parameters.push_back(
           {"size", DegH(component.coefficients[0]), DegH(component.coefficients_se[0]), "deg/h"});
+      break;
+    case Term::kBiasLevels:
+      parameters.push_back({"steps", static_cast<double>(component.step_times_s.size()), 0.0, "1"});
+      for (size_t j = 0; j < component.step_times_s.size(); ++j) {
+        const std::string index = std::to_string(j + 1);
+        parameters.push_back(
+            {"time_" + index, component.step_times_s[j], component.step_times_se_s[j], "s"});
+        parameters.push_back({"size_" + index, DegH(component.coefficients[j]),
+                              DegH(component.coefficients_se[j]), "deg/h"});
+      }
       break;
     case Term::kWarmup:
       parameters.push_back({"amplitude", DegH(component.coefficients[0]),
@@ -383,6 +430,8 @@ std::string Evidence(const Evaluation& base, const Evaluation& trial, const Mode
     }
     case Term::kGaussMarkov: {
       const double correlation_time_s = val("correlation_time");
+      // Random telegraph switching has the same Lorentzian spectrum (bias_levels.h): what the
+      // levels say is added by RankSuggestions, which sees the bias_levels trial.
       return Format(
           "the Allan curve bulges near tau = 1.89 Tc = %.4g s where the power-law terms "
           "cannot follow: correlated (Gauss-Markov) noise, sigma = %.3g deg/h, "
@@ -395,6 +444,26 @@ std::string Evidence(const Evaluation& base, const Evaluation& trial, const Mode
           "the windowed mean jumps by %.3g deg/h at t = %.5g s (%.3g h into the "
           "record): a bias step (error %.3g -> %.3g)",
           val("size"), step_time_s, step_time_s / 3600.0, error_before, error_after);
+    }
+    case Term::kBiasLevels: {
+      if (LastComponent(trial, Term::kBiasLevels) == nullptr) return "";
+      const std::string found =
+          LevelsShow(base.views.time)
+              ? Format("(%.0f steps, -2 ln L drop %.3g times their penalty)", val("steps"),
+                       base.views.time.levels_ratio)
+              : Format(
+                    "(%.0f steps chosen by the segmentation's BIC; found where the long-tau "
+                    "check flags)",
+                    val("steps"));
+      return "the residual falls into constant levels " + found +
+             Format(", which no Gaussian noise term makes (error %.3g -> %.3g); ", error_before,
+                    error_after) +
+             Format(
+                 "without them the jumps pass for rate random walk (K %.3g -> %.3g "
+                 "deg/h/sqrt(h)); ",
+                 units::RrwToDegPerHourSqrtHour(base.stochastic.model.k_rad_s_sqrt_s),
+                 units::RrwToDegPerHourSqrtHour(trial.stochastic.model.k_rad_s_sqrt_s)) +
+             LevelsReadingOf(trial).text;
     }
     case Term::kWarmup:
       return Format(
@@ -675,8 +744,8 @@ namespace {
 
 // Terms that could explain a slow effect (SlowEffectTrialTerms).
 bool ExplainsSlowEffect(const ModelTerm& term) {
-  return (term.IsAux() && !IsLine(term)) || term == Term::kBiasStep || term == Term::kWarmup ||
-         term == Term::kTemperature || term == Term::kTemperatureRate;
+  return (term.IsAux() && !IsLine(term)) || term == Term::kBiasStep || term == Term::kBiasLevels ||
+         term == Term::kWarmup || term == Term::kTemperature || term == Term::kTemperatureRate;
 }
 
 }  // namespace
@@ -759,6 +828,14 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
     if (!unflags && !supported) continue;
     if (term == thermal_polynomial && temperature_trialled && polynomial_order <= 1) continue;
     if (term == Term::kTemperature && polynomial_order >= 2) continue;
+    // bias_levels only with at least two steps (one is bias_step's; bias_levels.h), where the
+    // base model's levels test shows levels or its trial clears the long-tau flag.
+    if (term == Term::kBiasLevels) {
+      const DeterministicComponent* levels = LastComponent(trial, Term::kBiasLevels);
+      if (levels == nullptr || levels->step_times_s.size() < 2 ||
+          !(LevelsShow(base.views.time) || unflags))
+        continue;
+    }
     Suggestion suggestion;
     suggestion.term = term;
     suggestion.error_after = trial.views.error;
@@ -769,6 +846,13 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
     } else if (term == Term::kWarmup && time_view.warmup_critical > 0) {
       suggestion.delta_bic = time_view.warmup_critical * time_view.warmup_critical -
                              time_view.warmup_z * time_view.warmup_z;
+    } else if (term == Term::kBiasLevels) {
+      // The segmentation's own modified BIC (bias_levels.h): penalty - (-2 ln L drop), the base
+      // model's levels test's where it shows levels, else (a long-tau flag) the fit's, under the
+      // residual's own variance ratio.
+      suggestion.delta_bic = LevelsShow(time_view)
+                                 ? time_view.levels_penalty * (1.0 - time_view.levels_ratio)
+                                 : LastComponent(trial, Term::kBiasLevels)->levels_delta_bic;
     } else if (term == Term::kNarrowBand &&
                trial.stochastic.model.bands.size() > base.stochastic.model.bands.size()) {
       // Whittle -2 ln L drop of the new band over the window it was fitted in (the rest of the
@@ -840,6 +924,65 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
     });
     first = last;
   }
+  // bias_levels approximates any slow effect (a temperature cycle, a warm-up, a Gauss-Markov
+  // wander) piece by piece. Another candidate that BIC accepts and that makes the model
+  // consistent leads where it reads an aux channel (the residual follows the channel: a recorded
+  // cause, which a staircase only imitates) or where its delta_bic is at least as low (both are
+  // -2 ln L drops less a penalty, the levels' with the look-elsewhere cost of their searched
+  // times); bias_step excepted: it is the one-step case, which the
+  // segmentation's BIC has rejected; gauss_markov excepted too where the levels read as two
+  // alternating levels: random telegraph switching has the Gauss-Markov spectrum (bias_levels.h),
+  // and the levels are what tells it.
+  const LevelsReading levels_reading = [&]() {
+    const auto at = std::find(trial_terms.begin(), trial_terms.end(), ModelTerm(Term::kBiasLevels));
+    const size_t index = static_cast<size_t>(at - trial_terms.begin());
+    return index < trials.size() ? LevelsReadingOf(trials[index]) : LevelsReading{};
+  }();
+  const bool two_levels = levels_reading.num_levels == 2;
+  if (!suggestions.empty() && suggestions.front().term == Term::kBiasLevels) {
+    const double levels_bic = suggestions.front().delta_bic;
+    const auto other =
+        std::find_if(suggestions.begin() + 1, suggestions.end(), [&](const Suggestion& suggestion) {
+          return suggestion.term != Term::kBiasStep &&
+                 !(two_levels && suggestion.term == Term::kGaussMarkov) &&
+                 !suggestion.bic_rejects && suggestion.error_after <= 1.0 &&
+                 (!AuxChannelOf(suggestion.term).empty() || suggestion.delta_bic <= levels_bic);
+        });
+    if (other != suggestions.end()) std::rotate(suggestions.begin(), other, other + 1);
+  }
+  if (two_levels && !suggestions.empty() && suggestions.front().term == Term::kGaussMarkov) {
+    const auto levels =
+        std::find_if(suggestions.begin() + 1, suggestions.end(), [](const Suggestion& suggestion) {
+          return suggestion.term == Term::kBiasLevels && !suggestion.bic_rejects &&
+                 (!suggestion.fixes.empty() || suggestion.clears_long_tau);
+        });
+    if (levels != suggestions.end()) std::rotate(suggestions.begin(), levels, levels + 1);
+  }
+  // A Gauss-Markov suggestion says what the levels say: the same spectrum from two alternating
+  // levels is random telegraph switching, and the Gauss-Markov reading is then not the only one.
+  const bool levels_listed = std::any_of(
+      suggestions.begin(), suggestions.end(),
+      [](const Suggestion& suggestion) { return suggestion.term == Term::kBiasLevels; });
+  for (Suggestion& suggestion : suggestions) {
+    if (suggestion.term != Term::kGaussMarkov) continue;
+    if (levels_listed) {
+      suggestion.evidence +=
+          two_levels ? "; but the residual falls into two alternating levels (bias_levels: " +
+                           levels_reading.text + "), which a Gaussian process does not"
+                     : "; bias_levels also explains the record (" + levels_reading.text + ")";
+    } else if (!LevelsShow(base.views.time)) {
+      double sigma = 0, correlation_time_s = 0;
+      for (const Parameter& parameter : suggestion.parameters) {
+        if (parameter.name == "sigma") sigma = parameter.value;
+        if (parameter.name == "correlation_time") correlation_time_s = parameter.value;
+      }
+      suggestion.evidence += Format(
+          "; random telegraph switching between two levels %.3g deg/h apart with mean dwell "
+          "%.4g s would have the same spectrum, and the levels test finds no levels: this record "
+          "cannot tell them apart",
+          2 * sigma, 2 * correlation_time_s);
+    }
+  }
   // A term that reads an aux channel, behind a leader that reads another channel or none, must
   // still be supported once the leader is in the model: a large step or warm-up leaves
   // low-frequency residual that the aux score test, run under a model that lacks it, can attribute
@@ -906,6 +1049,8 @@ std::string SuggestionLabel(const Suggestion& suggestion) {
       if (parameter.name == "step") return label + Format(" (step %.4g arcsec)", parameter.value);
     return label;
   }
+  if (suggestion.term == Term::kBiasLevels && !suggestion.parameters.empty())
+    return label + Format(" with %.0f steps", suggestion.parameters.front().value);
   if (suggestion.term != Term::kNarrowBand) return label;
   double frequency = 0, bandwidth = 0, rms = 0;
   for (const Parameter& parameter : suggestion.parameters) {

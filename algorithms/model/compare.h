@@ -31,13 +31,14 @@
 // Slow effects. When the base model's long-tau check flags (B, K or R absorbing a slow effect,
 // long_tau_check.h), the views may all pass: a thermal hysteresis, a square wave at the thermal
 // period, is absorbed by the fitted B and K. Compare then also trials every term that could
-// explain a slow effect (SlowEffectTrialTerms: bias_step, warmup, the thermal terms and, per aux
-// channel, aux, aux_rate and aux_hysteresis, whatever the aux view says) and runs the long-tau
-// check on those trials only (it costs a pass per tested tau). A trial `clears_long_tau` when its
-// check is evaluated and does not flag, or finds B, K and R too small at every tau to absorb
-// anything (LongTauCheck::nothing_to_absorb), and BIC accepts its term (delta_bic < 0, below); such
-// a term is a candidate even when the views pass or the aux view does not support it. Without a
-// flag nothing of this runs: the trials, their order and the ranking are those described below.
+// explain a slow effect (SlowEffectTrialTerms: bias_step, bias_levels, warmup, the thermal terms
+// and, per aux channel, aux, aux_rate and aux_hysteresis, whatever the aux view says) and runs the
+// long-tau check on those trials only (it costs a pass per tested tau). A trial `clears_long_tau`
+// when its check is evaluated and does not flag, or finds B, K and R too small at every tau to
+// absorb anything (LongTauCheck::nothing_to_absorb), and BIC accepts its term (delta_bic < 0,
+// below); such a term is a candidate even when the views pass or the aux view does not support it.
+// Without a flag nothing of this runs: the trials, their order and the ranking are those described
+// below.
 //
 // Ranking. A trial is a candidate when the model is not consistent and the trial lowers the error
 // by at least 10 % (`min_improvement`) or makes a failing view pass (`fixes`: a view with error
@@ -60,7 +61,16 @@
 // delta_bic (the simpler explanation first, Schwarz 1978), those that clear the long-tau flag
 // first; a supported aux_am against the sinusoid at its frequency (its nested model, whose
 // comparison with it is the modulation test) takes the lower of their delta_bic and goes first on
-// a tie. The first suggestion is the one to add.
+// a tie.
+// Several bias levels (bias_levels, bias_levels.h) are a candidate with at least two steps, where
+// the base model's levels test shows levels or the trial clears the long-tau flag. Constant
+// levels approximate any slow effect piece by piece, so bias_levels never leads while another
+// candidate BIC accepts makes the model consistent and reads an aux channel or has a delta_bic
+// at least as low, but bias_step
+// (its one-step case, which the segmentation's BIC rejected) and gauss_markov where the levels read
+// as two alternating levels: random telegraph switching has the Gauss-Markov spectrum, and the
+// levels are what tells it; the levels then go ahead of a leading gauss_markov, whose evidence says
+// what the levels say. The first suggestion is the one to add.
 //
 // Verdict. "consistent" when the base model is; "inconsistent" with the first suggestion when it
 // makes a failing view pass (and, if the model with it still fails somewhere, the ranges that still
@@ -81,7 +91,9 @@
 // the look-elsewhere cost of the scan (c^2 ~ 2 ln of the number of effectively distinct
 // alternatives; Davies 1987, Siegmund 1988) in place of ln n. An early step and a warm-up explain
 // the start of a record about equally well; the step scan searches many more distinct
-// alternatives than the smooth warm-up family, and pays for it here.
+// alternatives than the smooth warm-up family, and pays for it here. bias_levels: penalty - (-2
+// ln L drop) of its segmentation's modified BIC (bias_levels.h), for the same reason (its step
+// times are searched): the base model's levels test's where it shows levels, else the fit's.
 // aux_am: -W + dk ln(n / lambda), W the Wald chi-square of its four amplitudes under their
 // batch-means sandwich covariance (deterministic_fit.h), which measures the residual's power near
 // the line. The RSS form takes the residual as white at its total variance, which at 10 Hz the

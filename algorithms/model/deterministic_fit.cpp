@@ -5,9 +5,11 @@
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <numeric>
 #include <utility>
 
 #include "algorithms/common/units.h"
+#include "algorithms/model/bias_levels.h"
 #include "algorithms/model/spectrum.h"
 
 namespace fogpipe::model {
@@ -68,6 +70,13 @@ Eigen::MatrixXd Columns(const Context& ctx, Term term, double nonlinear);
 // x - x_ref, for aux_am:<x>.
 Eigen::MatrixXd ComponentColumns(const Context& ctx, const DeterministicComponent& component,
                                  int order) {
+  if (component.term == Term::kBiasLevels) {
+    // One bias_step column per step.
+    Eigen::MatrixXd columns(ctx.n, static_cast<long>(component.step_times_s.size()));
+    for (long j = 0; j < columns.cols(); ++j)
+      columns.col(j) = Columns(ctx, Term::kBiasStep, component.step_times_s[j]);
+    return columns;
+  }
   if (!component.term.IsAux()) return Columns(ctx, component.term.term, component.nonlinear);
   if (component.term.aux == AuxForm::kAm) {
     const Eigen::VectorXd* values = AuxValues(ctx, component.term.channel);
@@ -140,13 +149,15 @@ Eigen::MatrixXd Columns(const Context& ctx, Term term, double nonlinear) {
 }
 
 bool HasNonlinear(const ModelTerm& term) {
-  return IsLine(term) || term == Term::kBiasStep || term == Term::kWarmup;
+  return IsLine(term) || term == Term::kBiasStep || term == Term::kBiasLevels ||
+         term == Term::kWarmup;
 }
 
 // The number of linear coefficients of a component.
 long Width(const DeterministicComponent& component) {
   if (component.term == Term::kSinusoid) return 2;
   if (component.term.aux == AuxForm::kAm) return 4;
+  if (component.term == Term::kBiasLevels) return static_cast<long>(component.step_times_s.size());
   if (component.term.aux == AuxForm::kValue)
     return std::max<long>(1, static_cast<long>(component.coefficients.size()));
   return 1;
@@ -375,6 +386,7 @@ int InitOrder(const ModelTerm& term) {
     case Term::kWarmup:
       return 2;
     case Term::kBiasStep:
+    case Term::kBiasLevels:
       return 3;
     default:
       return 5;
@@ -678,6 +690,16 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
       }
       const Eigen::MatrixXd fixed = Design(ctx, placed, -1);
       const Profiler profiler(fixed, rate);
+      if (components[i].term == Term::kBiasLevels) {
+        const LevelsSegmentation segmentation =
+            SegmentLevels(profiler.FixedResidual(), fs, LevelsOptions{});
+        components[i].step_times_s.clear();
+        for (long index : segmentation.step_index) components[i].step_times_s.push_back(index / fs);
+        components[i].levels_delta_bic =
+            segmentation.penalty * static_cast<double>(segmentation.step_index.size()) -
+            segmentation.gain;
+        continue;
+      }
       components[i].nonlinear =
           SearchNonlinear(ctx, profiler, options, components[i], pass > 0, taken_hz);
     }
@@ -771,6 +793,10 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
         std::sqrt(sandwich_only[j] ? cov_hac(j, j) : std::max(cov_hac(j, j), sigma2 * bread(j, j)));
   fit.long_run_variance_ratio = LongRunVarianceRatio(fit.residual, sigma2);
 
+  // Hinkley's (1970) scale of a change-point time: sigma_lr^2 / D^2, in s.
+  const auto StepTimeSe = [&](double step_size) {
+    return fit.long_run_variance_ratio * sigma2 / std::max(step_size * step_size, 1e-300) / fs;
+  };
   fit.model.bias_rad_s = beta[0];
   fit.model.bias_se_rad_s = se[0];
   long column = 1, jacobian_column = num_linear;
@@ -786,17 +812,25 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
     if (IsLine(component.term) || component.term == Term::kWarmup) {
       component.nonlinear_se = se[jacobian_column++];
     } else if (component.term == Term::kBiasStep) {
-      const double step_size = beta[column];
-      component.nonlinear_se =
-          fit.long_run_variance_ratio * sigma2 / std::max(step_size * step_size, 1e-300) / fs;
+      component.nonlinear_se = StepTimeSe(beta[column]);
+    } else if (component.term == Term::kBiasLevels) {
+      component.step_times_se_s.clear();
+      for (long j = 0; j < width; ++j)
+        component.step_times_se_s.push_back(StepTimeSe(beta[column + j]));
     }
     column += width;
   }
   fit.model.components = components;
   fit.summary.num_parameters = static_cast<int>(
       num_linear + num_jacobian +
-      std::count_if(components.begin(), components.end(),
-                    [](const auto& component) { return component.term == Term::kBiasStep; }));
+      std::accumulate(components.begin(), components.end(), 0L,
+                      [](long sum, const auto& component) {
+                        // The step times are parameters too.
+                        if (component.term == Term::kBiasStep) return sum + 1;
+                        if (component.term == Term::kBiasLevels)
+                          return sum + static_cast<long>(component.step_times_s.size());
+                        return sum;
+                      }));
   fit.summary.message =
       "fitted " + std::to_string(components.size()) + " deterministic component(s)";
   return fit;

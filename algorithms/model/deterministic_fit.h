@@ -9,6 +9,8 @@
 //   - warm-up time constant: log-spaced grid then golden-section search on log(tau_w);
 //   - step time: CUSUM scan of the residual (Page 1954; Hinkley 1970), then the exact profile RSS
 //     in a neighbourhood;
+//   - bias_levels (sum_j D_j 1{t >= t_j}, k >= 0 steps): the step times and their number by the
+//     segmentation of the residual (SegmentLevels, bias_levels.h), one bias_step column each;
 //   - sinusoid frequency: the largest peak of the zero-padded periodogram of the residual relative
 //     to a band-median background, then golden-section refinement of the profile RSS (Rife &
 //     Boorstyn 1974: this is the maximum-likelihood frequency in white noise).
@@ -107,6 +109,13 @@ struct DeterministicComponent {
   /// frequency's uncertainty in it), for the parameters derived from several of them (compare.h);
   /// empty for the other terms.
   std::vector<double> coefficients_covariance;
+  /// bias_levels: the step times, s (ascending; `coefficients` holds the step sizes in the same
+  /// order) and their standard errors (Hinkley's scale, as the bias_step time).
+  std::vector<double> step_times_s;
+  std::vector<double> step_times_se_s;
+  /// bias_levels: the segmentation's modified-BIC change of its steps, their penalty minus their
+  /// -2 ln L drop (bias_levels.h; negative when it chose steps, 0 without).
+  double levels_delta_bic = 0.0;
 };
 
 /// An aux channel as the deterministic fit reads it (non-owning; values of the rate's length).

@@ -6,6 +6,7 @@
 #include <unsupported/Eigen/FFT>
 
 #include "algorithms/allan/allan.h"
+#include "algorithms/model/bias_levels.h"
 #include "algorithms/model/deterministic_fit.h"
 #include "algorithms/model/spectrum.h"
 #include "algorithms/model/targeted_tests.h"
@@ -309,6 +310,25 @@ void TimeStatistics(const Eigen::VectorXd& residual, double fs, const Decimated&
   }
   const int count = static_cast<int>(t_mean.size() + view->z_variance.size());
   view->critical = BonferroniCriticalZ(count, alpha_view);
+  // Levels test (bias_levels.h): on the view's scale, z = c sqrt(ratio), so (z / c)^2 = ratio.
+  if (options.levels_test) {
+    // Under the fitted noise model's correlation at the segments' scale (bias_levels.h), without
+    // rate random walk and rate ramp: they are what several levels inflate (K^2 = sum D^2 / T).
+    StochasticModel correlated = model;
+    correlated.k_rad_s_sqrt_s = 0;
+    correlated.r_rad_s2 = 0;
+    LevelsOptions levels_options;
+    levels_options.variance_ratio =
+        LevelsVarianceRatio([&](double tau) { return ModelAllanVariance(correlated, tau); },
+                            levels_options.block_s, options.levels_batch_s);
+    const LevelsSegmentation levels = SegmentLevels(residual, fs, levels_options);
+    for (long index : levels.step_index) view->levels_step_s.push_back(index / fs);
+    if (levels.step_index.size() >= 2) {
+      view->levels_penalty = levels.penalty * static_cast<double>(levels.step_index.size());
+      view->levels_ratio = levels.gain / view->levels_penalty;
+      view->statistic = std::max(view->statistic, view->critical * std::sqrt(view->levels_ratio));
+    }
+  }
   for (size_t i = 0; i < t_mean.size(); ++i)
     view->z_mean.push_back(t_mean[i] * view->critical /
                            NormalToStudent(view->critical, nu_mean[i]));
@@ -375,6 +395,10 @@ void TimeFailures(double record_s, TimeView* view, std::vector<Failure>* failure
     failures->push_back({ViewDomain::kTime, interval.from, interval.to, "",
                          std::pow(interval.peak_z / view->critical, 2)});
   }
+  // Several levels: the span of their steps.
+  if (view->levels_ratio > 1.0)
+    failures->push_back({ViewDomain::kTime, view->levels_step_s.front(), view->levels_step_s.back(),
+                         "", view->levels_ratio});
   for (auto [first, last] : Runs(abs_z_variance, view->critical)) {
     failures->push_back({ViewDomain::kTime, view->center_s[first] - 0.5 * view->window_s,
                          view->center_s[last] + 0.5 * view->window_s, "",
@@ -474,6 +498,7 @@ bool ViewOptions::IsValid(std::string* error) const {
   if (!(relative_floor >= 0 && relative_floor < 1)) return fail("relative_floor in [0, 1)");
   if (!(max_tau_fraction > 0 && max_tau_fraction <= 0.5))
     return fail("max_tau_fraction in (0, 0.5]");
+  if (!(levels_batch_s > 0)) return fail("levels_batch_s must be > 0");
   if (welch_segments < 1 || psd_skip_bins < 1 || time_windows < 4)
     return fail("welch_segments >= 1, psd_skip_bins >= 1, time_windows >= 4");
   if (band_gap_bins < 0 || !(band_gap_fraction >= 0 && band_gap_fraction < 1))

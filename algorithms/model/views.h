@@ -22,6 +22,11 @@
 //     fitted rate random walk (a step of size D looks like K^2 = D^2 / T), and window jumps judged
 //     against that model saturate at z = sqrt(3 T / (2 L)) whatever D is. The targeted GLS step
 //     and warm-up scans (targeted_tests.h) are reported here too, for ranking only (not scored).
+//     A levels test (bias_levels.h) is scored with them: the segmentation of the residual into
+//     constant levels, with a modified-BIC penalty per step; two or more steps fail the view,
+//     with error = their -2 ln L drop over their penalty. Several jumps of the bias (or telegraph
+//     switching) look like a rate random walk (or a Gauss-Markov term) to the Allan and
+//     frequency views and inflate the window tests' reference; the segmentation sees them.
 //   - Aux ("aux"): for each aux channel and its smoothed derivative, the score test of "rate +=
 //     c * channel" under the fitted noise model, in the frequency domain (Whittle 1953): the
 //     generalised least-squares t-statistic of c, with a linear trend profiled out (a random
@@ -82,7 +87,11 @@ struct ViewOptions {
   /// bridged.
   int band_gap_bins = 4;
   double band_gap_fraction = 0.02;
-  int time_windows = 64;           ///< finest windows of the time view: record / this
+  int time_windows = 64;  ///< finest windows of the time view: record / this
+  /// Score the time view's levels test (bias_levels.h).
+  bool levels_test = true;
+  /// The scale of the levels test's noise ratio, s (LevelsVarianceRatio).
+  double levels_batch_s = 1800.0;
   double aux_block_s = 60.0;       ///< block-mean length of the low-frequency residual
   double aux_smoothing_s = 120.0;  ///< smoothing before differentiating an aux channel
   /// Run the time view's bias-step and warm-up scans. They only name an effect (they are not
@@ -162,6 +171,11 @@ struct TimeView {
   /// time constant (s) and amplitude (rad/s).
   double step_z = 0, step_critical = 0, step_time_s = 0, step_size_rad_s = 0;
   double warmup_z = 0, warmup_critical = 0, warmup_time_constant_s = 0, warmup_amplitude_rad_s = 0;
+  /// Levels test (bias_levels.h), scored: the steps the segmentation of the residual chooses
+  /// (times, s), and their -2 ln L drop over their modified-BIC penalty (> 1 when chosen). Two
+  /// or more steps fail the view with error levels_ratio (one step is the single-step tests').
+  std::vector<double> levels_step_s;
+  double levels_ratio = 0, levels_penalty = 0;  ///< levels_penalty: all steps', -2 ln L units
   double statistic = 0, critical = 1;
 };
 

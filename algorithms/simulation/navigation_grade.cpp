@@ -163,6 +163,7 @@ void AddNavigationGradeTerm(Term term, std::uint64_t seed, GyroSimulatorOptions*
       break;
     }
     case Term::kNarrowBand:
+    case Term::kBiasLevels:
       // Not simulated: the simulator's error model has no band (the compare tests add one
       // themselves); `simulate --add` rejects it.
     case Term::kAngleQuantizer:

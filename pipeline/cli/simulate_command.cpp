@@ -149,7 +149,7 @@ void AddCatalogTerms(const SimulateArguments& a, std::uint64_t seed, sim::GyroSi
   for (const std::string& name : a.add) {
     const std::optional<sim::Term> term = sim::ParseTerm(name);
     if (!term) throw std::invalid_argument("--add '" + name + "' is not a catalog term");
-    if (*term == sim::Term::kNarrowBand)
+    if (*term == sim::Term::kNarrowBand || *term == sim::Term::kBiasLevels)
       throw std::invalid_argument("--add " + name + ": the simulator does not make this term");
     if (*term == sim::Term::kAngleQuantizer)
       throw std::invalid_argument("--add " + name +
@@ -390,7 +390,8 @@ void AddSimulateCommand(CLI::App& app, int* exit_code) {
   cmd->add_flag("--no-temperature", args->no_temperature, "Write no aux temperature channel");
   std::string catalog;
   for (sim::Term term : sim::AllTerms())
-    if (term != sim::Term::kNarrowBand && term != sim::Term::kAngleQuantizer)
+    if (term != sim::Term::kNarrowBand && term != sim::Term::kAngleQuantizer &&
+        term != sim::Term::kBiasLevels)
       catalog += std::string(" ") + sim::ToString(term);
   cmd->add_option("--add", args->add,
                   "Add a catalog term at a random navigation-grade size drawn from the seed "

@@ -134,6 +134,10 @@ void WriteTimeView(hdf5::Group& g, const model::Views& v) {
   WriteScalar(t, "warmup_critical", v.time.warmup_critical, "1");
   WriteScalar(t, "warmup_time_constant_s", v.time.warmup_time_constant_s, "s");
   WriteScalar(t, "warmup_amplitude_rad_s", v.time.warmup_amplitude_rad_s, "rad/s");
+  // The levels test (algorithms/model/bias_levels.h; scored).
+  t.WriteDataset("levels_step_s", v.time.levels_step_s, "s");
+  WriteScalar(t, "levels_ratio", v.time.levels_ratio, "1");
+  WriteScalar(t, "levels_penalty", v.time.levels_penalty, "1");
 }
 
 void WriteAuxView(hdf5::Group& g, const model::Views& v) {
@@ -366,6 +370,8 @@ void WriteModelFile(const std::string& path, const model::Evaluation& e) {
       comp["reference"] = c.reference;
       comp["units"] = c.units;
     }
+    // bias_levels: its step times, s (coefficients are the step sizes, in the same order).
+    if (c.term == model::Term::kBiasLevels) comp["step_times_s"] = c.step_times_s;
     comps.push_back(comp);
   }
   json out = {{"format", "fogpipe-model-1"},
@@ -416,7 +422,14 @@ ModelFile ReadModelFile(const std::string& path) {
         comp.reference = c.at("reference").get<double>();
         comp.units = c.value("units", "");
       }
-      if (comp.coefficients.empty()) throw std::runtime_error("a component without coefficients");
+      if (comp.term == model::Term::kBiasLevels) {
+        comp.step_times_s = c.at("step_times_s").get<std::vector<double>>();
+        if (comp.step_times_s.size() != comp.coefficients.size())
+          throw std::runtime_error("bias_levels: step_times_s and coefficients differ in length");
+        comp.step_times_se_s.assign(comp.step_times_s.size(), 0.0);
+      } else if (comp.coefficients.empty()) {
+        throw std::runtime_error("a component without coefficients");
+      }
       comp.coefficients_se.assign(comp.coefficients.size(), 0.0);
       m.deterministic.components.push_back(comp);
     }

@@ -8,7 +8,7 @@
 namespace fogpipe::catalog {
 namespace {
 
-TEST(Catalog, ListsTheThirteenTermsWithTheirFixedNames) {
+TEST(Catalog, ListsTheFourteenTermsWithTheirFixedNames) {
   const std::vector<std::string> expected = {"white",
                                              "quantization",
                                              "angle_quantizer",
@@ -21,6 +21,7 @@ TEST(Catalog, ListsTheThirteenTermsWithTheirFixedNames) {
                                              "temperature",
                                              "temperature_rate",
                                              "bias_step",
+                                             "bias_levels",
                                              "warmup"};
   ASSERT_EQ(AllTerms().size(), expected.size());
   for (size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(ToString(AllTerms()[i]), expected[i]);
@@ -33,15 +34,15 @@ TEST(Catalog, EveryNameParsesBackToItsTerm) {
   EXPECT_EQ(ParseTerm(""), std::nullopt);
 }
 
-TEST(Catalog, OnlyTheFourEffectsAreDeterministicAndOnlyTheThermalOnesNeedTemperature) {
+TEST(Catalog, OnlyTheFiveEffectsAreDeterministicAndOnlyTheThermalOnesNeedTemperature) {
   std::set<std::string> deterministic;
   std::set<std::string> thermal;
   for (Term term : AllTerms()) {
     if (KindOf(term) == TermKind::kDeterministic) deterministic.insert(ToString(term));
     if (NeedsTemperature(term)) thermal.insert(ToString(term));
   }
-  EXPECT_EQ(deterministic,
-            (std::set<std::string>{"temperature", "temperature_rate", "bias_step", "warmup"}));
+  EXPECT_EQ(deterministic, (std::set<std::string>{"temperature", "temperature_rate", "bias_step",
+                                                  "bias_levels", "warmup"}));
   EXPECT_EQ(thermal, (std::set<std::string>{"temperature", "temperature_rate"}));
 }
 

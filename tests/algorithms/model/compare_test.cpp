@@ -385,15 +385,21 @@ TEST(RankSuggestions, ASupportedAmLineGoesAheadOfTheSinusoidAtItsFrequencyOnly) 
         Synthetic(
             {{ViewDomain::kTau, 0.5}, {ViewDomain::kFrequency, 0.7}, {ViewDomain::kTime, 0.5}},
             0.899, 6)};
-    t[0].deterministic.model.components.push_back(
-        {Term::kSinusoid, 1.0, 1e-3, {1e-5, 0.0}, {1e-6, 1e-6}, 0.0, ""});
-    DeterministicComponent line{am,
-                                am_frequency_hz,
-                                1e-3,
-                                {1e-5, 0.0, modulation_z * 1e-6, 0.0},
-                                {1e-6, 1e-6, 1e-6, 1e-6},
-                                20.0,
-                                "V"};
+    DeterministicComponent sinusoid;
+    sinusoid.term = Term::kSinusoid;
+    sinusoid.nonlinear = 1.0;
+    sinusoid.nonlinear_se = 1e-3;
+    sinusoid.coefficients = {1e-5, 0.0};
+    sinusoid.coefficients_se = {1e-6, 1e-6};
+    t[0].deterministic.model.components.push_back(sinusoid);
+    DeterministicComponent line;
+    line.term = am;
+    line.nonlinear = am_frequency_hz;
+    line.nonlinear_se = 1e-3;
+    line.coefficients = {1e-5, 0.0, modulation_z * 1e-6, 0.0};
+    line.coefficients_se = {1e-6, 1e-6, 1e-6, 1e-6};
+    line.reference = 20.0;
+    line.units = "V";
     line.coefficients_covariance.assign(16, 0.0);
     for (int i = 0; i < 4; ++i) line.coefficients_covariance[5 * i] = 1e-12;
     t[1].deterministic.model.components.push_back(line);

@@ -22,9 +22,9 @@ TEST(Compensate, SubtractsExactlyTheModelledEffects) {
   DeterministicModel m;
   m.bias_rad_s = 0.5;
   m.temperature_ref_degc = 20.0;
-  m.components.push_back({Term::kTemperature, 0.0, 0.0, {0.01}, {0.0}, 0.0, ""});
-  m.components.push_back({Term::kBiasStep, 1000.0, 0.0, {0.2}, {0.0}, 0.0, ""});
-  m.components.push_back({Term::kWarmup, 100.0, 0.0, {0.3}, {0.0}, 0.0, ""});
+  m.components.push_back({Term::kTemperature, 0.0, 0.0, {0.01}, {0.0}, 0.0, "", {}, {}});
+  m.components.push_back({Term::kBiasStep, 1000.0, 0.0, {0.2}, {0.0}, 0.0, "", {}, {}});
+  m.components.push_back({Term::kWarmup, 100.0, 0.0, {0.3}, {0.0}, 0.0, "", {}, {}});
   CompensateOptions o;
   o.subtract_bias = true;
   const Compensation c = Compensate(rate, fs, &temp, m, o);
@@ -38,7 +38,7 @@ TEST(Compensate, SubtractsExactlyTheModelledEffects) {
 
 TEST(Compensate, AThermalModelNeedsTheTemperature) {
   DeterministicModel m;
-  m.components.push_back({Term::kTemperatureRate, 0.0, 0.0, {1.0}, {0.0}, 0.0, ""});
+  m.components.push_back({Term::kTemperatureRate, 0.0, 0.0, {1.0}, {0.0}, 0.0, "", {}, {}});
   const Eigen::VectorXd rate = Eigen::VectorXd::Zero(100);
   EXPECT_EQ(Compensate(rate, 1.0, nullptr, m, {}).summary.termination,
             Termination::kInsufficientData);

@@ -126,3 +126,32 @@ TEST(ModelHistory, TheComparisonIsTheSameOnAnyNumberOfThreads) {
 
 }  // namespace
 }  // namespace fogpipe
+
+namespace fogpipe {
+namespace {
+
+// A bias_levels component goes to the model file with its step times and comes back with them
+// (schemas/model-file.md); its sizes are the coefficients, in the same order.
+TEST(ModelFile, KeepsTheStepTimesOfBiasLevels) {
+  model::Evaluation e;
+  e.terms = {model::Term::kWhite, model::Term::kBiasLevels};
+  model::DeterministicComponent levels;
+  levels.term = model::Term::kBiasLevels;
+  levels.step_times_s = {1200.5, 7300.25, 15000.0};
+  levels.coefficients = {1e-7, -2e-7, 3e-7};
+  levels.coefficients_se = {1e-8, 1e-8, 1e-8};
+  levels.step_times_se_s = {5.0, 6.0, 7.0};
+  e.deterministic.model.components.push_back(levels);
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("levels_model_" + std::to_string(getpid()) + ".json"))
+                               .string();
+  io::WriteModelFile(path, e);
+  const io::ModelFile m = io::ReadModelFile(path);
+  std::filesystem::remove(path);
+  ASSERT_EQ(m.deterministic.components.size(), 1u);
+  EXPECT_EQ(m.deterministic.components[0].step_times_s, levels.step_times_s);
+  EXPECT_EQ(m.deterministic.components[0].coefficients, levels.coefficients);
+}
+
+}  // namespace
+}  // namespace fogpipe
