@@ -4,9 +4,11 @@
 #include "pipeline/io/column_datasets.h"
 
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -84,6 +86,102 @@ TEST(ShuffleBytes, PutsByteBOfElementIAtBTimesElementsPlusI) {
   const unsigned char planes[] = {0, 10, 20, 0, 0, 1, 11, 21, 0, 0,
                                   2, 12, 22, 0, 0, 3, 13, 23, 0, 0};
   for (int i = 0; i < 20; ++i) EXPECT_EQ(padded[i], planes[i]) << i;
+}
+
+std::vector<unsigned char> UniformBytes(std::size_t count, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::vector<unsigned char> bytes(count);
+  for (auto& b : bytes) b = static_cast<unsigned char>(rng() >> 56);
+  return bytes;
+}
+
+TEST(IsRandomBytePlane, AcceptsIndependentUniformBytesAtEveryPlaneLength) {
+  // Storing such a plane costs nothing in size; the threshold (7.95 corrected bits) sits about
+  // 0.05 bits below where uniform bytes read, many times their spread (O(1 / count) bits).
+  int accepted = 0, trials = 0;
+  for (const std::size_t count : {std::size_t{4096}, std::size_t{65536}}) {
+    for (std::uint64_t seed = 1; seed <= 100; ++seed, ++trials) {
+      const auto bytes = UniformBytes(count, seed);
+      accepted += IsRandomBytePlane(bytes.data(), count);
+    }
+  }
+  EXPECT_EQ(accepted, trials);
+}
+
+TEST(IsRandomBytePlane, RejectsPlanesDeflateCanShrink) {
+  const std::size_t count = 65536;
+  // Seven bits of entropy: Huffman saves 1/8 of the plane.
+  auto seven_bits = UniformBytes(count, 7);
+  for (auto& b : seven_bits) b &= 0x7f;
+  EXPECT_FALSE(IsRandomBytePlane(seven_bits.data(), count));
+  // A flat histogram (8 bits) in runs of three: the run-length matches Z_RLE codes.
+  std::vector<unsigned char> runs(count);
+  for (std::size_t i = 0; i < count; ++i) runs[i] = static_cast<unsigned char>((i / 3) * 97);
+  EXPECT_FALSE(IsRandomBytePlane(runs.data(), count));
+  // The exponent byte of noise of one scale: a handful of values.
+  std::vector<unsigned char> exponent(count);
+  for (std::size_t i = 0; i < count; ++i) exponent[i] = 0x3e + (i % 7 == 0);
+  EXPECT_FALSE(IsRandomBytePlane(exponent.data(), count));
+  // Too short to judge: always compressed.
+  const auto short_plane = UniformBytes(4095, 1);
+  EXPECT_FALSE(IsRandomBytePlane(short_plane.data(), short_plane.size()));
+}
+
+TEST(EncodeChunk, IsAZlibStreamOfTheShuffledChunkNoLargerThanZlibOfTheWholeChunk) {
+  // The reference is zlib itself: one deflate of the whole shuffled chunk at the same level and
+  // strategy, and zlib's own uncompress() as the decoder.
+  const std::size_t rows = 65536;
+  for (const auto type : {hdf5::StorageType::kFloat64, hdf5::StorageType::kFloat32}) {
+    const std::size_t element = type == hdf5::StorageType::kFloat32 ? 4 : 8;
+    const auto columns = Columns(static_cast<int>(rows), 4);
+    for (const auto& column : columns) {
+      ColumnStorage storage;
+      storage.type = type;
+      const std::vector<unsigned char> encoded = EncodeChunk(column.data(), rows, storage);
+      std::vector<unsigned char> raw(rows * element);
+      if (type == hdf5::StorageType::kFloat32) {
+        std::vector<float> f(column.data(), column.data() + rows);
+        std::memcpy(raw.data(), f.data(), raw.size());
+      } else {
+        std::memcpy(raw.data(), column.data(), raw.size());
+      }
+      std::vector<unsigned char> shuffled(raw.size());
+      ShuffleBytes(raw.data(), rows, element, shuffled.data());
+
+      // The noise's low mantissa bytes are random planes: the stored blocks are exercised.
+      int random_planes = 0;
+      for (std::size_t b = 0; b < element; ++b) {
+        random_planes += IsRandomBytePlane(shuffled.data() + b * rows, rows);
+      }
+      EXPECT_GE(random_planes, 1) << element;
+      EXPECT_LT(random_planes, static_cast<int>(element)) << element;
+
+      std::vector<unsigned char> decoded(raw.size());
+      uLongf decoded_size = static_cast<uLongf>(decoded.size());
+      ASSERT_EQ(uncompress(decoded.data(), &decoded_size, encoded.data(),
+                           static_cast<uLong>(encoded.size())),
+                Z_OK);
+      ASSERT_EQ(decoded_size, decoded.size());
+      EXPECT_EQ(decoded, shuffled);
+
+      z_stream stream{};
+      ASSERT_EQ(deflateInit2(&stream, storage.deflate_level, Z_DEFLATED, 15, 8, Z_RLE), Z_OK);
+      std::vector<unsigned char> whole(deflateBound(&stream, static_cast<uLong>(raw.size())));
+      stream.next_in = shuffled.data();
+      stream.avail_in = static_cast<uInt>(shuffled.size());
+      stream.next_out = whole.data();
+      stream.avail_out = static_cast<uInt>(whole.size());
+      ASSERT_EQ(deflate(&stream, Z_FINISH), Z_STREAM_END);
+      const std::size_t whole_size = whole.size() - stream.avail_out;
+      deflateEnd(&stream);
+      // Each stored plane may be 0.6 % of itself larger than deflate's best (IsRandomBytePlane),
+      // plus 5 bytes per stored block of at most 64 KiB and a few bytes per switch of level.
+      const double bound = static_cast<double>(whole_size) +
+                           0.006 * static_cast<double>(rows) * static_cast<double>(element) +
+                           16.0 * static_cast<double>(element) + 5.0 * element * 2;
+      EXPECT_LE(static_cast<double>(encoded.size()), bound) << element << " " << whole_size;
+    }
+  }
 }
 
 TEST_F(ColumnDatasetsTest, Float64ColumnsReadBackBitIdenticalThroughHdf5sFilters) {
