@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include "algorithms/filters/search.h"
 
@@ -50,21 +51,48 @@ bool MovingAverageOptions::IsValid(std::string* error) const {
   return true;
 }
 
-MovingAverageGcv::MovingAverageGcv(const Eigen::VectorXd& x)
-    : x_(x), mean_(x.mean()) {
+MovingAverageGcv::MovingAverageGcv(const Eigen::VectorXd& x) : x_(x), mean_(x.mean()) {
   prefix_ = PrefixSums(x, mean_);
 }
 
 double MovingAverageGcv::Score(Eigen::Index half_width, double* trace) const {
+  const Eigen::Index n = x_.size(), h = half_width;
+  // Samples [interior_begin, interior_end) have the whole window of 2h + 1: there the residuals
+  // are summed in four interleaved partial sums (the additions of one running sum would wait on
+  // each other) and tr S gains (count) / (2h + 1) in one step. The truncated ends go one by one.
+  const Eigen::Index interior_begin = std::min(h, n);
+  const Eigen::Index interior_end = std::max(interior_begin, n - h);
   double rss = 0.0, tr = 0.0;
-  ForEachWindow(prefix_, half_width, [&](Eigen::Index i, double sum, double count) {
-    const double r = (x_[i] - mean_) - sum / count;
+  auto one = [&](Eigen::Index i) {
+    const Eigen::Index lo = std::max<Eigen::Index>(0, i - h);
+    const Eigen::Index hi = std::min<Eigen::Index>(n, i + h + 1);
+    const double count = static_cast<double>(hi - lo);
+    const double r = (x_[i] - mean_) - (prefix_[hi] - prefix_[lo]) / count;
     rss += r * r;
     tr += 1.0 / count;
-  });
+  };
+  for (Eigen::Index i = 0; i < interior_begin; ++i) one(i);
+  const double width = static_cast<double>(2 * h + 1);
+  const double* p = prefix_.data();
+  const double* x = x_.data();
+  double partial[4] = {0.0, 0.0, 0.0, 0.0};
+  Eigen::Index i = interior_begin;
+  for (; i + 4 <= interior_end; i += 4) {
+    for (int l = 0; l < 4; ++l) {
+      const double r = (x[i + l] - mean_) - (p[i + l + h + 1] - p[i + l - h]) / width;
+      partial[l] += r * r;
+    }
+  }
+  for (; i < interior_end; ++i) {
+    const double r = (x[i] - mean_) - (p[i + h + 1] - p[i - h]) / width;
+    partial[0] += r * r;
+  }
+  rss += (partial[0] + partial[1]) + (partial[2] + partial[3]);
+  tr += static_cast<double>(interior_end - interior_begin) / width;
+  for (Eigen::Index k = interior_end; k < n; ++k) one(k);
   if (trace) *trace = tr;
-  const double n = static_cast<double>(x_.size());
-  return n * rss / ((n - tr) * (n - tr));
+  const double nn = static_cast<double>(n);
+  return nn * rss / ((nn - tr) * (nn - tr));
 }
 
 MovingAverageResult MovingAverage(const Eigen::VectorXd& x, const MovingAverageOptions& options) {
@@ -81,7 +109,14 @@ MovingAverageResult MovingAverage(const Eigen::VectorXd& x, const MovingAverageO
   if (out.half_width == 0) {
     const MovingAverageGcv gcv(x);
     const double hi = std::max(2.0, options.max_fraction * static_cast<double>(n));
-    auto score = [&](double h) { return gcv.Score(std::llround(h)); };
+    // The search asks for the same integer half-width many times where h is small.
+    std::map<long long, double> scores;
+    auto score = [&](double h) {
+      const long long w = std::llround(h);
+      const auto known = scores.find(w);
+      if (known != scores.end()) return known->second;
+      return scores[w] = gcv.Score(w);
+    };
     const LogSearchResult best = MinimizeOnLogScale(score, 1.0, hi, options.grid_points, 1e-3);
     out.half_width = std::llround(best.argument);
     out.gcv = gcv.Score(out.half_width, &out.trace);

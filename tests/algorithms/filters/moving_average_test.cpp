@@ -47,7 +47,8 @@ TEST(MovingAverage, EqualsTheNaiveWindowSumsIncludingTruncatedEnds) {
 TEST(MovingAverage, GcvScoreAndTraceEqualTheDirectFormula) {
   const Eigen::VectorXd x = Noise(700, 2);
   const MovingAverageGcv gcv(x);
-  for (Eigen::Index h : {1, 5, 33, 200}) {
+  // Down to no full window at all (2h + 1 > N from h = 350 on).
+  for (Eigen::Index h : {1, 2, 3, 5, 33, 200, 348, 349, 350, 400, 699, 800}) {
     Eigen::VectorXd counts;
     const Eigen::VectorXd y = NaiveAverage(x, h, &counts);
     const double trace = counts.cwiseInverse().sum();
