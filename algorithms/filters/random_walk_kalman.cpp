@@ -1,5 +1,6 @@
 #include "algorithms/filters/random_walk_kalman.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -68,6 +69,73 @@ double RunFilter(const Eigen::VectorXd& y, double ratio, double* sum_log_f,
   return sum_e2 + sum_e2_tail * inv_f;
 }
 
+/// RunFilter's return value and *sum_log_f (no outputs) for `lanes` (<= kLanes) ratios in one
+/// walk: each lane does exactly RunFilter's operations in RunFilter's order.
+constexpr int kLanes = 4;
+void RunFilterLanes(const Eigen::VectorXd& y, const double* ratio, int lanes, double* s,
+                    double* sum_log_f) {
+  const Eigen::Index n = y.size();
+  double x[kLanes], p[kLanes], sum_e2[kLanes], product[kLanes], f_tail[kLanes], gain_tail[kLanes],
+      sum_e2_tail[kLanes];
+  long long exponent[kLanes];
+  Eigen::Index tail_start[kLanes];
+  bool steady[kLanes];
+  for (int l = 0; l < lanes; ++l) {
+    x[l] = y[0];
+    p[l] = 1.0;
+    sum_e2[l] = 0.0;
+    product[l] = 1.0;
+    exponent[l] = 0;
+    steady[l] = false;
+    tail_start[l] = n;
+    f_tail[l] = gain_tail[l] = sum_e2_tail[l] = 0.0;
+  }
+  for (Eigen::Index k = 1; k < n; ++k) {
+    const double yk = y[k];
+    for (int l = 0; l < lanes; ++l) {
+      if (steady[l]) {
+        const double e = yk - x[l];
+        sum_e2_tail[l] += e * e;
+        x[l] += gain_tail[l] * e;
+        continue;
+      }
+      const double pp = p[l] + ratio[l];
+      const double f = pp + 1.0;
+      const double gain_k = pp / f;
+      const double e = yk - x[l];
+      sum_e2[l] += e * e / f;
+      x[l] += gain_k * e;
+      product[l] *= f;
+      if ((k & 63) == 0) {
+        int e2 = 0;
+        product[l] = std::frexp(product[l], &e2);
+        exponent[l] += e2;
+      }
+      steady[l] = std::abs(gain_k - p[l]) <= 1e-15 * gain_k;
+      p[l] = gain_k;
+      if (steady[l]) {
+        tail_start[l] = k + 1;
+        f_tail[l] = p[l] + ratio[l] + 1.0;
+        gain_tail[l] = (p[l] + ratio[l]) / f_tail[l];
+      }
+    }
+  }
+  for (int l = 0; l < lanes; ++l) {
+    // A lane that never settled ends as RunFilter's does: the constant gain from p, no tail.
+    const double f = steady[l] ? f_tail[l] : p[l] + ratio[l] + 1.0;
+    sum_log_f[l] = std::log(product[l]) + exponent[l] * std::log(2.0) +
+                   static_cast<double>(n - tail_start[l]) * std::log(f);
+    s[l] = sum_e2[l] + sum_e2_tail[l] * (1.0 / f);
+  }
+}
+
+double ProfileLikelihood(Eigen::Index n, double s, double sum_log_f, double* r_hat) {
+  const double m = static_cast<double>(n - 1);
+  const double r = s / m;
+  if (r_hat) *r_hat = r;
+  return -0.5 * m * std::log(r) - 0.5 * sum_log_f;
+}
+
 }  // namespace
 
 bool RandomWalkKalmanOptions::IsValid(std::string* error) const {
@@ -87,10 +155,19 @@ bool RandomWalkKalmanOptions::IsValid(std::string* error) const {
 double RandomWalkProfileLikelihood(const Eigen::VectorXd& x, double ratio, double* r_hat) {
   double sum_log_f = 0.0;
   const double s = RunFilter(x, ratio, &sum_log_f, nullptr, nullptr, nullptr);
-  const double m = static_cast<double>(x.size() - 1);
-  const double r = s / m;
-  if (r_hat) *r_hat = r;
-  return -0.5 * m * std::log(r) - 0.5 * sum_log_f;
+  return ProfileLikelihood(x.size(), s, sum_log_f, r_hat);
+}
+
+void RandomWalkProfileLikelihoods(const Eigen::VectorXd& x, const double* ratios, int count,
+                                  double* values) {
+  for (int start = 0; start < count; start += kLanes) {
+    const int lanes = std::min(kLanes, count - start);
+    double s[kLanes], sum_log_f[kLanes];
+    RunFilterLanes(x, ratios + start, lanes, s, sum_log_f);
+    for (int l = 0; l < lanes; ++l) {
+      values[start + l] = ProfileLikelihood(x.size(), s[l], sum_log_f[l], nullptr);
+    }
+  }
 }
 
 void RandomWalkFilterSmoother(const Eigen::VectorXd& x, double q, double r,
@@ -130,7 +207,11 @@ RandomWalkKalmanResult RandomWalkKalman(const Eigen::VectorXd& x,
     const double lo = options.min_ratio_times_n2 / (nn * nn);
     const LogSearchResult best =
         MinimizeOnLogScale([&](double ratio) { return -RandomWalkProfileLikelihood(x, ratio); }, lo,
-                           options.max_ratio, options.grid_points, options.relative_tolerance);
+                           options.max_ratio, options.grid_points, options.relative_tolerance,
+                           [&](const double* ratios, int count, double* values) {
+                             RandomWalkProfileLikelihoods(x, ratios, count, values);
+                             for (int i = 0; i < count; ++i) values[i] = -values[i];
+                           });
     out.log_likelihood = RandomWalkProfileLikelihood(x, best.argument, &out.r);
     out.q = best.argument * out.r;
     out.at_lower_bound = best.at_lower_bound;

@@ -40,10 +40,10 @@ struct RandomWalkKalmanOptions {
 };
 
 struct RandomWalkKalmanResult {
-  Eigen::VectorXd filtered;  ///< causal filter estimate x_{k|k}, units of x
-  Eigen::VectorXd smoothed;  ///< RTS estimate x_{k|N}, units of x
-  double q = 0.0;            ///< (units of x)^2 per sample
-  double r = 0.0;            ///< (units of x)^2
+  Eigen::VectorXd filtered;     ///< causal filter estimate x_{k|k}, units of x
+  Eigen::VectorXd smoothed;     ///< RTS estimate x_{k|N}, units of x
+  double q = 0.0;               ///< (units of x)^2 per sample
+  double r = 0.0;               ///< (units of x)^2
   double log_likelihood = 0.0;  ///< profile log-likelihood at q / R (constant dropped)
   bool at_lower_bound = false;  ///< ML chose the smallest ratio of its grid (near-constant rate)
   Termination termination = Termination::kInvalidOptions;
@@ -53,6 +53,12 @@ struct RandomWalkKalmanResult {
 /// The profile log-likelihood l(lambda) of the header (constant dropped) and, optionally, the
 /// R that maximises it at that lambda. x needs >= 2 samples.
 double RandomWalkProfileLikelihood(const Eigen::VectorXd& x, double ratio, double* r_hat = nullptr);
+
+/// RandomWalkProfileLikelihood at `count` ratios, values[i] for ratios[i], bit for bit: the
+/// recursions of up to four ratios walk the data together (each waits on its own division, so
+/// four of them overlap where one would stall).
+void RandomWalkProfileLikelihoods(const Eigen::VectorXd& x, const double* ratios, int count,
+                                  double* values);
 
 /// Filter and smoother for given q, R (> 0).
 void RandomWalkFilterSmoother(const Eigen::VectorXd& x, double q, double r,

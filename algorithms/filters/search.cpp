@@ -7,19 +7,30 @@
 namespace fogpipe::filters {
 
 LogSearchResult MinimizeOnLogScale(const std::function<double(double)>& f, double lo, double hi,
-                                   int grid_points, double relative_tolerance) {
+                                   int grid_points, double relative_tolerance,
+                                   const GridCriterion& grid_criterion) {
   LogSearchResult out;
+  auto finite = [](double v) {
+    return std::isfinite(v) ? v : std::numeric_limits<double>::infinity();
+  };
   auto eval = [&](double log_arg) {
     ++out.evaluations;
-    const double v = f(std::exp(log_arg));
-    return std::isfinite(v) ? v : std::numeric_limits<double>::infinity();
+    return finite(f(std::exp(log_arg)));
   };
   const double a = std::log(lo), b = std::log(hi);
   std::vector<double> grid(grid_points), values(grid_points);
+  for (int i = 0; i < grid_points; ++i) grid[i] = a + (b - a) * i / (grid_points - 1);
+  if (grid_criterion) {
+    std::vector<double> arguments(grid_points);
+    for (int i = 0; i < grid_points; ++i) arguments[i] = std::exp(grid[i]);
+    grid_criterion(arguments.data(), grid_points, values.data());
+    for (double& v : values) v = finite(v);
+    out.evaluations += grid_points;
+  } else {
+    for (int i = 0; i < grid_points; ++i) values[i] = eval(grid[i]);
+  }
   int best = 0;
-  for (int i = 0; i < grid_points; ++i) {
-    grid[i] = a + (b - a) * i / (grid_points - 1);
-    values[i] = eval(grid[i]);
+  for (int i = 1; i < grid_points; ++i) {
     if (values[i] < values[best]) best = i;
   }
   out.at_lower_bound = best == 0;
