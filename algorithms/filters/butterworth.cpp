@@ -209,25 +209,44 @@ ButterworthGcv::ButterworthGcv(const Eigen::VectorXd& x, double sample_rate_hz, 
   length_ = static_cast<double>(l);
   const Eigen::Index m = samples_;
   const long half = l / 2;
-  // Memory: the extension and its FFT (with its plan) live only until power_ is filled, so the
-  // object keeps three arrays of M doubles (tan2_, power_, tail_power_).
+  // The DFT of the antisymmetric extension e (period L, e_0 = e_{M-1} = 0, e_{L-j} = -e_j) is
+  // Y_k = -2i S_k with the sine transform S_k = sum_{j=1}^{M-2} d_j sin(pi j k / n), n = L / 2,
+  // d the record less the line through its end samples. S comes from one real FFT of length n
+  // (Numerical Recipes 12.3, sinft): y_j = sin(pi j / n) (d_j + d_{n-j}) + (d_j - d_{n-j}) / 2,
+  // then S_{2k} = -Im Y'_k, S_1 = Re Y'_0 / 2, S_{2k+1} = S_{2k-1} + Re Y'_k (Y' = FFT(y), e^-i).
+  // The extension itself is never built: about 3.5 M doubles in flight instead of 7 M.
   {
-    // The line through the end samples removed, then the antisymmetric extension.
-    std::vector<double> e(l);
+    const long n = half;
     const double x0 = x[0], slope = (x[m - 1] - x[0]) / static_cast<double>(m - 1);
-    for (Eigen::Index i = 0; i < m; ++i) e[i] = x[i] - x0 - slope * static_cast<double>(i);
-    for (Eigen::Index i = 1; i < m - 1; ++i) e[l - i] = -e[i];
-    e[m - 1] = 0.0;
+    auto d = [&](long j) {
+      return j <= 0 || j >= n ? 0.0 : x[j] - x0 - slope * static_cast<double>(j);
+    };
+    std::vector<double> y(n);
+    y[0] = 0.0;
+    for (long j = 1; j < n; ++j) {
+      const double a = d(j), b = d(n - j);
+      y[j] =
+          std::sin(kPi * static_cast<double>(j) / static_cast<double>(n)) * (a + b) + 0.5 * (a - b);
+    }
     std::vector<std::complex<double>> spectrum;
     {
       Eigen::FFT<double> fft;
       fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
-      fft.fwd(spectrum, e);
+      fft.fwd(spectrum, y);
     }
-    e = std::vector<double>();
-    power_.resize(half + 1);
+    y = std::vector<double>();
+    // S_k into power_ (S_n = 0: sin(pi j) = 0), then |Y_k|^2 = 4 S_k^2 in place.
+    std::vector<double>& sine = power_;
+    sine.assign(half + 1, 0.0);
+    const long bins = static_cast<long>(spectrum.size());  // n / 2 + 1
+    for (long k = 0; k < bins && 2 * k < n; ++k) sine[2 * k] = -spectrum[k].imag();
+    if (n > 1) sine[1] = 0.5 * spectrum[0].real();
+    for (long k = 1; k < bins && 2 * k + 1 < n; ++k) {
+      sine[2 * k + 1] = sine[2 * k - 1] + spectrum[k].real();
+    }
+    spectrum = std::vector<std::complex<double>>();
     for (long k = 0; k <= half; ++k)
-      power_[k] = Weight(k, half) * std::norm(spectrum[k]) / (2.0 * length_);
+      power_[k] = Weight(k, half) * 4.0 * sine[k] * sine[k] / (2.0 * length_);
   }
   tan2_.resize(half + 1);
   for (long k = 0; k <= half; ++k) {

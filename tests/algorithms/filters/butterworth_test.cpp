@@ -119,7 +119,8 @@ TEST(Butterworth, SpectralResidualEqualsTheFilteredResidual) {
   std::mt19937_64 rng(11);
   std::normal_distribution<double> g;
   const double fs = 10.0;
-  for (Eigen::Index n : {3000, 4001}) {
+  // 730 samples: an FFT of odd length (L = 1458, the sine transform's n = 729); the others even.
+  for (Eigen::Index n : {730, 3000, 4001}) {
     Eigen::VectorXd x(n);
     for (Eigen::Index i = 0; i < n; ++i) {
       x[i] = 3.0 * (i > n / 3) + 0.001 * i + std::sin(2.0 * kPi * 0.02 * i / fs) + 0.5 * g(rng);
