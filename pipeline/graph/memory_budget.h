@@ -30,7 +30,7 @@ std::uint64_t AutoMemoryBudgetBytes();
 /// extension, and two IMFs with one more array each for their AR fits (about 11 N doubles; the
 /// axis as read is released once preprocessed); during the filters the signal, the residue,
 /// method 1 and two components with their filters; then method 2 beside the reference filters
-/// (the Butterworth's GCV spectrum, about 7 N doubles while its FFT runs, is the largest part);
+/// (the Butterworth's GCV spectrum, about 3.5 N doubles while its FFT runs, is the largest part);
 /// then the Allan tables of the seven outputs. Measured peak RSS minus FixedBytes(2), `run` with
 /// 2 threads and default options at 8.64e6 samples (24 h at 100 Hz; docs/performance.md): 9.8 to
 /// 12.9 doubles per sample over runs, depending on which reference filters overlap the GCV's
