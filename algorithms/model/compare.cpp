@@ -611,18 +611,23 @@ Evaluation EvaluateModel(const CompareInput& input, const std::vector<ModelTerm>
     double sigma =
         HasResult(raw.termination) ? raw.stochastic.model.n_rad_sqrt_s / std::sqrt(fs) : 0.0;
     // Stochastic EM (Celeux & Diebolt 1985): draw with sigma, refit N on the draw, until N moves
-    // by less than the tolerance (angle_quantizer.h).
+    // by less than the tolerance; the moves after the first are extrapolated (angle_quantizer.h).
+    double previous_sigma = 0, previous_refitted = 0;
     for (int round = 0; round < options.angle_quantizer.max_rounds; ++round) {
       imputed = ImputeAngleOnLattice(*input.rate_rad_s, fs, lattice, sigma, options.angle_quantizer,
                                      &evaluation.angle_quantizer);
+      evaluation.angle_quantizer.rounds = round + 1;
       if (!evaluation.angle_quantizer.ok || round + 1 == options.angle_quantizer.max_rounds) break;
       CompareInput drawn = input;
       drawn.rate_rad_s = &imputed;
       const Evaluation refit = EvaluateModel(drawn, without, raw_options, prepared);
       if (!HasResult(refit.termination)) break;
-      const double next = refit.stochastic.model.n_rad_sqrt_s / std::sqrt(fs);
-      const bool settled =
-          std::abs(next - sigma) <= options.angle_quantizer.relative_tolerance * sigma;
+      const double refitted = refit.stochastic.model.n_rad_sqrt_s / std::sqrt(fs);
+      bool settled = false;
+      const double next = NextEmNoise(sigma, refitted, previous_sigma, previous_refitted,
+                                      options.angle_quantizer, &settled);
+      previous_sigma = sigma;
+      previous_refitted = refitted;
       sigma = next;
       if (settled) break;
     }
