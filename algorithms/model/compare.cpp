@@ -1209,8 +1209,13 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
   result.summary.termination = result.base.termination;
   result.summary.message = result.base.message;
   if (!HasResult(result.base.termination)) return result;
-  result.angle_lattice =
-      DetectAngleLattice(*input.rate_rad_s, input.sample_rate_hz, options.angle_lattice);
+  // With angle_quantizer in the model EvaluateModel has tested this rate with these options
+  // already, and its fit holds the lattice.
+  const bool has_quantizer =
+      std::find(terms.begin(), terms.end(), ModelTerm(Term::kAngleQuantizer)) != terms.end();
+  result.angle_lattice = has_quantizer ? result.base.angle_quantizer.lattice
+                                       : DetectAngleLattice(*input.rate_rad_s, input.sample_rate_hz,
+                                                            options.angle_lattice);
   // Tasks: the trials, those with a nonlinear search (the longest) first so that a parallel
   // ForEach finishes together, then the base model's IMF view (one EMD per compare). Each task
   // writes only its own slot.
@@ -1273,8 +1278,7 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
     result.suggestions = RankSuggestions(result.base, trial_terms, result.trials, options);
     result.verdict = MakeVerdict(result.base, trial_terms, result.trials, result.suggestions);
     // With angle_quantizer in the model the counter is accounted for; what fails is not it.
-    if (std::find(terms.begin(), terms.end(), ModelTerm(Term::kAngleQuantizer)) == terms.end())
-      NameCoarseQuantization(result.angle_lattice, &result.verdict);
+    if (!has_quantizer) NameCoarseQuantization(result.angle_lattice, &result.verdict);
   }
   // Whatever the views say: a consistent model whose K absorbs a step is the case this warns of.
   if (flagged) {

@@ -175,6 +175,42 @@ TEST(NextEmNoise, TheExtrapolationIsBoundedAndFallsBackToThePlainStep) {
   EXPECT_NE(error.find("max_acceleration"), std::string::npos);
 }
 
+// With angle_quantizer in the model, Compare's lattice (the verdict's and the report's) is the one
+// the term drew on; without it, the angle_quantizer trial draws on Compare's. Non-default lattice
+// options (11 lags) tell a lattice tested with other options apart.
+TEST(AngleQuantizer, CompareReportsTheLatticeTheTermDrewOn) {
+  const Counter c = MakeCounter(4, 0.15);
+  CompareInput input;
+  input.rate_rad_s = &c.rate;
+  input.sample_rate_hz = c.fs;
+  CompareOptions options;
+  options.angle_lattice.whiteness_lags = 12;
+  const AngleLattice expected = DetectAngleLattice(c.rate, c.fs, options.angle_lattice);
+  ASSERT_TRUE(expected.coarse) << expected.message;
+  ASSERT_EQ(expected.whiteness_dof, 11);
+  const auto expect_same = [](const AngleLattice& a, const AngleLattice& b) {
+    EXPECT_EQ(a.on_lattice, b.on_lattice);
+    EXPECT_EQ(a.coarse, b.coarse);
+    EXPECT_EQ(a.step_rad, b.step_rad);
+    EXPECT_EQ(a.offset_rad, b.offset_rad);
+    EXPECT_EQ(a.whiteness_statistic, b.whiteness_statistic);
+    EXPECT_EQ(a.whiteness_dof, b.whiteness_dof);
+    EXPECT_EQ(a.message, b.message);
+  };
+  std::vector<ModelTerm> terms = DefaultTerms();
+  terms.push_back(Term::kAngleQuantizer);
+  const CompareResult with = Compare(input, terms, options);
+  ASSERT_TRUE(HasResult(with.summary.termination)) << with.summary.message;
+  ASSERT_TRUE(with.base.angle_quantizer.ok);
+  expect_same(with.angle_lattice, with.base.angle_quantizer.lattice);
+  expect_same(with.angle_lattice, expected);
+  const CompareResult without = Compare(input, DefaultTerms(), options);
+  ASSERT_TRUE(HasResult(without.summary.termination));
+  expect_same(without.angle_lattice, expected);
+  for (const Evaluation& trial : without.trials)
+    if (trial.angle_quantizer.ok) expect_same(trial.angle_quantizer.lattice, expected);
+}
+
 // ---- The term's proof in compare (slow) ----
 
 enum class Source { kUndithered, kDithered, kSimulated, kSimulatedQ2 };
