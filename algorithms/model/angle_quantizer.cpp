@@ -19,6 +19,7 @@ bool AngleQuantizerOptions::IsValid(std::string* error) const {
   if (max_cells < min_cells) return fail("angle_quantizer.max_cells must be >= min_cells");
   if (max_rounds < 1) return fail("angle_quantizer.max_rounds must be >= 1");
   if (!(relative_tolerance > 0)) return fail("angle_quantizer.relative_tolerance must be > 0");
+  if (!(max_acceleration >= 1)) return fail("angle_quantizer.max_acceleration must be >= 1");
   return true;
 }
 
@@ -177,6 +178,23 @@ Eigen::VectorXd ImputeAngleOnLattice(const Eigen::VectorXd& rate_rad_s, double s
   fit->ok = true;
   fit->message = "";
   return corrected;
+}
+
+double NextEmNoise(double sigma, double refitted, double previous_sigma, double previous_refitted,
+                   const AngleQuantizerOptions& options, bool* settled) {
+  *settled = std::abs(refitted - sigma) <= options.relative_tolerance * sigma;
+  // A failed refit: the plain step, which the next draw refuses (no white noise to draw with).
+  if (*settled || !(sigma > 0) || !(refitted > 0) || !std::isfinite(refitted)) return refitted;
+  const double l = std::log(sigma), g = std::log(refitted) - l;
+  double slope = -1.0;  // the plain EM step
+  if (previous_sigma > 0 && previous_refitted > 0 && previous_sigma != sigma) {
+    const double l0 = std::log(previous_sigma), g0 = std::log(previous_refitted) - l0;
+    const double secant = (g - g0) / (l - l0);
+    if (std::isfinite(secant) && secant < 0)
+      slope = std::clamp(secant, -1.0, -1.0 / options.max_acceleration);
+  }
+  if (slope == -1.0) return refitted;
+  return std::exp(l - g / slope);
 }
 
 }  // namespace fogpipe::model

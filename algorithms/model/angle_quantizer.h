@@ -21,6 +21,21 @@
 // raw counter, refits N on the draw and draws again until N settles (a stochastic EM, Celeux &
 // Diebolt 1985; compare.cpp, AngleQuantizerOptions). Each draw is seeded by the record's length,
 // so a compare is reproducible.
+//
+// Why the EM is accelerated. The EM map F (sigma of a draw -> sigma refitted on it) contracts at
+// the rate of the missing information (Dempster, Laird & Rubin 1977): on a counter whose step is
+// 50-70 times sigma the counts hardly tell sigma within a step, F moves it by a few percent per
+// draw at a rate near 0.8, and plain iteration spends all its draws on the way down
+// (docs/compare.md). NextEmNoise takes Aitken's extrapolation of the sequence (Louis 1982) in its
+// one-dimensional form, a secant on g(l) = log F(e^l) - l through the last two draws
+// (Steffensen's method): the step -g / slope, the remaining distance to the fixed point if F is
+// locally linear. Safeguards: the slope is held in [-1, -1 / max_acceleration] (the step goes
+// the EM's way, at least the EM's step and at most max_acceleration of them; a positive or
+// undefined slope, which a contraction cannot have, gives the EM's step). The EM still settles
+// on its own move (F(sigma) within relative_tolerance of sigma), not on the extrapolated
+// distance: where F's rate nears 1 its fixed point is ill-determined (a small bias of F moves it
+// far), and the extrapolation would run every draw into it. The first round is the plain EM
+// step, so a record on which the EM settled after one refit is unchanged.
 
 // The chain is filtered on a grid of `cells` over the box (at least `min_cells`, and fine enough
 // for sigma to span `cells_per_sigma` of them, at most `max_cells`); the transition is a Gaussian
@@ -43,6 +58,7 @@ struct AngleQuantizerOptions {
   int max_cells = 256;               ///< grid cells, at most
   int max_rounds = 8;                ///< draws at most (compare: the stochastic EM's rounds)
   double relative_tolerance = 0.02;  ///< ... until the refitted N moves by less than this
+  double max_acceleration = 10.0;    ///< an EM step is extrapolated at most this far (1: plain EM)
   bool IsValid(std::string* error) const;
 };
 
@@ -52,6 +68,7 @@ struct AngleQuantizerFit {
   double noise_per_sample_rad = 0;  ///< sigma = N sqrt(dt) the draw used
   double rate_step_rad_s = 0;       ///< q / dt, the step as a rate
   int cells = 0;                    ///< the grid's cells over one step
+  int rounds = 0;                   ///< draws the stochastic EM made (compare)
   bool ok = false;
   std::string message;
 };
@@ -62,5 +79,12 @@ struct AngleQuantizerFit {
 Eigen::VectorXd ImputeAngleOnLattice(const Eigen::VectorXd& rate_rad_s, double sample_rate_hz,
                                      const AngleLattice& lattice, double noise_per_sample_rad,
                                      const AngleQuantizerOptions& options, AngleQuantizerFit* fit);
+
+/// One round of compare's stochastic EM on sigma (header comment): a draw used `sigma` and N
+/// refitted on it gave `refitted` (per-sample sigma both). Returns the sigma of the next draw;
+/// *settled when `refitted` is within relative_tolerance of `sigma`. `previous_sigma`
+/// and `previous_refitted` are the round before's (0 on the first round: the plain EM step).
+double NextEmNoise(double sigma, double refitted, double previous_sigma, double previous_refitted,
+                   const AngleQuantizerOptions& options, bool* settled);
 
 }  // namespace fogpipe::model

@@ -611,18 +611,23 @@ Evaluation EvaluateModel(const CompareInput& input, const std::vector<ModelTerm>
     double sigma =
         HasResult(raw.termination) ? raw.stochastic.model.n_rad_sqrt_s / std::sqrt(fs) : 0.0;
     // Stochastic EM (Celeux & Diebolt 1985): draw with sigma, refit N on the draw, until N moves
-    // by less than the tolerance (angle_quantizer.h).
+    // by less than the tolerance; the moves after the first are extrapolated (angle_quantizer.h).
+    double previous_sigma = 0, previous_refitted = 0;
     for (int round = 0; round < options.angle_quantizer.max_rounds; ++round) {
       imputed = ImputeAngleOnLattice(*input.rate_rad_s, fs, lattice, sigma, options.angle_quantizer,
                                      &evaluation.angle_quantizer);
+      evaluation.angle_quantizer.rounds = round + 1;
       if (!evaluation.angle_quantizer.ok || round + 1 == options.angle_quantizer.max_rounds) break;
       CompareInput drawn = input;
       drawn.rate_rad_s = &imputed;
       const Evaluation refit = EvaluateModel(drawn, without, raw_options, prepared);
       if (!HasResult(refit.termination)) break;
-      const double next = refit.stochastic.model.n_rad_sqrt_s / std::sqrt(fs);
-      const bool settled =
-          std::abs(next - sigma) <= options.angle_quantizer.relative_tolerance * sigma;
+      const double refitted = refit.stochastic.model.n_rad_sqrt_s / std::sqrt(fs);
+      bool settled = false;
+      const double next = NextEmNoise(sigma, refitted, previous_sigma, previous_refitted,
+                                      options.angle_quantizer, &settled);
+      previous_sigma = sigma;
+      previous_refitted = refitted;
       sigma = next;
       if (settled) break;
     }
@@ -1204,8 +1209,13 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
   result.summary.termination = result.base.termination;
   result.summary.message = result.base.message;
   if (!HasResult(result.base.termination)) return result;
-  result.angle_lattice =
-      DetectAngleLattice(*input.rate_rad_s, input.sample_rate_hz, options.angle_lattice);
+  // With angle_quantizer in the model EvaluateModel has tested this rate with these options
+  // already, and its fit holds the lattice.
+  const bool has_quantizer =
+      std::find(terms.begin(), terms.end(), ModelTerm(Term::kAngleQuantizer)) != terms.end();
+  result.angle_lattice = has_quantizer ? result.base.angle_quantizer.lattice
+                                       : DetectAngleLattice(*input.rate_rad_s, input.sample_rate_hz,
+                                                            options.angle_lattice);
   // Tasks: the trials, those with a nonlinear search (the longest) first so that a parallel
   // ForEach finishes together, then the base model's IMF view (one EMD per compare). Each task
   // writes only its own slot.
@@ -1268,8 +1278,7 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
     result.suggestions = RankSuggestions(result.base, trial_terms, result.trials, options);
     result.verdict = MakeVerdict(result.base, trial_terms, result.trials, result.suggestions);
     // With angle_quantizer in the model the counter is accounted for; what fails is not it.
-    if (std::find(terms.begin(), terms.end(), ModelTerm(Term::kAngleQuantizer)) == terms.end())
-      NameCoarseQuantization(result.angle_lattice, &result.verdict);
+    if (!has_quantizer) NameCoarseQuantization(result.angle_lattice, &result.verdict);
   }
   // Whatever the views say: a consistent model whose K absorbs a step is the case this warns of.
   if (flagged) {
