@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <numeric>
 
 #include "algorithms/common/units.h"
 
@@ -45,6 +46,7 @@ bool LevelsOptions::IsValid(std::string* error) const {
   if (!(penalty_per_step > 0)) return fail("penalty_per_step must be > 0");
   if (!(walk_penalty_per_step >= 0)) return fail("walk_penalty_per_step must be >= 0");
   if (!(min_segment_s >= block_s)) return fail("min_segment_s must be >= block_s");
+  if (!(max_design_bytes >= 0)) return fail("max_design_bytes must be >= 0");
   return true;
 }
 
@@ -162,8 +164,16 @@ LevelsSegmentation SegmentLevels(const Eigen::VectorXd& x, double fs,
   std::vector<double> squares(m - 1);
   for (long b = 1; b < m; ++b)
     squares[b - 1] = (means[b] - means[b - 1]) * (means[b] - means[b - 1]);
+  const double mean_square =
+      std::accumulate(squares.begin(), squares.end(), 0.0) / static_cast<double>(squares.size());
   std::nth_element(squares.begin(), squares.begin() + squares.size() / 2, squares.end());
-  const double sigma2 = std::max(squares[squares.size() / 2] / (2 * 0.4549), 1e-300);
+  double sigma2 = squares[squares.size() / 2] / (2 * 0.4549);
+  // Block means on a lattice (the rate of a coarse angle counter: a block's mean is its angle
+  // count over the block, and most neighbours share it) have a median difference of zero or of
+  // rounding, however much they vary: then the mean square, which the few jumps inflate (a
+  // conservative variance), stands in for the median's.
+  if (!(sigma2 > 1e-6 * 0.5 * mean_square)) sigma2 = 0.5 * mean_square;
+  sigma2 = std::max(sigma2, 1e-300);
   result.short_run_variance = sigma2;
   // The levels are searched with the block means' variance sigma2 lambda, lambda the variance
   // ratio of batch means of lambda_batch_s of the residual left by the levels found so far
@@ -205,6 +215,15 @@ LevelsSegmentation SegmentLevels(const Eigen::VectorXd& x, double fs,
     start = stop;
   }
   result.gain = (rss0 - rss) / (sigma2 * lambda);
+  // More steps than a dense fit of this record can hold (options.max_design_bytes): none kept,
+  // and the segmentation says so.
+  if (options.max_design_bytes > 0 &&
+      static_cast<double>(changes.size()) * 8.0 * static_cast<double>(n) >
+          options.max_design_bytes) {
+    result.too_many_steps = static_cast<int>(changes.size());
+    changes.clear();
+    result.gain = 0;
+  }
   // Levels beside a random walk (header comment): the steps stand only if they still gain their
   // penalty once a random walk, its variance fitted, is allowed in both models.
   if (!changes.empty()) {

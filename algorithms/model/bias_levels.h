@@ -66,6 +66,11 @@ struct LevelsOptions {
   double variance_ratio = 0.0;
   /// Shortest segment, s.
   double min_segment_s = 20.0;
+  /// Most bytes a dense design of the steps may take (8 N per step; 0: no limit). The term's fit
+  /// holds one column of N doubles per step, so a segmentation into more steps than this allows
+  /// keeps none and reports their number (LevelsSegmentation::too_many_steps). 512 MiB: 310
+  /// steps on 6 h at 10 Hz, 7 on 24 h at 100 Hz.
+  double max_design_bytes = 512.0 * 1024 * 1024;
   bool IsValid(std::string* error) const;
 };
 
@@ -80,6 +85,8 @@ struct LevelsSegmentation {
   /// without them (header comment); 0 when PELT chose no step.
   double gain_beside_walk = 0;
   int num_blocks = 0;
+  /// Steps found beyond LevelsOptions::max_design_bytes (then step_index is empty), else 0.
+  int too_many_steps = 0;
 };
 
 /// The optimal segmentation of x (any mean) into levels, k chosen by the modified BIC and kept

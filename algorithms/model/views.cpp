@@ -318,6 +318,7 @@ void TimeStatistics(const Eigen::VectorXd& residual, double fs, const Decimated&
     correlated.k_rad_s_sqrt_s = 0;
     correlated.r_rad_s2 = 0;
     LevelsOptions levels_options;
+    levels_options.max_design_bytes = 0;  // a test: no design is built here
     levels_options.variance_ratio =
         LevelsVarianceRatio([&](double tau) { return ModelAllanVariance(correlated, tau); },
                             levels_options.block_s, options.levels_batch_s);

@@ -223,6 +223,27 @@ TEST(SegmentLevels, DoesNotCutARandomWalkIntoLevels) {
   EXPECT_LE(cut_checked, 1);
 }
 
+// A bias with more steps than the dense fit may hold keeps none and says how many it found: 40
+// steps of 5 sd every 480 s on 6 h at 10 Hz, a design limit of 20 columns.
+TEST(SegmentLevels, KeepsNoStepsBeyondTheDesignLimitAndCountsThem) {
+  const double fs = 10.0;
+  std::mt19937_64 g(3);
+  std::normal_distribution<double> e(0.0, 1.0);
+  Eigen::VectorXd x(216000);
+  for (long i = 0; i < x.size(); ++i) x[i] = e(g) + 5.0 * ((i / 4800) % 2);
+  LevelsOptions unlimited;
+  unlimited.max_design_bytes = 0;
+  const LevelsSegmentation all = SegmentLevels(x, fs, unlimited);
+  EXPECT_EQ(all.step_index.size(), 44u);
+  EXPECT_EQ(all.too_many_steps, 0);
+  LevelsOptions limited;
+  limited.max_design_bytes = 20.0 * 8.0 * static_cast<double>(x.size());
+  const LevelsSegmentation capped = SegmentLevels(x, fs, limited);
+  EXPECT_TRUE(capped.step_index.empty());
+  EXPECT_EQ(capped.too_many_steps, static_cast<int>(all.step_index.size()));
+  EXPECT_EQ(capped.gain, 0.0);
+}
+
 TEST(DescribeLevels, ReadsTwoAlternatingLevelsAsTelegraphSwitching) {
   const double record_s = 3600;
   const std::vector<double> se(6, 0.01);
@@ -271,6 +292,31 @@ LevelsCounts CountLevels(const std::string& kind, int seed0, int seed1, double d
         kind + " seed " + std::to_string(seed) + ": " + Row(p) + " | " + p.verdict + "\n";
   }
   return counts;
+}
+
+// The rate of a coarse angle counter (fogpipe's quantizer at Q 2 arcsec: a step of 6.9 arcsec, 50
+// times the angle noise per sample; 6 h at 10 Hz, no level change): a block's mean is its count
+// over the block, most neighbouring blocks share it, and the median block-mean difference is
+// zero or rounding. Taken as the noise variance, that median had the trial cut the record into
+// 256-1080 steps (a dense design of up to 1.9 GB, 74 s of compare) and the time view's levels
+// test read an error of 1e286. Seeds 3100-3102, the coarse counters of angle_quantizer_test.
+TEST(CompareBiasLevels, TheRateOfACoarseAngleCounterIsNotCutIntoLevels) {
+  for (int seed = 3100; seed <= 3102; ++seed) {
+    simulation::GyroSimulatorOptions options = testing::HiddenEffectOptions(seed, {});
+    options.errors.quantization_model = simulation::QuantizationModel::kAngleQuantizer;
+    options.errors.q_rad = units::ArcsecToQuantization(2.0);
+    const testing::HiddenCase c = testing::MakeHiddenCase(options);
+    const CompareResult r = Compare(c.input, DefaultTerms(), {});
+    ASSERT_TRUE(HasResult(r.summary.termination)) << r.summary.message;
+    std::size_t steps = 0;
+    if (const Evaluation* trial = TrialOf(r, Term::kBiasLevels)) {
+      for (const DeterministicComponent& component : trial->deterministic.model.components)
+        if (component.term == Term::kBiasLevels) steps = component.step_times_s.size();
+    }
+    EXPECT_LE(steps, 2u) << seed;
+    EXPECT_LE(r.base.views.time.levels_step_s.size(), 2u) << seed;
+    EXPECT_LT(r.base.views.error, 1e4) << seed;
+  }
 }
 
 // 3-5 bias steps, CI seeds 161-180. Design rates (seeds 1-40) and floors: flagged 37 -> 15
