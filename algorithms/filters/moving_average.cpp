@@ -17,13 +17,19 @@ std::vector<double> PrefixSums(const Eigen::VectorXd& x, double mean) {
   return prefix;
 }
 
+/// The window of sample i, [*lo, *hi): 2h + 1 samples centred on i, truncated at the ends.
+void Window(Eigen::Index i, Eigen::Index h, Eigen::Index n, Eigen::Index* lo, Eigen::Index* hi) {
+  *lo = std::max<Eigen::Index>(0, i - h);
+  *hi = std::min<Eigen::Index>(n, i + h + 1);
+}
+
 /// Calls out(i, window sum of x - mean, count) for every i.
 template <typename Out>
 void ForEachWindow(const std::vector<double>& prefix, Eigen::Index h, Out out) {
   const auto n = static_cast<Eigen::Index>(prefix.size()) - 1;
   for (Eigen::Index i = 0; i < n; ++i) {
-    const Eigen::Index lo = std::max<Eigen::Index>(0, i - h);
-    const Eigen::Index hi = std::min<Eigen::Index>(n, i + h + 1);
+    Eigen::Index lo = 0, hi = 0;
+    Window(i, h, n, &lo, &hi);
     out(i, prefix[hi] - prefix[lo], static_cast<double>(hi - lo));
   }
 }
@@ -64,8 +70,8 @@ double MovingAverageGcv::Score(Eigen::Index half_width, double* trace) const {
   const Eigen::Index interior_end = std::max(interior_begin, n - h);
   double rss = 0.0, tr = 0.0;
   auto one = [&](Eigen::Index i) {
-    const Eigen::Index lo = std::max<Eigen::Index>(0, i - h);
-    const Eigen::Index hi = std::min<Eigen::Index>(n, i + h + 1);
+    Eigen::Index lo = 0, hi = 0;
+    Window(i, h, n, &lo, &hi);
     const double count = static_cast<double>(hi - lo);
     const double r = (x_[i] - mean_) - (prefix_[hi] - prefix_[lo]) / count;
     rss += r * r;
