@@ -1279,6 +1279,20 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
     result.verdict = MakeVerdict(result.base, trial_terms, result.trials, result.suggestions);
     // With angle_quantizer in the model the counter is accounted for; what fails is not it.
     if (!has_quantizer) NameCoarseQuantization(result.angle_lattice, &result.verdict);
+    // A bias_levels trial that fitted nothing because its segmentation outgrew the dense fit
+    // (bias_levels.h, max_design_bytes) is said, not passed over.
+    for (size_t t = 0; t < trial_terms.size(); ++t) {
+      const DeterministicComponent* levels = LastComponent(result.trials[t], Term::kBiasLevels);
+      if (trial_terms[t] != Term::kBiasLevels || levels == nullptr ||
+          levels->levels_too_many_steps == 0)
+        continue;
+      const double per_step_bytes = 8.0 * static_cast<double>(input.rate_rad_s->size());
+      result.verdict.text += Format(
+          "; bias_levels not fitted: its segmentation finds %.0f steps, more than the %.0f a dense "
+          "fit of this record holds",
+          static_cast<double>(levels->levels_too_many_steps),
+          std::floor(LevelsOptions().max_design_bytes / per_step_bytes));
+    }
   }
   // Whatever the views say: a consistent model whose K absorbs a step is the case this warns of.
   if (flagged) {

@@ -698,6 +698,7 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
         components[i].levels_delta_bic =
             segmentation.penalty * static_cast<double>(segmentation.step_index.size()) -
             segmentation.gain;
+        components[i].levels_too_many_steps = segmentation.too_many_steps;
         continue;
       }
       components[i].nonlinear =

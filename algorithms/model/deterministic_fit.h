@@ -116,6 +116,9 @@ struct DeterministicComponent {
   /// bias_levels: the segmentation's modified-BIC change of its steps, their penalty minus their
   /// -2 ln L drop (bias_levels.h; negative when it chose steps, 0 without).
   double levels_delta_bic = 0.0;
+  /// bias_levels: the steps the segmentation found beyond what a dense fit of the record holds
+  /// (LevelsSegmentation::too_many_steps; then no step is fitted), else 0.
+  int levels_too_many_steps = 0;
 };
 
 /// An aux channel as the deterministic fit reads it (non-owning; values of the rate's length).

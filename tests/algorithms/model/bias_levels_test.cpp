@@ -319,6 +319,33 @@ TEST(CompareBiasLevels, TheRateOfACoarseAngleCounterIsNotCutIntoLevels) {
   }
 }
 
+// A bias switching every 50 s for 6 h at 10 Hz (431 steps, 20 times the white noise of a 10 s
+// block mean) is more than a 512 MiB dense fit of 216 000 samples holds (310 steps): the
+// verdict says that bias_levels was not fitted and why, instead of passing over it.
+TEST(CompareBiasLevels, ASegmentationBeyondTheDenseFitIsNamedInTheVerdict) {
+  const double fs = 10.0;
+  std::mt19937_64 g(17);
+  std::normal_distribution<double> e(0.0, 1e-5);
+  Eigen::VectorXd rate(216000);
+  for (long i = 0; i < rate.size(); ++i) rate[i] = e(g) + ((i / 500) % 2 ? 6e-6 : -6e-6);
+  CompareInput input;
+  input.rate_rad_s = &rate;
+  input.sample_rate_hz = fs;
+  const CompareResult r = Compare(input, DefaultTerms(), {});
+  ASSERT_TRUE(HasResult(r.summary.termination)) << r.summary.message;
+  const Evaluation* trial = TrialOf(r, Term::kBiasLevels);
+  ASSERT_NE(trial, nullptr);
+  int too_many = 0;
+  for (const DeterministicComponent& component : trial->deterministic.model.components)
+    if (component.term == Term::kBiasLevels) too_many = component.levels_too_many_steps;
+  EXPECT_GT(too_many, 310);
+  EXPECT_NE(r.verdict.text.find("bias_levels not fitted: its segmentation finds"),
+            std::string::npos)
+      << r.verdict.text;
+  EXPECT_NE(r.verdict.text.find("more than the 310 a dense fit"), std::string::npos) << too_many
+      << r.verdict.text;
+}
+
 // 3-5 bias steps, CI seeds 161-180. Design rates (seeds 1-40) and floors: flagged 37 -> 15
 // (P(X <= 14) = 0.3 % for Binomial(20, 0.925)); bias_levels first 36 -> 14 (P(X <= 13) = 0.2 %,
 // 0.9); k right 24 -> 7 (P(X <= 6) = 0.7 %, 0.6); times and sizes right 20 -> 5 (P(X <= 4) =
