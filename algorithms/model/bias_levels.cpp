@@ -36,6 +36,12 @@ long RefineStep(const Eigen::VectorXd& x, long begin, long end, long lo, long hi
 
 }  // namespace
 
+long MaxDesignSteps(long num_samples, const LevelsOptions& options) {
+  if (!(options.max_design_bytes > 0)) return std::numeric_limits<long>::max();
+  return static_cast<long>(
+      std::floor(options.max_design_bytes / (8.0 * static_cast<double>(num_samples))));
+}
+
 bool LevelsOptions::IsValid(std::string* error) const {
   auto fail = [&](const char* message) {
     if (error) *error = message;
@@ -217,9 +223,7 @@ LevelsSegmentation SegmentLevels(const Eigen::VectorXd& x, double fs,
   result.gain = (rss0 - rss) / (sigma2 * lambda);
   // More steps than a dense fit of this record can hold (options.max_design_bytes): none kept,
   // and the segmentation says so.
-  if (options.max_design_bytes > 0 &&
-      static_cast<double>(changes.size()) * 8.0 * static_cast<double>(n) >
-          options.max_design_bytes) {
+  if (static_cast<long>(changes.size()) > MaxDesignSteps(n, options)) {
     result.too_many_steps = static_cast<int>(changes.size());
     changes.clear();
     result.gain = 0;

@@ -74,6 +74,10 @@ struct LevelsOptions {
   bool IsValid(std::string* error) const;
 };
 
+/// The most steps a dense design of `num_samples` samples may hold under
+/// options.max_design_bytes (8 bytes per sample and step; no limit when it is 0).
+long MaxDesignSteps(long num_samples, const LevelsOptions& options);
+
 /// The steps of a piecewise-constant fit: sample indices where the new level starts, ascending.
 struct LevelsSegmentation {
   std::vector<long> step_index;

@@ -55,12 +55,25 @@ double RecordSecondsOf(const Evaluation& evaluation) {
   return time.center_s.empty() ? 0.0 : time.center_s.back() + 0.5 * time.window_s;
 }
 
+const DeterministicComponent* LastComponent(const Evaluation& evaluation, const ModelTerm& term) {
+  const DeterministicComponent* found = nullptr;
+  for (const auto& component : evaluation.deterministic.model.components)
+    if (component.term == term) found = &component;
+  return found;
+}
+
+// The trial of `term` (trials[i] is that of trial_terms[i]), nullptr where it was not trialled.
+const Evaluation* TrialOf(const std::vector<ModelTerm>& trial_terms,
+                          const std::vector<Evaluation>& trials, const ModelTerm& term) {
+  const auto at = std::find(trial_terms.begin(), trial_terms.end(), term);
+  const auto index = static_cast<size_t>(at - trial_terms.begin());
+  return index < trials.size() ? &trials[index] : nullptr;
+}
+
 // How the levels of an evaluation's bias_levels component read (bias_levels.h); num_levels 0
 // without the component.
 LevelsReading LevelsReadingOf(const Evaluation& evaluation) {
-  const DeterministicComponent* component = nullptr;
-  for (const auto& candidate : evaluation.deterministic.model.components)
-    if (candidate.term == Term::kBiasLevels) component = &candidate;
+  const DeterministicComponent* component = LastComponent(evaluation, Term::kBiasLevels);
   if (component == nullptr) return {};
   std::vector<double> levels, levels_se;
   SegmentLevelsOf(evaluation.deterministic.model.bias_rad_s, *component, &levels, &levels_se);
@@ -72,13 +85,6 @@ std::string Format(const char* fmt, double a, double b = 0, double c = 0, double
   char buf[512];
   std::snprintf(buf, sizeof(buf), fmt, a, b, c, d, e);
   return buf;
-}
-
-const DeterministicComponent* LastComponent(const Evaluation& evaluation, const ModelTerm& term) {
-  const DeterministicComponent* found = nullptr;
-  for (const auto& component : evaluation.deterministic.model.components)
-    if (component.term == term) found = &component;
-  return found;
 }
 
 // An aux channel's unit ("1" without one), parenthesised where it is compound ("(m/s^2)").
@@ -796,11 +802,9 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
   // is 1, aux:temperature otherwise.
   const ModelTerm thermal_polynomial = ModelTerm::Aux(AuxForm::kValue, "temperature");
   const auto polynomial_order = [&]() -> size_t {
-    const size_t index =
-        static_cast<size_t>(std::find(trial_terms.begin(), trial_terms.end(), thermal_polynomial) -
-                            trial_terms.begin());
-    if (index >= trials.size() || !HasResult(trials[index].termination)) return 0;
-    const auto* component = LastComponent(trials[index], thermal_polynomial);
+    const Evaluation* trial = TrialOf(trial_terms, trials, thermal_polynomial);
+    if (trial == nullptr || !HasResult(trial->termination)) return 0;
+    const auto* component = LastComponent(*trial, thermal_polynomial);
     return component ? component->coefficients.size() : 0;
   }();
   const bool temperature_trialled = std::find(trial_terms.begin(), trial_terms.end(),
@@ -939,9 +943,8 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
   // alternating levels: random telegraph switching has the Gauss-Markov spectrum (bias_levels.h),
   // and the levels are what tells it.
   const LevelsReading levels_reading = [&]() {
-    const auto at = std::find(trial_terms.begin(), trial_terms.end(), ModelTerm(Term::kBiasLevels));
-    const size_t index = static_cast<size_t>(at - trial_terms.begin());
-    return index < trials.size() ? LevelsReadingOf(trials[index]) : LevelsReading{};
+    const Evaluation* trial = TrialOf(trial_terms, trials, Term::kBiasLevels);
+    return trial != nullptr ? LevelsReadingOf(*trial) : LevelsReading{};
   }();
   const bool two_levels = levels_reading.num_levels == 2;
   if (!suggestions.empty() && suggestions.front().term == Term::kBiasLevels) {
@@ -995,10 +998,7 @@ std::vector<Suggestion> RankSuggestions(const Evaluation& base,
   // failure away, the channel was innocent.
   if (!suggestions.empty()) {
     const std::string leader_channel = AuxChannelOf(suggestions.front().term);
-    const size_t lead = static_cast<size_t>(
-        std::find(trial_terms.begin(), trial_terms.end(), suggestions.front().term) -
-        trial_terms.begin());
-    const Evaluation* leader = lead < trials.size() ? &trials[lead] : nullptr;
+    const Evaluation* leader = TrialOf(trial_terms, trials, suggestions.front().term);
     suggestions.erase(
         std::remove_if(suggestions.begin() + 1, suggestions.end(),
                        [&](const Suggestion& suggestion) {
@@ -1093,14 +1093,12 @@ Verdict MakeVerdict(const Evaluation& base, const std::vector<ModelTerm>& trial_
   if (!suggestions.empty() && !suggestions.front().bic_rejects &&
       !suggestions.front().fixes.empty()) {
     const Suggestion& suggestion = suggestions.front();
-    const size_t index = static_cast<size_t>(
-        std::find(trial_terms.begin(), trial_terms.end(), suggestion.term) - trial_terms.begin());
     verdict.status = "inconsistent";
     verdict.suggestion = suggestion.term;
     verdict.fixes = suggestion.fixes;
-    if (index < trials.size()) {
-      verdict.consistent_with_suggestion = trials[index].views.consistent;
-      verdict.still_failing = trials[index].views.failures;
+    if (const Evaluation* trial = TrialOf(trial_terms, trials, suggestion.term)) {
+      verdict.consistent_with_suggestion = trial->views.consistent;
+      verdict.still_failing = trial->views.failures;
     }
     verdict.text = "inconsistent: suggestion " + SuggestionLabel(suggestion);
     if (verdict.consistent_with_suggestion)
@@ -1281,17 +1279,16 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
     if (!has_quantizer) NameCoarseQuantization(result.angle_lattice, &result.verdict);
     // A bias_levels trial that fitted nothing because its segmentation outgrew the dense fit
     // (bias_levels.h, max_design_bytes) is said, not passed over.
-    for (size_t t = 0; t < trial_terms.size(); ++t) {
-      const DeterministicComponent* levels = LastComponent(result.trials[t], Term::kBiasLevels);
-      if (trial_terms[t] != Term::kBiasLevels || levels == nullptr ||
-          levels->levels_too_many_steps == 0)
-        continue;
-      const double per_step_bytes = 8.0 * static_cast<double>(input.rate_rad_s->size());
+    const Evaluation* levels_trial = TrialOf(trial_terms, result.trials, Term::kBiasLevels);
+    const DeterministicComponent* levels =
+        levels_trial != nullptr ? LastComponent(*levels_trial, Term::kBiasLevels) : nullptr;
+    if (levels != nullptr && levels->levels_too_many_steps > 0) {
       result.verdict.text += Format(
           "; bias_levels not fitted: its segmentation finds %.0f steps, more than the %.0f a dense "
           "fit of this record holds",
           static_cast<double>(levels->levels_too_many_steps),
-          std::floor(LevelsOptions().max_design_bytes / per_step_bytes));
+          static_cast<double>(
+              MaxDesignSteps(static_cast<long>(input.rate_rad_s->size()), LevelsOptions())));
     }
   }
   // Whatever the views say: a consistent model whose K absorbs a step is the case this warns of.
