@@ -47,7 +47,8 @@ constexpr long long kChunk = 4096;
 // One level of a chunk in one pass: w[0, len) holds the level's series (the first `skip` values
 // already counted in the previous chunk, w[skip - 1] their last), adds the new values and lag-1
 // pairs to s, and writes the next level's series, next[t] = w[t + 1] - w[t], t < len - 1.
-void AddLevel(const double* w, long long len, long long skip, Lag1Sums* s, double* next) {
+FOGPIPE_LANE_KERNEL void AddLevel(const double* w, long long len, long long skip, Lag1Sums* s,
+                                  double* next) {
   if (len <= skip) return;
   if (s->count == 0) s->first = w[skip];
   // Pairs (t - 1, t) whose second element is new.
@@ -177,8 +178,9 @@ void AddModifiedWindows(const double* x, long long m, long long j, long long win
 // values transposed into the four windows' vectors; a factor whose windows end takes its last
 // window from AddModifiedWindows and its element then follows the first factor's streams,
 // discarded.
-void AddModifiedWindowsSideBySide(const double* x, const long long* m, int count, long long n_phase,
-                                  ModifiedWindows* out) {
+FOGPIPE_LANE_KERNEL void AddModifiedWindowsSideBySide(const double* x, const long long* m,
+                                                      int count, long long n_phase,
+                                                      ModifiedWindows* out) {
   Lanes4 s0{}, s1{}, s2{}, sum{};
   const double* stream[3][4];
   long long windows[4];

@@ -55,8 +55,9 @@ double FitPercent(double error_energy, double centered_energy) {
 // algorithms/kernels/kernels.h), so every e_t has the same bits whatever its position in a
 // vector.
 template <int P>
-void ResidualBlock(const double* x, const double* phi_in, int p_runtime, double mean,
-                   Eigen::Index t0, Eigen::Index len, double* out) {
+FOGPIPE_LANE_KERNEL void ResidualBlock(const double* x, const double* phi_in, int p_runtime,
+                                       double mean, Eigen::Index t0, Eigen::Index len,
+                                       double* out) {
   const int p = P > 0 ? P : p_runtime;
   fixed_order::Buffer<P> phi_buffer(p);
   double* phi = phi_buffer.get();
@@ -125,8 +126,8 @@ using Lanes = kernels::Lanes4;
 // unless |x_t - mean| < 2^53 x 2.2e-308. From then on it is exactly 0. A lane's value does not
 // depend on the lane it runs in or on the other lanes (tested).
 template <int P>
-void FreeRunErrorEnergies(const SimulationFitJob* jobs, int count, int p_runtime, Eigen::Index n,
-                          double* energies) {
+FOGPIPE_LANE_KERNEL void FreeRunErrorEnergies(const SimulationFitJob* jobs, int count,
+                                              int p_runtime, Eigen::Index n, double* energies) {
   const int p = P > 0 ? P : p_runtime;
   const double* x[kLanes];
   fixed_order::Buffer<P, Lanes> phi_buffer(p), h_buffer(p);

@@ -6,6 +6,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <new>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -14,19 +16,29 @@ namespace fogpipe::fixed_order {
 
 constexpr int kMaxFixedOrder = 8;
 
-/// p values of type T (doubles, or a SIMD vector type): a plain array for P > 0, a std::vector for
-/// the runtime order P == 0.
+/// p values of type T (doubles, or a SIMD vector type), value-initialised for P == 0: a plain
+/// array for P > 0, a heap block for the runtime order P == 0.
 template <int P, typename T = double>
 struct Buffer {
   explicit Buffer(int) {}
   T* get() { return data; }
   T data[P];
 };
+// The heap block is aligned to kAlignment whatever alignof(T) says: a vector type's alignment
+// differs between the baseline and the AVX2 clones of FOGPIPE_LANE_KERNEL (kernels/lanes.h).
 template <typename T>
 struct Buffer<0, T> {
-  explicit Buffer(int p) : data(static_cast<std::size_t>(p)) {}
-  T* get() { return data.data(); }
-  std::vector<T> data;
+  static constexpr std::size_t kAlignment = 64;
+  explicit Buffer(int p) : storage(static_cast<std::size_t>(p) * sizeof(T) + kAlignment) {
+    const auto address = reinterpret_cast<std::uintptr_t>(storage.data());
+    data = reinterpret_cast<T*>((address + kAlignment - 1) / kAlignment * kAlignment);
+    for (int i = 0; i < p; ++i) new (data + i) T();
+  }
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+  T* get() { return data; }
+  std::vector<unsigned char> storage;
+  T* data = nullptr;
 };
 
 /// Calls f(std::integral_constant<int, P>) with P = p for 1 <= p <= kMaxFixedOrder, else P = 0.

@@ -62,8 +62,8 @@ using Lanes = kernels::Lanes4;
 // instead of four extracted scalars (measured: half of the loop at low orders). A group with fewer
 // than four real lanes adds them one by one. Each sum element still gets the same one addition.
 template <int P, int G, bool kInterleaved>
-void AddLanes(const double* z, long long n, const double* phi, int p_runtime,
-              const SteadyStateLane* lanes, int active) {
+FOGPIPE_LANE_KERNEL void AddLanes(const double* z, long long n, const double* phi, int p_runtime,
+                                  const SteadyStateLane* lanes, int active) {
   const int p = P > 0 ? P : p_runtime;
   Lanes s[G][kMaxLaneOrder], beta[G][kMaxLaneOrder], phi_v[kMaxLaneOrder];
   Lanes g0[G] = {}, mean[G] = {}, square_sum[G] = {};

@@ -24,6 +24,26 @@ namespace fogpipe::kernels {
 
 typedef double Lanes4 __attribute__((vector_size(4 * sizeof(double))));
 
+// FOGPIPE_LANE_KERNEL, before a function whose loop runs on Lanes4: in the portable build on
+// x86-64 with glibc the function is compiled twice, for the x86-64 baseline and for AVX2, and the
+// loader picks the AVX2 one on CPUs that have it (GCC/Clang target_clones, an ifunc resolved
+// once). Why: without AVX a Lanes4 is two SSE registers, and GCC passes its shuffles, element
+// inserts and spills through the stack, where each reload waits on a failed store forwarding (the
+// modified Allan windows ran 4 times slower than with AVX2, docs/performance.md). The same bits
+// either way: "avx2" does not enable FMA and the build never contracts (-ffp-contract=off), so
+// each element-wise operation rounds as in the baseline; the preprocessor still sees the
+// baseline, so Eigen keeps its SSE2 code and the order of its reductions.
+// Two rules for such a function: every function it passes Lanes4 values to is inline (the AVX2
+// clone passes them in one register, the baseline in memory), and Lanes4 values it reads from
+// memory that it did not allocate on its own stack are 32-byte aligned (the baseline aligns the
+// type to 16 bytes only, and std::allocator follows the baseline; fixed_order::Buffer aligns).
+#if defined(__x86_64__) && defined(__GLIBC__) && !defined(__AVX2__) && \
+    (defined(__GNUC__) || defined(__clang__))
+#define FOGPIPE_LANE_KERNEL __attribute__((target_clones("avx2", "default")))
+#else
+#define FOGPIPE_LANE_KERNEL
+#endif
+
 // __builtin_shufflevector: Clang, GCC from 12.
 #if defined(__has_builtin)
 #if __has_builtin(__builtin_shufflevector)

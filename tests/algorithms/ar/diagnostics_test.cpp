@@ -75,7 +75,9 @@ TEST(Diagnostics, FitPercentsAloneEqualTheFullDiagnosticsToTheLastBit) {
     const Eigen::VectorXd& x = series[s];
     for (const ArModel& m : {Model({1.2, -0.5}, x.mean()), Model({0.3}), Model({1.5})})
       models.push_back(m), series_of.push_back(s);
-    for (int p = 1; p <= 12; ++p) {
+    // Orders beyond the compiled ones (fixed_order::kMaxWideFixedOrder) take the runtime-order
+    // lanes, whose state is on the heap.
+    for (int p = 1; p <= 16; ++p) {
       Eigen::VectorXd phi = Eigen::VectorXd::Zero(p);
       phi(0) = 1.2 - 0.1 * s;
       if (p > 1) phi(1) = -0.5;
