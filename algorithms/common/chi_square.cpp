@@ -1,6 +1,9 @@
 #include "algorithms/common/chi_square.h"
 
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 
 namespace fogpipe::stats {
@@ -103,8 +106,44 @@ double ChiSquareCdf(double x, double dof) { return RegularizedGammaP(0.5 * dof, 
 
 double ChiSquareSurvival(double x, double dof) { return RegularizedGammaQ(0.5 * dof, 0.5 * x); }
 
+namespace {
+
+double ComputeChiSquareQuantile(double p, double dof);
+
+// The quantiles asked for repeat: the same confidence levels at the same equivalent degrees of
+// freedom (an Allan table's taus have the same edf in every signal of one record with the same
+// noise types, and a sweep scores 110 such signals). A small per-thread table keyed by the exact
+// bits of (p, dof) returns a value computed before; the function is pure, so the numbers do not
+// depend on hits, threads or order.
+struct QuantileMemo {
+  static constexpr std::size_t kSize = 512;
+  struct Entry {
+    double p = 0.0, dof = -1.0, value = 0.0;
+  };
+  Entry entries[kSize];
+  static std::size_t Slot(double p, double dof) {
+    std::uint64_t a, b;
+    std::memcpy(&a, &p, sizeof(a));
+    std::memcpy(&b, &dof, sizeof(b));
+    const std::uint64_t h = (a ^ (b * 0x9E3779B97F4A7C15ull)) * 0xBF58476D1CE4E5B9ull;
+    return static_cast<std::size_t>(h >> 55) % kSize;
+  }
+};
+
+}  // namespace
+
 double ChiSquareQuantile(double p, double dof) {
   if (!(p > 0.0 && p < 1.0) || !(dof > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  thread_local QuantileMemo memo;
+  QuantileMemo::Entry& entry = memo.entries[QuantileMemo::Slot(p, dof)];
+  if (entry.p == p && entry.dof == dof) return entry.value;
+  entry = {p, dof, ComputeChiSquareQuantile(p, dof)};
+  return entry.value;
+}
+
+namespace {
+
+double ComputeChiSquareQuantile(double p, double dof) {
   // Wilson & Hilferty (1931) start: chi2 ~ dof (1 - 2/(9 dof) + z sqrt(2/(9 dof)))^3, z from an
   // approximate normal quantile (Abramowitz & Stegun 26.2.23, |error| < 4.5e-4); Newton refines.
   const double pp = p < 0.5 ? p : 1.0 - p;
@@ -140,5 +179,7 @@ double ChiSquareQuantile(double p, double dof) {
   }
   return x;
 }
+
+}  // namespace
 
 }  // namespace fogpipe::stats

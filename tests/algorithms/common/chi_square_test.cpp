@@ -11,6 +11,8 @@
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 namespace fogpipe::stats {
@@ -149,6 +151,25 @@ TEST(ChiSquareQuantile, AgreesWithBoostMathOverTheChiSquareRange) {
   }
   std::printf("quantile against Boost.Math: max relative error %.3g, max error / bound %.3g\n",
               max_error, max_ratio);
+}
+
+// Quantiles are remembered per thread (chi_square.cpp): asked again, in another order, after more
+// pairs than the table holds, or on a thread that has asked nothing before, the same bits.
+TEST(ChiSquareQuantile, AskedAgainGivesTheSameBitsOnAnyThread) {
+  std::vector<std::pair<double, double>> pairs;
+  for (double dof : DegreesOfFreedom())
+    for (double p : Probabilities()) pairs.emplace_back(p, dof);
+  ASSERT_GT(pairs.size(), 1024u);
+  std::vector<double> first;
+  for (const auto& [p, dof] : pairs) first.push_back(ChiSquareQuantile(p, dof));
+  for (std::size_t k = pairs.size(); k-- > 0;)
+    EXPECT_EQ(ChiSquareQuantile(pairs[k].first, pairs[k].second), first[k]) << k;
+  std::vector<double> fresh(pairs.size());
+  std::thread([&] {
+    for (std::size_t k = 0; k < pairs.size(); k += 7)
+      fresh[k] = ChiSquareQuantile(pairs[k].first, pairs[k].second);
+  }).join();
+  for (std::size_t k = 0; k < pairs.size(); k += 7) EXPECT_EQ(fresh[k], first[k]) << k;
 }
 
 }  // namespace
