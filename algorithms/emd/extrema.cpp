@@ -4,6 +4,8 @@
 
 #if defined(__AVX2__) || defined(__AVX512F__)
 #include <immintrin.h>
+#elif defined(__SSE2__)
+#include <emmintrin.h>
 #endif
 
 namespace fogpipe::emd {
@@ -84,6 +86,17 @@ inline void CompareBlock(const double* x, uint64_t* up, uint64_t* down, uint64_t
     d |= static_cast<uint64_t>(_mm256_movemask_pd(_mm256_cmp_pd(cur, prev, _CMP_LT_OQ))) << k;
     p |= static_cast<uint64_t>(_mm256_movemask_pd(_mm256_cmp_pd(cur, zero, _CMP_GT_OQ))) << k;
     m |= static_cast<uint64_t>(_mm256_movemask_pd(_mm256_cmp_pd(cur, zero, _CMP_LT_OQ))) << k;
+  }
+#elif defined(__SSE2__)
+  // The x86-64 baseline: two samples per compare (cmpgt/cmplt are ordered, false with a NaN, as
+  // the scalar comparisons are).
+  const __m128d zero = _mm_setzero_pd();
+  for (int k = 0; k < 64; k += 2) {
+    const __m128d cur = _mm_loadu_pd(x + k), prev = _mm_loadu_pd(x + k - 1);
+    u |= static_cast<uint64_t>(_mm_movemask_pd(_mm_cmpgt_pd(cur, prev))) << k;
+    d |= static_cast<uint64_t>(_mm_movemask_pd(_mm_cmplt_pd(cur, prev))) << k;
+    p |= static_cast<uint64_t>(_mm_movemask_pd(_mm_cmpgt_pd(cur, zero))) << k;
+    m |= static_cast<uint64_t>(_mm_movemask_pd(_mm_cmplt_pd(cur, zero))) << k;
   }
 #else
   for (int k = 0; k < 64; ++k) {
