@@ -108,8 +108,6 @@ double ChiSquareSurvival(double x, double dof) { return RegularizedGammaQ(0.5 * 
 
 namespace {
 
-double ComputeChiSquareQuantile(double p, double dof);
-
 // The quantiles asked for repeat: the same confidence levels at the same equivalent degrees of
 // freedom (an Allan table's taus have the same edf in every signal of one record with the same
 // noise types, and a sweep scores 110 such signals). A small per-thread table keyed by the exact
@@ -129,19 +127,6 @@ struct QuantileMemo {
     return static_cast<std::size_t>(h >> 55) % kSize;
   }
 };
-
-}  // namespace
-
-double ChiSquareQuantile(double p, double dof) {
-  if (!(p > 0.0 && p < 1.0) || !(dof > 0.0)) return std::numeric_limits<double>::quiet_NaN();
-  thread_local QuantileMemo memo;
-  QuantileMemo::Entry& entry = memo.entries[QuantileMemo::Slot(p, dof)];
-  if (entry.p == p && entry.dof == dof) return entry.value;
-  entry = {p, dof, ComputeChiSquareQuantile(p, dof)};
-  return entry.value;
-}
-
-namespace {
 
 double ComputeChiSquareQuantile(double p, double dof) {
   // Wilson & Hilferty (1931) start: chi2 ~ dof (1 - 2/(9 dof) + z sqrt(2/(9 dof)))^3, z from an
@@ -181,5 +166,14 @@ double ComputeChiSquareQuantile(double p, double dof) {
 }
 
 }  // namespace
+
+double ChiSquareQuantile(double p, double dof) {
+  if (!(p > 0.0 && p < 1.0) || !(dof > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  thread_local QuantileMemo memo;
+  QuantileMemo::Entry& entry = memo.entries[QuantileMemo::Slot(p, dof)];
+  if (entry.p == p && entry.dof == dof) return entry.value;
+  entry = {p, dof, ComputeChiSquareQuantile(p, dof)};
+  return entry.value;
+}
 
 }  // namespace fogpipe::stats
