@@ -129,12 +129,36 @@ void RunFilterLanes(const Eigen::VectorXd& y, const double* ratio, int lanes, do
   }
 }
 
+/// RunFilterLanes over `count` ratios, kLanes at a time: s[i] and sum_log_f[i] for ratios[i].
+void RunFilterBatch(const Eigen::VectorXd& y, const double* ratios, int count, double* s,
+                    double* sum_log_f) {
+  for (int start = 0; start < count; start += kLanes) {
+    RunFilterLanes(y, ratios + start, std::min(kLanes, count - start), s + start,
+                   sum_log_f + start);
+  }
+}
+
 double ProfileLikelihood(Eigen::Index n, double s, double sum_log_f, double* r_hat) {
   const double m = static_cast<double>(n - 1);
   const double r = s / m;
   if (r_hat) *r_hat = r;
   return -0.5 * m * std::log(r) - 0.5 * sum_log_f;
 }
+
+/// -2 ln L of the known-r model from the R = 1 recursion at lambda = q / r: the innovations are
+/// the same and F_k = r f_k, so sum (log F_k + e_k^2 / F_k) = (N - 1) log r + sum log f_k + s / r.
+double MinusTwoLogLikelihood(Eigen::Index n, double s, double sum_log_f, double r) {
+  return static_cast<double>(n - 1) * std::log(r) + sum_log_f + s / r;
+}
+
+double MinusTwoLogLikelihoodAtRatio(const Eigen::VectorXd& y, double ratio, double r) {
+  double sum_log_f = 0.0;
+  const double s = RunFilter(y, ratio, &sum_log_f, nullptr, nullptr, nullptr);
+  return MinusTwoLogLikelihood(y.size(), s, sum_log_f, r);
+}
+
+/// MinimizeRandomWalkMinusTwoLogLikelihood's golden-section stop (header).
+constexpr double kWalkVarianceRelativeTolerance = 1e-3;
 
 }  // namespace
 
@@ -160,14 +184,37 @@ double RandomWalkProfileLikelihood(const Eigen::VectorXd& x, double ratio, doubl
 
 void RandomWalkProfileLikelihoods(const Eigen::VectorXd& x, const double* ratios, int count,
                                   double* values) {
-  for (int start = 0; start < count; start += kLanes) {
-    const int lanes = std::min(kLanes, count - start);
-    double s[kLanes], sum_log_f[kLanes];
-    RunFilterLanes(x, ratios + start, lanes, s, sum_log_f);
-    for (int l = 0; l < lanes; ++l) {
-      values[start + l] = ProfileLikelihood(x.size(), s[l], sum_log_f[l], nullptr);
-    }
+  std::vector<double> s(count), sum_log_f(count);
+  RunFilterBatch(x, ratios, count, s.data(), sum_log_f.data());
+  for (int i = 0; i < count; ++i)
+    values[i] = ProfileLikelihood(x.size(), s[i], sum_log_f[i], nullptr);
+}
+
+double RandomWalkMinusTwoLogLikelihood(const Eigen::VectorXd& y, double q, double r) {
+  return MinusTwoLogLikelihoodAtRatio(y, q / r, r);
+}
+
+WalkVarianceFit MinimizeRandomWalkMinusTwoLogLikelihood(const Eigen::VectorXd& y, double r,
+                                                        double min_ratio, double max_ratio) {
+  const int grid_points =
+      1 + std::max(2, static_cast<int>(std::lround(8.0 * std::log10(max_ratio / min_ratio))));
+  const LogSearchResult best =
+      MinimizeOnLogScale([&](double ratio) { return MinusTwoLogLikelihoodAtRatio(y, ratio, r); },
+                         min_ratio, max_ratio, grid_points, kWalkVarianceRelativeTolerance,
+                         [&](const double* ratios, int count, double* values) {
+                           std::vector<double> s(count), sum_log_f(count);
+                           RunFilterBatch(y, ratios, count, s.data(), sum_log_f.data());
+                           for (int i = 0; i < count; ++i)
+                             values[i] = MinusTwoLogLikelihood(y.size(), s[i], sum_log_f[i], r);
+                         });
+  WalkVarianceFit out;
+  out.minus_two_log_likelihood = MinusTwoLogLikelihoodAtRatio(y, 0.0, r);
+  if (best.value < out.minus_two_log_likelihood) {
+    out.q = best.argument * r;
+    out.minus_two_log_likelihood = best.value;
   }
+  out.at_upper_bound = best.at_upper_bound;
+  return out;
 }
 
 void RandomWalkFilterSmoother(const Eigen::VectorXd& x, double q, double r,

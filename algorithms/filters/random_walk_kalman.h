@@ -60,6 +60,33 @@ double RandomWalkProfileLikelihood(const Eigen::VectorXd& x, double ratio, doubl
 void RandomWalkProfileLikelihoods(const Eigen::VectorXd& x, const double* ratios, int count,
                                   double* values);
 
+/// -2 log-likelihood of y under the local-level model with KNOWN measurement variance r (> 0) and
+/// walk variance q (>= 0), from the diffuse start of the header (x = y_0 with variance r): the
+/// prediction-error decomposition sum_{k >= 1} (log F_k + e_k^2 / F_k) (Harvey 1989, ch. 3; Durbin
+/// & Koopman 2012, 2.10.1), without the constant (N - 1) log(2 pi). The innovations and F_k / r are
+/// those of the profile likelihood at lambda = q / r, so both come from one recursion. y needs
+/// >= 2 samples.
+double RandomWalkMinusTwoLogLikelihood(const Eigen::VectorXd& y, double q, double r);
+
+struct WalkVarianceFit {
+  /// The minimising walk variance, (units of y)^2 per sample; exactly 0 where q = 0 wins.
+  double q = 0.0;
+  double minus_two_log_likelihood = 0.0;  ///< RandomWalkMinusTwoLogLikelihood at q
+  bool at_upper_bound = false;            ///< the best grid point was max_ratio (q may be larger)
+};
+
+/// RandomWalkMinusTwoLogLikelihood minimised over q >= 0 for known r (> 0): q = 0 (the constant
+/// level, where the maximum likelihood piles up for a short or quiet record; Shephard & Harvey
+/// 1990) against the search of search.h over log(q / r) in [min_ratio, max_ratio]
+/// (0 < min_ratio < max_ratio), the grid's passes walking the data together (as
+/// RandomWalkProfileLikelihoods). The grid has 8 points per decade, and the golden section stops
+/// at a bracket narrower than a factor 1.001 in q: near the minimum -2 ln L moves by the square
+/// of that step, far below any penalty it is compared with. The default range spans from a walk
+/// far below the noise of any record to one that rules every sample. y needs >= 2 samples.
+WalkVarianceFit MinimizeRandomWalkMinusTwoLogLikelihood(const Eigen::VectorXd& y, double r,
+                                                        double min_ratio = 1e-6,
+                                                        double max_ratio = 1e2);
+
 /// Filter and smoother for given q, R (> 0).
 void RandomWalkFilterSmoother(const Eigen::VectorXd& x, double q, double r,
                               Eigen::VectorXd* filtered, Eigen::VectorXd* smoothed);
