@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "algorithms/common/units.h"
+#include "algorithms/filters/random_walk_kalman.h"
 
 namespace fogpipe::model {
 namespace {
@@ -109,44 +110,6 @@ double BatchMeansVarianceRatio(const Eigen::VectorXd& x, long batch, double sigm
   return std::max(1.0, batch * variance / std::max(sigma2, 1e-300));
 }
 
-// -2 ln L (up to a constant) of the block means y as a random walk under white noise of variance
-// `variance` (a local-level model, Harvey 1989: y_b = mu_b + e_b, mu_b = mu_{b-1} + eta_b, var
-// eta = q), minimised over q >= 0: the diffuse Kalman filter's prediction-error decomposition
-// from the first block on. q is searched on a log grid of 1e-6..1e2 times the variance (8 per
-// decade) and at 0, then refined by golden section on log q.
-double RandomWalkMinusTwoLogLikelihood(const Eigen::VectorXd& y, double variance) {
-  const auto minus_two_log_likelihood = [&](double q) {
-    double level = y[0], p = variance, sum = 0;
-    for (long b = 1; b < y.size(); ++b) {
-      const double predicted = p + q, f = predicted + variance, v = y[b] - level;
-      sum += std::log(f) + v * v / f;
-      level += predicted / f * v;
-      p = predicted * variance / f;
-    }
-    return sum;
-  };
-  const double null = minus_two_log_likelihood(0.0);
-  double best_log = std::log(variance) - 6 * std::log(10.0), best = null;
-  const double step = std::log(10.0) / 8;
-  for (double log_q = best_log; log_q <= std::log(variance) + 2 * std::log(10.0); log_q += step) {
-    const double value = minus_two_log_likelihood(std::exp(log_q));
-    if (value < best) {
-      best = value;
-      best_log = log_q;
-    }
-  }
-  double lo = best_log - step, hi = best_log + step;
-  const double golden = 0.5 * (std::sqrt(5.0) - 1);
-  for (int iteration = 0; iteration < 30; ++iteration) {
-    const double a = hi - golden * (hi - lo), b = lo + golden * (hi - lo);
-    if (minus_two_log_likelihood(std::exp(a)) < minus_two_log_likelihood(std::exp(b)))
-      hi = b;
-    else
-      lo = a;
-  }
-  return std::min(best, minus_two_log_likelihood(std::exp(0.5 * (lo + hi))));
-}
-
 }  // namespace
 
 LevelsSegmentation SegmentLevels(const Eigen::VectorXd& x, double fs,
@@ -231,11 +194,15 @@ LevelsSegmentation SegmentLevels(const Eigen::VectorXd& x, double fs,
   // Levels beside a random walk (header comment): the steps stand only if they still gain their
   // penalty once a random walk, its variance fitted, is allowed in both models.
   if (!changes.empty()) {
-    // `residual` holds the block means less the levels of `changes` (the loop above).
+    // `residual` holds the block means less the levels of `changes` (the loop above). Each side
+    // is the -2 ln L of a local-level model (Harvey 1989) with the known white noise
+    // sigma2 lambda, minimised over the walk's variance q >= 0.
+    const auto beside_walk = [&](const Eigen::VectorXd& y) {
+      return filters::MinimizeRandomWalkMinusTwoLogLikelihood(y, sigma2 * lambda)
+          .minus_two_log_likelihood;
+    };
     result.gain_beside_walk =
-        RandomWalkMinusTwoLogLikelihood(Eigen::Map<const Eigen::VectorXd>(means.data(), m),
-                                        sigma2 * lambda) -
-        RandomWalkMinusTwoLogLikelihood(residual, sigma2 * lambda);
+        beside_walk(Eigen::Map<const Eigen::VectorXd>(means.data(), m)) - beside_walk(residual);
     const double walk_penalty = options.walk_penalty_per_step * std::log(m / lambda);
     const bool keep = result.gain_beside_walk > walk_penalty * static_cast<double>(changes.size());
     if (!keep) {
