@@ -34,10 +34,6 @@ constexpr std::uint64_t kDrawStream = 0x616E676C65710000ULL;
 struct Kernel {
   int first = 0;
   std::vector<double> weight;
-  double At(int j) const {
-    const int index = j - first;
-    return index >= 0 && index < static_cast<int>(weight.size()) ? weight[index] : 0.0;
-  }
 };
 
 Kernel MakeKernel(long long count, double q, double mu, double sigma, double cell, int cells) {
@@ -145,13 +141,15 @@ Eigen::VectorXd ImputeAngleOnLattice(const Eigen::VectorXd& rate_rad_s, double s
   }
   // Backward sampling, block by block from the last: recompute the block's filter from its kept
   // state, then draw u_t given u_{t+1}.
+  // The block's filters and the draw's weights reuse their storage from block to block and
+  // sample to sample (fresh pages and a malloc per sample cost more than the arithmetic).
   simulation::RandomSource rng(simulation::DeriveSeed(static_cast<std::uint64_t>(n), kDrawStream));
   Eigen::VectorXd u(states);
   int next_cell = -1;
-  std::vector<Eigen::VectorXd> filtered;
+  std::vector<Eigen::VectorXd> filtered(static_cast<size_t>(block), Eigen::VectorXd(cells));
+  Eigen::VectorXd weights(cells);
   for (Eigen::Index b = static_cast<Eigen::Index>(kept.size()) - 1; b >= 0; --b) {
     const Eigen::Index t0 = b * block, t1 = std::min(states, t0 + block);
-    filtered.assign(static_cast<size_t>(t1 - t0), Eigen::VectorXd());
     filtered[0] = kept[static_cast<size_t>(b)];
     for (Eigen::Index t = t0 + 1; t < t1; ++t)
       Propagate(kernel(counts[static_cast<size_t>(t - 1)]), filtered[t - t0 - 1],
@@ -162,10 +160,15 @@ Eigen::VectorXd ImputeAngleOnLattice(const Eigen::VectorXd& rate_rad_s, double s
       if (next_cell < 0) {
         drawn = Draw(filter, &rng);
       } else {
-        // p(u_t | u_{t+1}, counts) ~ alpha_t(u_t) K(u_{t+1} - u_t), K of the step into t + 1.
+        // p(u_t | u_{t+1}, counts) ~ alpha_t(u_t) K(u_{t+1} - u_t), K of the step into t + 1:
+        // non-zero only where next_cell - i lies in the kernel's support.
         const Kernel& into = kernel(counts[static_cast<size_t>(t)]);
-        Eigen::VectorXd weights(cells);
-        for (int i = 0; i < cells; ++i) weights[i] = filter[i] * into.At(next_cell - i);
+        weights.setZero();
+        const int size = static_cast<int>(into.weight.size());
+        const int i0 = std::max(0, next_cell - into.first - size + 1),
+                  i1 = std::min(cells, next_cell - into.first + 1);
+        for (int i = i0; i < i1; ++i)
+          weights[i] = filter[i] * into.weight[next_cell - i - into.first];
         drawn = Draw(weights.sum() > 0 ? weights : filter, &rng);
       }
       u[t] = -0.5 * q + (drawn + rng.Uniform()) * cell;
