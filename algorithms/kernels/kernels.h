@@ -7,7 +7,8 @@
 //
 // Callers: the AR Kalman filter's covariance recursion (kalman/covariance_recursion.h) and its
 // constant-gain loop (kalman/steady_state_filter.cpp), the AR fit's free runs and one-step
-// residuals (ar/diagnostics.cpp), Mod AVAR's window sums (allan/noise_id.cpp).
+// residuals (ar/diagnostics.cpp), Mod AVAR's window sums (allan/noise_id.cpp), the angle
+// quantizer's convolution on its grid (model/angle_quantizer.cpp).
 #pragma once
 
 #include "algorithms/kernels/lanes.h"
@@ -102,6 +103,19 @@ inline T ArResidual(Series&& x, const double* phi, int p, double mean) {
   T acc = x(0) - m;
   for (int i = 1; i <= p; ++i) acc -= Splat<T>(phi[i - 1]) * (x(i) - m);
   return acc;
+}
+
+/// Outputs of a discrete convolution on a grid (model/angle_quantizer.cpp's transition):
+/// sum[v] = sum_k weight[k] x(k, v) over the taps k in [k0, k1), in order from 0, each product
+/// rounded and then added. x(k, v) gives group v's input for tap k as a T: one cell, or four
+/// consecutive cells. Groups side by side are independent chains of additions.
+template <typename T, int kGroups, typename Series>
+inline void ConvolutionSums(Series&& x, const double* weight, int k0, int k1, T* sum) {
+  for (int v = 0; v < kGroups; ++v) sum[v] = T{};
+  for (int k = k0; k < k1; ++k) {
+    const T w = Splat<T>(weight[k]);
+    for (int v = 0; v < kGroups; ++v) sum[v] = sum[v] + w * x(k, v);
+  }
 }
 
 /// One window of Mod AVAR's sliding block sums (allan/noise_id.cpp): adds the window's squared

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <random>
@@ -196,6 +197,43 @@ TEST(Kernels, EachLaneOfTheModifiedWindowsHasTheScalarWindowsBits) {
       ASSERT_EQ(Bits(s0_v[m]), Bits(s0[m]));
       ASSERT_EQ(Bits(s1_v[m]), Bits(s1[m]));
       ASSERT_EQ(Bits(s2_v[m]), Bits(s2[m]));
+    }
+  }
+}
+
+// Sixteen consecutive outputs (four groups of four) against sixteen scalar sums, and the scalar
+// sum against the convolution computed in long double: positive terms, so the relative error is
+// at most the taps' count times 2^-53.
+TEST(Kernels, EachCellOfTheGridConvolutionHasTheScalarSumsBits) {
+  Draw draw(16);
+  std::vector<double> x(400);
+  for (double& v : x) v = draw(0.0, 1.0) < 0.2 ? 0.0 : draw(0.0, 1.0);
+  for (int taps : {1, 2, 7, 42, 97}) {
+    std::vector<double> weight(taps);
+    for (double& w : weight) w = draw(0.0, 1.0);
+    for (int k0 : {0, 1, taps / 2}) {
+      const int k1 = taps - k0 / 2;
+      for (int a = taps; a + 16 <= static_cast<int>(x.size()); a += 5) {
+        Lanes4 sum_v[4];
+        ConvolutionSums<Lanes4, 4>(
+            [&](int k, int v) {
+              Lanes4 cells;
+              std::memcpy(&cells, x.data() + a + 4 * v - k, sizeof(cells));
+              return cells;
+            },
+            weight.data(), k0, k1, sum_v);
+        for (int c = 0; c < 16; ++c) {
+          double sum;
+          ConvolutionSums<double, 1>([&](int k, int) { return x[a + c - k]; }, weight.data(), k0,
+                                     k1, &sum);
+          ASSERT_EQ(Bits(sum_v[c / 4][c % 4]), Bits(sum)) << "taps " << taps << " cell " << a + c;
+          long double direct = 0;
+          for (int k = k0; k < k1; ++k)
+            direct += static_cast<long double>(weight[k]) * x[a + c - k];
+          ASSERT_NEAR(sum, static_cast<double>(direct),
+                      (taps + 1) * std::ldexp(1.0, -53) * static_cast<double>(direct));
+        }
+      }
     }
   }
 }
