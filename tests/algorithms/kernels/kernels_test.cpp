@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -232,6 +233,36 @@ TEST(Kernels, EachCellOfTheGridConvolutionHasTheScalarSumsBits) {
             direct += static_cast<long double>(weight[k]) * x[a + c - k];
           ASSERT_NEAR(sum, static_cast<double>(direct),
                       (taps + 1) * std::ldexp(1.0, -53) * static_cast<double>(direct));
+        }
+      }
+    }
+  }
+}
+
+// The angle quantizer pads its grid with zeros so that every cell takes every tap: a tap on a
+// zero adds +0, which leaves a non-negative partial sum's bits as they were, so a cell's sum over
+// all taps of the padded input has the bits of its sum over the taps that land on the grid.
+TEST(Kernels, TapsOnZeroPaddingLeaveTheGridConvolutionsBits) {
+  Draw draw(17);
+  for (int cells : {5, 33, 200}) {
+    for (int taps : {3, 42}) {
+      std::vector<double> weight(taps), x(cells), padded(cells + 2 * taps, 0.0);
+      for (double& w : weight) w = draw(0.0, 1.0);
+      for (int i = 0; i < cells; ++i) padded[taps + i] = x[i] = draw(0.0, 1.0);
+      for (int first : {-taps, -taps / 2, 0, 3}) {
+        for (int a = 0; a < cells; ++a) {
+          const int k0 = std::max(0, a - first - cells + 1), k1 = std::min(taps, a - first + 1);
+          double landing = 0.0, all = 0.0;
+          if (k0 < k1)
+            ConvolutionSums<double, 1>([&](int k, int) { return x[a - first - k]; }, weight.data(),
+                                       k0, k1, &landing);
+          ConvolutionSums<double, 1>(
+              [&](int k, int) {
+                const int i = a - first - k;
+                return i >= -taps && i < cells + taps ? padded[taps + i] : 0.0;
+              },
+              weight.data(), 0, taps, &all);
+          ASSERT_EQ(Bits(all), Bits(landing)) << cells << " " << taps << " " << first << " " << a;
         }
       }
     }
