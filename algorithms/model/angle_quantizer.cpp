@@ -56,12 +56,16 @@ Kernel MakeKernel(long long count, double q, double mu, double sigma, double cel
 // cells by 42 taps at 3 cells per sigma). One cell's additions wait on each other, so sixteen
 // cells go side by side, their sums in four vector registers (32 measured no faster). The input is
 // read from `padded`, the grid with zeros wherever a tap falls off it: a tap that lands nowhere
-// adds K_k x 0 = +0, which leaves every partial sum (non-negative, from +0) as it was, so each cell
+// adds K_k * 0 = +0, which leaves every partial sum (non-negative, from +0) as it was, so each cell
 // keeps the bits of the sum over its landing taps alone, and the edge cells need no path of their
 // own.
 FOGPIPE_LANE_KERNEL void Convolve(const double* weight, int taps, int first, const double* old,
                                   int cells, double* out, std::vector<double>* padded) {
   using kernels::Lanes4;
+  if (taps == 0) {  // a jump beyond the kernel's 7 sigma: no mass anywhere
+    std::fill(out, out + cells, 0.0);
+    return;
+  }
   constexpr int kGroups = 4, kBlock = 4 * kGroups;
   const int blocks = (cells + kBlock - 1) / kBlock;
   // Inputs a - first - k for a < blocks * kBlock and k < taps, from `lowest` on.
