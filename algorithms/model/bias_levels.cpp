@@ -35,13 +35,15 @@ long RefineStep(const Eigen::VectorXd& x, long begin, long end, long lo, long hi
   return best;
 }
 
-}  // namespace
-
+// The most steps a dense design of `num_samples` samples may hold under options.max_design_bytes
+// (8 bytes per sample and step; no limit when it is 0).
 long MaxDesignSteps(long num_samples, const LevelsOptions& options) {
   if (!(options.max_design_bytes > 0)) return std::numeric_limits<long>::max();
   return static_cast<long>(
       std::floor(options.max_design_bytes / (8.0 * static_cast<double>(num_samples))));
 }
+
+}  // namespace
 
 bool LevelsOptions::IsValid(std::string* error) const {
   auto fail = [&](const char* message) {
@@ -186,8 +188,9 @@ LevelsSegmentation SegmentLevels(const Eigen::VectorXd& x, double fs,
   result.gain = (rss0 - rss) / (sigma2 * lambda);
   // More steps than a dense fit of this record can hold (options.max_design_bytes): none kept,
   // and the segmentation says so.
-  if (static_cast<long>(changes.size()) > MaxDesignSteps(n, options)) {
+  if (const long limit = MaxDesignSteps(n, options); static_cast<long>(changes.size()) > limit) {
     result.too_many_steps = static_cast<int>(changes.size());
+    result.max_design_steps = limit;
     changes.clear();
     result.gain = 0;
   }

@@ -74,10 +74,6 @@ struct LevelsOptions {
   bool IsValid(std::string* error) const;
 };
 
-/// The most steps a dense design of `num_samples` samples may hold under
-/// options.max_design_bytes (8 bytes per sample and step; no limit when it is 0).
-long MaxDesignSteps(long num_samples, const LevelsOptions& options);
-
 /// The steps of a piecewise-constant fit: sample indices where the new level starts, ascending.
 struct LevelsSegmentation {
   std::vector<long> step_index;
@@ -89,8 +85,10 @@ struct LevelsSegmentation {
   /// without them (header comment); 0 when PELT chose no step.
   double gain_beside_walk = 0;
   int num_blocks = 0;
-  /// Steps found beyond LevelsOptions::max_design_bytes (then step_index is empty), else 0.
+  /// Steps found beyond LevelsOptions::max_design_bytes (then step_index is empty), else 0, and
+  /// the most a dense fit of this record holds (max_design_bytes / 8 N) when they are.
   int too_many_steps = 0;
+  long max_design_steps = 0;
 };
 
 /// The optimal segmentation of x (any mean) into levels, k chosen by the modified BIC and kept

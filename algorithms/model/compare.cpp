@@ -1287,8 +1287,7 @@ CompareResult Compare(const CompareInput& input, const std::vector<ModelTerm>& t
           "; bias_levels not fitted: its segmentation finds %.0f steps, more than the %.0f a dense "
           "fit of this record holds",
           static_cast<double>(levels->levels_too_many_steps),
-          static_cast<double>(
-              MaxDesignSteps(static_cast<long>(input.rate_rad_s->size()), LevelsOptions())));
+          static_cast<double>(levels->levels_max_design_steps));
     }
   }
   // Whatever the views say: a consistent model whose K absorbs a step is the case this warns of.

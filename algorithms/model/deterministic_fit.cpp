@@ -699,6 +699,7 @@ DeterministicFit FitDeterministic(const Eigen::VectorXd& rate, double fs,
             segmentation.penalty * static_cast<double>(segmentation.step_index.size()) -
             segmentation.gain;
         components[i].levels_too_many_steps = segmentation.too_many_steps;
+        components[i].levels_max_design_steps = segmentation.max_design_steps;
         continue;
       }
       components[i].nonlinear =

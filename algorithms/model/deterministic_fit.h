@@ -117,8 +117,9 @@ struct DeterministicComponent {
   /// -2 ln L drop (bias_levels.h; negative when it chose steps, 0 without).
   double levels_delta_bic = 0.0;
   /// bias_levels: the steps the segmentation found beyond what a dense fit of the record holds
-  /// (LevelsSegmentation::too_many_steps; then no step is fitted), else 0.
+  /// (LevelsSegmentation::too_many_steps; then no step is fitted), else 0, and that limit.
   int levels_too_many_steps = 0;
+  long levels_max_design_steps = 0;
 };
 
 /// An aux channel as the deterministic fit reads it (non-owning; values of the rate's length).

@@ -241,6 +241,7 @@ TEST(SegmentLevels, KeepsNoStepsBeyondTheDesignLimitAndCountsThem) {
   const LevelsSegmentation capped = SegmentLevels(x, fs, limited);
   EXPECT_TRUE(capped.step_index.empty());
   EXPECT_EQ(capped.too_many_steps, static_cast<int>(all.step_index.size()));
+  EXPECT_EQ(capped.max_design_steps, 20);
   EXPECT_EQ(capped.gain, 0.0);
 }
 
@@ -342,8 +343,8 @@ TEST(CompareBiasLevels, ASegmentationBeyondTheDenseFitIsNamedInTheVerdict) {
   EXPECT_NE(r.verdict.text.find("bias_levels not fitted: its segmentation finds"),
             std::string::npos)
       << r.verdict.text;
-  EXPECT_NE(r.verdict.text.find("more than the 310 a dense fit"), std::string::npos) << too_many
-      << r.verdict.text;
+  EXPECT_NE(r.verdict.text.find("more than the 310 a dense fit"), std::string::npos)
+      << too_many << r.verdict.text;
 }
 
 // 3-5 bias steps, CI seeds 161-180. Design rates (seeds 1-40) and floors: flagged 37 -> 15
