@@ -49,13 +49,12 @@ const std::vector<std::string>& ReferenceFilterNames();
 
 /// Runs every reference filter on x (the RTS smoother comes with the Kalman filter). Returns
 /// ReferenceFilterNames().size() outputs in that order, or none when !options.enabled.
-/// The tunings are independent and run in two lanes through for_each: the Butterworth in one;
-/// the moving average, the random-walk filters and then `beside` (other work of the caller's,
-/// may be empty; also run when !options.enabled) in the other. The Butterworth's GCV spectrum is
-/// the largest transient of the three (the antisymmetric extension, its half spectrum and the
-/// FFT's twiddles: about 7 N doubles for the first part of its run), and the moving average, the
-/// lightest, starts beside it; which task it meets still depends on the schedule
-/// (docs/performance.md). The outputs do not depend on the lanes.
+/// The tunings are independent and run as four tasks (the Butterworth, the random-walk filters,
+/// the moving average, then `beside`: other work of the caller's, may be empty; also run when
+/// !options.enabled), handed out in that order to two lanes through for_each, so at most two run
+/// at once. The Butterworth's GCV spectrum is the largest transient (about 3.5 N doubles while its
+/// FFT runs); which task it meets depends on the schedule (docs/performance.md). The outputs do
+/// not depend on the lanes.
 std::vector<ReferenceOutput> RunReferenceFilters(const Eigen::VectorXd& x, double sample_rate_hz,
                                                  const ReferenceFilterOptions& options,
                                                  const ForEach& for_each,

@@ -374,8 +374,9 @@ void FilterComponents(double sample_rate_hz, const MethodOptions& options,
   const Eigen::Index n = signal.size();
   ComponentStore* store = stream.store;
 
+  const ForEach for_each = stream.for_each ? stream.for_each : ForEach(SerialForEach);
   // R per component (white_noise.h): the raw white-noise variance shared by mean period.
-  const WhiteNoiseLevels levels = EstimateWhiteNoiseLevels(signal);
+  const WhiteNoiseLevels levels = EstimateWhiteNoiseLevels(signal, for_each);
   std::vector<double> variances(imfs->variances_.begin(), imfs->variances_.end());
   variances.push_back(ComponentVariance(d.residue));
   const std::vector<double> r = ShareWhiteNoise(levels, ComponentPeriods(d, n), variances);
@@ -385,7 +386,6 @@ void FilterComponents(double sample_rate_hz, const MethodOptions& options,
   direct_options.ar.fixed_order = options.direct_ar_order;
   // The raw signal's white noise is white: innovation matching is the consistent rule there.
   direct_options.noise_rule = ComponentNoiseRule::kInnovationMatch;
-  const ForEach for_each = stream.for_each ? stream.for_each : ForEach(SerialForEach);
   if (store) store->Put(ComponentStore::Kind::kComponent, num_imfs, d.residue);
   result->components.assign(num_imfs + 1, ComponentModel());
   result->method1 = Eigen::VectorXd::Zero(n);

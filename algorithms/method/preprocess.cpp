@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <sstream>
 
 namespace fogpipe::method {
@@ -33,15 +34,39 @@ void Resort(std::vector<double>* sorted, std::size_t pos) {
   }
 }
 
-/// median[k] = the median of x over [k - h, k + h] clipped to the record. The full windows are
-/// slid: the sample that leaves is replaced by the one that enters in a sorted copy of the window
-/// (O(h) per sample instead of a selection over 2 h + 1 values). A median is a value of the
-/// window's multiset, however it is found, and the leaving value is matched bit for bit (signed
-/// zeros), so the medians equal MedianInPlace's on each window (a zero median may differ in its
-/// sign, which no comparison of the rule sees).
-void LocalMedians(const Eigen::VectorXd& x, Eigen::Index h, Eigen::VectorXd* median) {
+// Parts of the parallel pass: at least kMinPartSamples samples each (a part's set-up, one sort of
+// a window, is negligible beside that), at most kMaxParts of them.
+constexpr Eigen::Index kMinPartSamples = Eigen::Index{1} << 16;
+constexpr int kMaxParts = 16;
+
+/// Runs body(begin, end, part) over `parts` contiguous ranges covering [0, n), through for_each
+/// when it is set.
+void InParts(Eigen::Index n, int parts, const ForEach& for_each,
+             const std::function<void(Eigen::Index, Eigen::Index, int)>& body) {
+  auto bound = [&](int p) { return n * p / parts; };
+  auto one = [&](int p) { body(bound(p), bound(p + 1), p); };
+  if (for_each && parts > 1) {
+    for_each(parts, one);
+  } else {
+    for (int p = 0; p < parts; ++p) one(p);
+  }
+}
+
+int PartsFor(Eigen::Index n, const ForEach& for_each) {
+  if (!for_each) return 1;
+  return static_cast<int>(std::clamp<Eigen::Index>(n / kMinPartSamples, 1, kMaxParts));
+}
+
+/// median[k] = the median of x over [k - h, k + h] clipped to the record, for k in [begin, end).
+/// The full windows are slid: the sample that leaves is replaced by the one that enters in a
+/// sorted copy of the window (O(h) per sample instead of a selection over 2 h + 1 values). A
+/// median is a value of the window's multiset, however it is found, and the leaving value is
+/// matched bit for bit (signed zeros), so the medians equal MedianInPlace's on each window and do
+/// not depend on where a range starts (a zero median may differ in its sign, which no comparison
+/// of the rule sees).
+void LocalMediansOf(const Eigen::VectorXd& x, Eigen::Index h, Eigen::Index begin, Eigen::Index end,
+                    Eigen::VectorXd* median) {
   const Eigen::Index n = x.size();
-  median->resize(n);
   std::vector<double> window;
   auto clipped = [&](Eigen::Index k) {
     const Eigen::Index lo = std::max<Eigen::Index>(0, k - h);
@@ -49,17 +74,19 @@ void LocalMedians(const Eigen::VectorXd& x, Eigen::Index h, Eigen::VectorXd* med
     window.assign(x.data() + lo, x.data() + hi + 1);
     (*median)[k] = MedianInPlace(&window);
   };
-  const Eigen::Index width = 2 * h + 1;
-  if (n < width) {
-    for (Eigen::Index k = 0; k < n; ++k) clipped(k);
+  // Full windows are those of k in [h, n - h).
+  const Eigen::Index full_begin = std::max(begin, h), full_end = std::min(end, n - h);
+  if (full_begin >= full_end) {
+    for (Eigen::Index k = begin; k < end; ++k) clipped(k);
     return;
   }
-  for (Eigen::Index k = 0; k < h; ++k) clipped(k);
-  for (Eigen::Index k = n - h; k < n; ++k) clipped(k);
-  std::vector<double> sorted(x.data(), x.data() + width);
+  for (Eigen::Index k = begin; k < full_begin; ++k) clipped(k);
+  for (Eigen::Index k = full_end; k < end; ++k) clipped(k);
+  const Eigen::Index width = 2 * h + 1;
+  std::vector<double> sorted(x.data() + full_begin - h, x.data() + full_begin - h + width);
   std::sort(sorted.begin(), sorted.end());
-  (*median)[h] = sorted[static_cast<std::size_t>(h)];
-  for (Eigen::Index k = h + 1; k + h < n; ++k) {
+  (*median)[full_begin] = sorted[static_cast<std::size_t>(h)];
+  for (Eigen::Index k = full_begin + 1; k < full_end; ++k) {
     const double leaving = x[k - h - 1];
     auto it = std::lower_bound(sorted.begin(), sorted.end(), leaving);
     while (std::signbit(*it) != std::signbit(leaving)) ++it;  // -0.0 == +0.0 in the ordering
@@ -74,25 +101,39 @@ void ReplaceOutliers(const PreprocessOptions& options, long long offset, Eigen::
   const Eigen::Index n = x->size();
   // Local medians of the original values (replacements are written afterwards, so the result does
   // not depend on the scan order).
-  Eigen::VectorXd median;
-  LocalMedians(*x, options.hampel_half_window, &median);
+  Eigen::VectorXd median(n);
+  const Eigen::Index h = options.hampel_half_window;
+  const int parts = PartsFor(n, options.for_each);
+  InParts(n, parts, options.for_each, [&](Eigen::Index begin, Eigen::Index end, int) {
+    LocalMediansOf(*x, h, begin, end, &median);
+  });
+  // The scale blocks start at multiples of `block`; the last one absorbs a tail shorter than half
+  // a block so that no scale rests on a handful of samples: there are as many blocks as the
+  // fewest m with m block > n - block / 2. Each part takes a contiguous run of whole blocks.
   const Eigen::Index block = options.hampel_scale_block;
-  std::vector<double> deviation;
-  for (Eigen::Index start = 0; start < n; start += block) {
-    // The last block absorbs a short tail so that no scale rests on a handful of samples.
-    Eigen::Index end = std::min(n, start + block);
-    if (n - end < block / 2) end = n;
-    deviation.resize(static_cast<std::size_t>(end - start));
-    for (Eigen::Index k = start; k < end; ++k) deviation[k - start] = std::abs((*x)[k] - median[k]);
-    const double limit = options.hampel_threshold * kMadToSigma * MedianInPlace(&deviation);
-    for (Eigen::Index k = start; k < end; ++k) {
-      if (limit > 0.0 && std::abs((*x)[k] - median[k]) > limit) {
-        (*x)[k] = median[k];
-        indices->push_back(k + offset);
-      }
-    }
-    start = end - block;  // continue after `end`
-  }
+  const Eigen::Index num_blocks = std::max<Eigen::Index>(1, (n - block / 2 + block) / block);
+  const int block_parts = static_cast<int>(std::min<Eigen::Index>(parts, num_blocks));
+  std::vector<std::vector<long long>> found(static_cast<std::size_t>(block_parts));
+  InParts(num_blocks, block_parts, options.for_each,
+          [&](Eigen::Index first, Eigen::Index last, int part) {
+            std::vector<double> deviation;
+            for (Eigen::Index b = first; b < last; ++b) {
+              const Eigen::Index start = b * block;
+              const Eigen::Index end = b + 1 == num_blocks ? n : start + block;
+              deviation.resize(static_cast<std::size_t>(end - start));
+              for (Eigen::Index k = start; k < end; ++k)
+                deviation[k - start] = std::abs((*x)[k] - median[k]);
+              const double limit =
+                  options.hampel_threshold * kMadToSigma * MedianInPlace(&deviation);
+              for (Eigen::Index k = start; k < end; ++k) {
+                if (limit > 0.0 && std::abs((*x)[k] - median[k]) > limit) {
+                  (*x)[k] = median[k];
+                  found[part].push_back(k + offset);
+                }
+              }
+            }
+          });
+  for (const std::vector<long long>& f : found) indices->insert(indices->end(), f.begin(), f.end());
 }
 
 }  // namespace

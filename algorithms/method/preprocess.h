@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/common/for_each.h"
 #include "algorithms/common/status.h"
 
 namespace fogpipe::method {
@@ -35,6 +36,11 @@ struct PreprocessOptions {
   double window_s = 0.0;
   /// Fewest samples kept after the drop. EMD and an AR(20) fit need a few hundred. Default 64.
   int min_samples = 64;
+  /// When set, the local medians and the blocks' scales are found in parts of at least 65536
+  /// samples through it. Each median is a value of its window, however it is found, so the
+  /// output does not depend on the parts (a zero median may differ in its sign, see LocalMediansOf
+  /// in preprocess.cpp).
+  ForEach for_each;
 
   bool IsValid(std::string* error) const;
 };

@@ -29,11 +29,18 @@ double DifferenceVariance(const Eigen::VectorXd& x, Eigen::Index lag) {
 
 }  // namespace
 
-WhiteNoiseLevels EstimateWhiteNoiseLevels(const Eigen::VectorXd& x) {
+WhiteNoiseLevels EstimateWhiteNoiseLevels(const Eigen::VectorXd& x, const ForEach& for_each) {
   WhiteNoiseLevels out;
   if (x.size() < 4) return out;
-  const double v1 = DifferenceVariance(x, 1);  // 2 u + 6 v
-  const double v2 = DifferenceVariance(x, 2);  // 2 u + 4 v
+  double v[2] = {0.0, 0.0};  // lag 1: 2 u + 6 v; lag 2: 2 u + 4 v
+  const auto one = [&](int i) { v[i] = DifferenceVariance(x, i + 1); };
+  if (for_each) {
+    for_each(2, one);
+  } else {
+    one(0);
+    one(1);
+  }
+  const double v1 = v[0], v2 = v[1];
   double angle = 0.5 * (v1 - v2);
   double rate = 0.5 * (3.0 * v2 - 2.0 * v1);
   // Sampling noise can make one of them negative; the total u + 2 v = v2 / 2 is kept.

@@ -49,6 +49,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/common/for_each.h"
 #include "algorithms/emd/emd.h"
 
 namespace fogpipe::method {
@@ -96,8 +97,9 @@ struct WhiteNoiseLevels {
 };
 
 /// Step 1. Zeros for fewer than 4 samples. When more than half of some differences are equal
-/// (coarse quantization: MAD 0), their plain mean square replaces the robust scale.
-WhiteNoiseLevels EstimateWhiteNoiseLevels(const Eigen::VectorXd& x);
+/// (coarse quantization: MAD 0), their plain mean square replaces the robust scale. The two
+/// differences' scales are found through for_each (one after the other when it is empty).
+WhiteNoiseLevels EstimateWhiteNoiseLevels(const Eigen::VectorXd& x, const ForEach& for_each = {});
 
 /// Step 2: R_k for each IMF from the levels, the IMFs' mean periods (samples) and the IMFs'
 /// variances (units of x^2). Non-positive or non-finite periods get no share.

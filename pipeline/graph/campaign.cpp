@@ -629,9 +629,10 @@ std::size_t RunGraph(const Jobs& jobs, const CampaignOptions& options, std::size
                      CampaignRunner& runner) {
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
                               static_cast<std::size_t>(std::max(1, options.threads)));
-  // The EMD's sifts run their envelope work through TBB too (bit-identical IMFs, emd.h): with
-  // few recordings in flight it is otherwise the one serial stage.
+  // The preprocessing and the EMD's sifts run their work in parts through TBB too (bit-identical
+  // outputs, preprocess.h and emd.h): with few recordings in flight they are otherwise serial.
   method::MethodOptions method_options = options.method;
+  method_options.preprocess.for_each = TbbForEach;
   method_options.emd.for_each = TbbForEach;
   using ReaderNode = flow::multifunction_node<FileJob*, std::tuple<AxisPtr>>;
   using AxisNode = flow::function_node<AxisPtr, AxisPtr>;

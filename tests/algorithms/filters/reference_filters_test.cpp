@@ -7,7 +7,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstring>
+#include <functional>
+#include <thread>
+#include <vector>
 
 #include "algorithms/method/preprocess.h"
 #include "tests/algorithms/method/moving_truth.h"
@@ -83,8 +88,8 @@ TEST(ReferenceFilters, GcvButterworthCutoffIsWithinAQuarterOfTheOracleCutoffsRms
     double oracle = 1e300;
     for (int i = 0; i <= 60; ++i) {
       const double fc = 1e-3 * std::pow(10.0, 3.0 * i / 60.0);  // 1 mHz .. 1 Hz
-      const Eigen::VectorXd y = FilterForwardBackward(ButterworthSections(4, fc, fs),
-                                                      c.pre.signal, std::ceil(8.0 * fs / fc));
+      const Eigen::VectorXd y = FilterForwardBackward(ButterworthSections(4, fc, fs), c.pre.signal,
+                                                      std::ceil(8.0 * fs / fc));
       oracle = std::min(oracle, Rms(c, y));
     }
     EXPECT_LE(Rms(c, c.outputs[0].signal), kOracleFactor * oracle)
@@ -109,6 +114,38 @@ TEST(ReferenceFilters, GcvMovingAverageWindowIsNearTheOracleWindowOnAlmostEveryR
     EXPECT_LE(rms, 2.5 * oracle) << Label(c) << " window " << c.outputs[1].parameter;
   }
   EXPECT_GE(within, 41) << "of " << Cases().size();  // 90 % of 45, rounded up
+}
+
+TEST(ReferenceFilters, TwoLanesGiveTheOneLaneOutputsBitForBitAndRunTheBesideTaskOnce) {
+  const Case& c = Cases().front();
+  const ForEach one_lane = [](int n, const std::function<void(int)>& body) {
+    for (int i = 0; i < n; ++i) body(i);
+  };
+  const ForEach two_threads = [](int n, const std::function<void(int)>& body) {
+    std::vector<std::thread> lanes;
+    for (int i = 0; i < n; ++i) lanes.emplace_back(body, i);
+    for (std::thread& t : lanes) t.join();
+  };
+  int serial_calls = 0;
+  std::atomic<int> parallel_calls{0};
+  const std::vector<ReferenceOutput> serial =
+      RunReferenceFilters(c.pre.signal, c.record.sample_rate_hz, ReferenceFilterOptions(), one_lane,
+                          [&] { ++serial_calls; });
+  const std::vector<ReferenceOutput> parallel =
+      RunReferenceFilters(c.pre.signal, c.record.sample_rate_hz, ReferenceFilterOptions(),
+                          two_threads, [&] { ++parallel_calls; });
+  EXPECT_EQ(serial_calls, 1);
+  EXPECT_EQ(parallel_calls.load(), 1);
+  ASSERT_EQ(parallel.size(), serial.size());
+  for (std::size_t i = 0; i < serial.size(); ++i) {
+    EXPECT_EQ(parallel[i].name, serial[i].name);
+    EXPECT_EQ(parallel[i].parameter, serial[i].parameter) << serial[i].name;
+    ASSERT_EQ(parallel[i].signal.size(), serial[i].signal.size()) << serial[i].name;
+    EXPECT_EQ(std::memcmp(parallel[i].signal.data(), serial[i].signal.data(),
+                          sizeof(double) * static_cast<std::size_t>(serial[i].signal.size())),
+              0)
+        << serial[i].name;
+  }
 }
 
 }  // namespace

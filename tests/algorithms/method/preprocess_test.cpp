@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <random>
 #include <utility>
 #include <vector>
@@ -109,6 +110,42 @@ TEST(Preprocess, ReplacesExactlyTheSamplesTheHampelRuleNamesByItsWindowMedians) 
       EXPECT_EQ(p.outlier_indices[j], k) << n;
       // The stored signal has its mean removed: one rounding of a value of order 1 (1e-12).
       EXPECT_NEAR(p.signal[k] + p.mean_removed, expected[j].second, 1e-12) << n << " " << k;
+    }
+  }
+}
+
+TEST(Preprocess, InPartsReplacesTheSameSamplesByTheSameMediansAsOnePass) {
+  // Lengths of 2, 3 and 17 parts of the 65536-sample minimum (17 is above the 16-part limit),
+  // even and odd scale blocks; the same coarse counts with signed zeros and gross errors as above.
+  // The last 500 samples are 20 times louder, so which block they fall in decides which samples
+  // are outliers: 131631 = 131.5 blocks of 1001 exactly, where a tail of half a block (500) is
+  // not yet absorbed into the block before it. The parts run in reverse order, as a schedule may.
+  const ForEach reversed = [](int n, const std::function<void(int)>& body) {
+    for (int i = n - 1; i >= 0; --i) body(i);
+  };
+  for (const int n : {2 * 65536 + 1, 131631, 3 * 65536 + 777, 17 * 65536 + 5}) {
+    for (const int block : {100, 1001}) {
+      Eigen::VectorXd x = Gaussian(n, 1.0, 900 + n);
+      for (int i = 0; i < n; ++i) {
+        x[i] = std::round(2.0 * x[i]) * (i % 3 == 0 ? -0.5 : 0.5) * (i >= n - 500 ? 20.0 : 1.0);
+        if (i % 53 == 7) x[i] += (i % 2 ? 30.0 : -30.0);
+      }
+      PreprocessOptions options;
+      options.hampel_scale_block = block;
+      const Preprocessed one = Preprocess(x, 1.0, options);
+      options.for_each = reversed;
+      const Preprocessed parts = Preprocess(x, 1.0, options);
+      ASSERT_EQ(one.summary.termination, Termination::kSuccess) << one.summary.message;
+      ASSERT_EQ(parts.summary.termination, Termination::kSuccess) << parts.summary.message;
+      EXPECT_EQ(parts.outlier_indices, one.outlier_indices) << n << " " << block;
+      EXPECT_EQ(parts.mean_removed, one.mean_removed) << n << " " << block;
+      // Equal as numbers (a zero median may carry either sign, see LocalMediansOf).
+      EXPECT_TRUE((parts.signal.array() == one.signal.array()).all()) << n << " " << block;
+      const auto expected =
+          HampelByDefinition(x, options.hampel_half_window, options.hampel_threshold, block);
+      ASSERT_EQ(parts.outlier_indices.size(), expected.size()) << n << " " << block;
+      for (std::size_t j = 0; j < expected.size(); ++j)
+        ASSERT_EQ(parts.outlier_indices[j], expected[j].first) << n << " " << block;
     }
   }
 }

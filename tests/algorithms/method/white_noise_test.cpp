@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <random>
 #include <utility>
 #include <vector>
@@ -32,6 +33,14 @@ TEST(WhiteNoise, EstimatesTheVarianceOfWhiteNoiseUnderASlowRandomWalk) {
   // Truth 4. The MAD-based scale of n = 2e5 differences has relative standard error
   // ~1.36 / sqrt(n) = 0.3 % (asymptotic efficiency 37 %), so 2 % is > 6 standard errors.
   EXPECT_NEAR(EstimateWhiteNoiseLevels(x).Total() / 4.0, 1.0, 0.02);
+  // Through a ForEach (here one that runs the two differences in reverse order), the same bits.
+  const WhiteNoiseLevels one = EstimateWhiteNoiseLevels(x);
+  const WhiteNoiseLevels two =
+      EstimateWhiteNoiseLevels(x, [](int n, const std::function<void(int)>& body) {
+        for (int i = n - 1; i >= 0; --i) body(i);
+      });
+  EXPECT_EQ(two.rate_variance, one.rate_variance);
+  EXPECT_EQ(two.angle_variance, one.angle_variance);
 }
 
 // Joint white rate (u) and white angle (v) noise: x_t = sqrt(u) g_t + sqrt(v) (h_t - h_{t-1}) plus
