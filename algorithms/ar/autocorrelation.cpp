@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "algorithms/common/eigen_sums.h"
+
 namespace fogpipe::ar {
 namespace {
 
@@ -14,7 +16,19 @@ Eigen::VectorXd LaggedProducts(const Eigen::Ref<const Eigen::VectorXd>& x, int m
   Eigen::VectorXd c = Eigen::VectorXd::Zero(max_lag + 1);
   for (Eigen::Index t0 = 0; t0 < n; t0 += kBlock) {
     const Eigen::Index t1 = std::min(n, t0 + kBlock);
-    for (int k = 0; k <= max_lag; ++k) {
+    int k = 0;
+    if (t1 + max_lag <= n) {
+      // Every lag has the whole block: four lags at a time, each sum with the bits of its own
+      // Eigen dot product (common/eigen_sums.h), the rest one by one below.
+      const double* a = x.data() + t0;
+      for (; k + 4 <= max_lag + 1; k += 4) {
+        double sums[4];
+        DotsWithEigensOrder<4>({a, a, a, a}, {a + k, a + k + 1, a + k + 2, a + k + 3}, t1 - t0,
+                               sums);
+        for (int j = 0; j < 4; ++j) c(k + j) += sums[j];
+      }
+    }
+    for (; k <= max_lag; ++k) {
       // Terms t in [t0, t1) with t + k < N.
       const Eigen::Index end = std::min(t1, n - k);
       if (end <= t0) break;

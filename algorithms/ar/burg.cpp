@@ -5,6 +5,7 @@
 
 #include "algorithms/ar/autocorrelation.h"
 #include "algorithms/ar/reflection.h"
+#include "algorithms/common/eigen_sums.h"
 
 namespace fogpipe::ar {
 namespace {
@@ -71,10 +72,13 @@ OrderSequence BurgAllOrders(const Eigen::Ref<const Eigen::VectorXd>& x, int max_
       const Eigen::Index s0 = std::max<Eigen::Index>(c0 - 1, 0);
       const Eigen::Index count = (c1 - 1) - s0;  // t = s0 .. c1-2
       if (count > 0) {
-        Eigen::Map<const Eigen::VectorXd> fs(fo + s0 + 1, count);
-        Eigen::Map<const Eigen::VectorXd> bs(bp + s0, count);
-        next_num += fs.dot(bs);
-        next_den += fs.squaredNorm() + bs.squaredNorm();
+        // fs.dot(bs), fs.squaredNorm() and bs.squaredNorm() of the block's pairs in one pass.
+        const double* fs = fo + s0 + 1;
+        const double* bs = bp + s0;
+        double sums[3];
+        DotsWithEigensOrder<3>({fs, fs, bs}, {bs, fs, bs}, count, sums);
+        next_num += sums[0];
+        next_den += sums[1] + sums[2];
       }
     }
     num = next_num;

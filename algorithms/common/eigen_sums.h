@@ -1,0 +1,64 @@
+// Several of Eigen's dot products over arrays of one length in one pass, each with the bits Eigen
+// gives it alone.
+//
+// Eigen reduces a dynamic-size, linearly accessible expression (a dot product, a squared norm) in
+// a fixed order (Eigen/src/Core/Redux.h, redux_impl for LinearVectorizedTraversal without
+// unrolling): two packet accumulators over pairs of packets from the start, then their sum, then
+// one more packet if a whole one is left, then the packet's horizontal sum (predux), then the
+// last elements one by one; fewer elements than one packet are added one by one from the first.
+// An expression without direct access (a product of elements) starts at element 0, whatever the
+// arrays' alignment, and a squared norm is the dot product of an array with itself (the same
+// products, pmul(a, a) and a * a). Several such sums in turn wait on the latency of their
+// additions one after the other and read the arrays once each; DotsWithEigensOrder runs them side
+// by side, with the same packet type and the same operations in the same order, so each result
+// keeps the bits of the Eigen call it replaces (tests/algorithms/common/eigen_sums_test.cpp holds
+// it to them). The packet type is Eigen's for the build (SSE2, AVX or AVX-512), as in the calls.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace fogpipe {
+
+/// out[k] = Map<const VectorXd>(a[k], n).dot(Map<const VectorXd>(b[k], n)) for k < K, bit for bit
+/// (a[k] == b[k] gives Map(a[k], n).squaredNorm()); zeros for n = 0.
+template <int K>
+inline void DotsWithEigensOrder(const double* const (&a)[K], const double* const (&b)[K],
+                                Eigen::Index n, double (&out)[K]) {
+  namespace ei = Eigen::internal;
+  using Packet = ei::packet_traits<double>::type;
+  constexpr Eigen::Index kP = ei::packet_traits<double>::size;
+  auto product = [&](int k, Eigen::Index i) {
+    return ei::pmul(ei::ploadu<Packet>(a[k] + i), ei::ploadu<Packet>(b[k] + i));
+  };
+  for (int k = 0; k < K; ++k) out[k] = 0.0;
+  if (n <= 0) return;
+  const Eigen::Index end2 = n / (2 * kP) * (2 * kP), end1 = n / kP * kP;
+  Eigen::Index first_scalar = 1;
+  if (end1 > 0) {
+    Packet sum0[K];
+    for (int k = 0; k < K; ++k) sum0[k] = product(k, 0);
+    if (end1 > kP) {
+      Packet sum1[K];
+      for (int k = 0; k < K; ++k) sum1[k] = product(k, kP);
+      for (Eigen::Index i = 2 * kP; i < end2; i += 2 * kP) {
+        for (int k = 0; k < K; ++k) {
+          sum0[k] = ei::padd(sum0[k], product(k, i));
+          sum1[k] = ei::padd(sum1[k], product(k, i + kP));
+        }
+      }
+      for (int k = 0; k < K; ++k) sum0[k] = ei::padd(sum0[k], sum1[k]);
+      if (end1 > end2) {
+        for (int k = 0; k < K; ++k) sum0[k] = ei::padd(sum0[k], product(k, end2));
+      }
+    }
+    for (int k = 0; k < K; ++k) out[k] = ei::predux(sum0[k]);
+    first_scalar = end1;
+  } else {
+    for (int k = 0; k < K; ++k) out[k] = a[k][0] * b[k][0];
+  }
+  for (Eigen::Index i = first_scalar; i < n; ++i) {
+    for (int k = 0; k < K; ++k) out[k] += a[k][i] * b[k][i];
+  }
+}
+
+}  // namespace fogpipe
