@@ -118,6 +118,12 @@ TEST(IsRandomBytePlane, RejectsPlanesDeflateCanShrink) {
   std::vector<unsigned char> runs(count);
   for (std::size_t i = 0; i < count; ++i) runs[i] = static_cast<unsigned char>((i / 3) * 97);
   EXPECT_FALSE(IsRandomBytePlane(runs.data(), count));
+  // Uniform bytes with such runs only in the last 2048: 1365 repeats, above the 512 allowed, all
+  // after the first blocks were judged.
+  auto late_runs = UniformBytes(count, 8);
+  for (std::size_t i = count - 2048; i < count; ++i)
+    late_runs[i] = static_cast<unsigned char>((i / 3) * 97);
+  EXPECT_FALSE(IsRandomBytePlane(late_runs.data(), count));
   // The exponent byte of noise of one scale: a handful of values.
   std::vector<unsigned char> exponent(count);
   for (std::size_t i = 0; i < count; ++i) exponent[i] = 0x3e + (i % 7 == 0);
