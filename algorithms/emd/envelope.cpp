@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "algorithms/emd/cubic_spline.h"
+#include "algorithms/kernels/lanes.h"
 
 namespace fogpipe::emd {
 namespace {
@@ -71,8 +72,9 @@ int PieceIndex(const EnvelopeKnots& knots, int i) {
 
 // Samples [begin, end) of h.
 template <SiftStatisticsKind kKind>
-SiftStatistics Subtract(double* h, int begin, int end, PieceWalker up, PieceWalker lo,
-                        double theta1, double theta2) {
+__attribute__((always_inline)) inline SiftStatistics Subtract(double* h, int begin, int end,
+                                                              PieceWalker up, PieceWalker lo,
+                                                              double theta1, double theta2) {
   SiftStatistics stats;
   double sum_m2 = 0.0, sum_h2 = 0.0;
   int64_t over1 = 0, over2 = 0;
@@ -106,9 +108,12 @@ SiftStatistics Subtract(double* h, int begin, int end, PieceWalker up, PieceWalk
   return stats;
 }
 
-SiftStatistics SubtractRange(double* h, int begin, int end, const PieceWalker& up,
-                             const PieceWalker& lo, SiftStatisticsKind kind, double theta1,
-                             double theta2) {
+// Compiled for AVX2 beside the baseline in the portable build (kernels/lanes.h): the subtraction
+// is element-wise, so the wider vectors give the same bits.
+FOGPIPE_LANE_KERNEL SiftStatistics SubtractRange(double* h, int begin, int end,
+                                                 const PieceWalker& up, const PieceWalker& lo,
+                                                 SiftStatisticsKind kind, double theta1,
+                                                 double theta2) {
   switch (kind) {
     case SiftStatisticsKind::kCauchy:
       return Subtract<SiftStatisticsKind::kCauchy>(h, begin, end, up, lo, theta1, theta2);
