@@ -1,9 +1,11 @@
 #include "algorithms/allan/deviation.h"
 
 #include <algorithm>
+#include <type_traits>
 #include <vector>
 
 #include "algorithms/allan/workers.h"
+#include "algorithms/common/eigen_sums.h"
 
 namespace fogpipe::allan {
 namespace {
@@ -196,9 +198,26 @@ std::vector<double> DeviationVariances(const Eigen::VectorXd& phase, Deviation d
       double* out = partial.data() + static_cast<size_t>(c) * m.size();
       const Eigen::Index chunk_end = std::min<Eigen::Index>((c + 1) * kChunk, max_count);
       for (Eigen::Index b = c * kChunk; b < chunk_end; b += kBlock) {
-        for (size_t k = 0; k < m.size(); ++k) {
-          const Eigen::Index end = std::min<Eigen::Index>(
-              std::min<Eigen::Index>(b + kBlock, chunk_end), SweepCount(deviation, n, m[k]));
+        auto end_of = [&](size_t k) {
+          return std::min<Eigen::Index>(std::min<Eigen::Index>(b + kBlock, chunk_end),
+                                        SweepCount(deviation, n, m[k]));
+        };
+        size_t k = 0;
+        if (!modified) {
+          // Four factors at a time where they share the block's length (all but the last
+          // blocks); each sum has the bits OverlappingBlockSum gives it.
+          for (; k + 4 <= m.size(); k += 4) {
+            const Eigen::Index end = end_of(k);
+            if (end <= b || end_of(k + 1) != end || end_of(k + 2) != end || end_of(k + 3) != end)
+              break;
+            double sums4[4];
+            internal::OverlappingBlockSums4(x, d, {m[k], m[k + 1], m[k + 2], m[k + 3]}, b, end - b,
+                                            sums4);
+            for (int j = 0; j < 4; ++j) out[k + j] += sums4[j];
+          }
+        }
+        for (; k < m.size(); ++k) {
+          const Eigen::Index end = end_of(k);
           if (end <= b) continue;
           out[k] += modified ? ModifiedBlockSum(hi.data(), lo.data(), m[k], b, end)
                              : OverlappingBlockSum(x, d, m[k], b, end);
@@ -226,5 +245,58 @@ std::vector<double> DeviationVariances(const Eigen::VectorXd& phase, Deviation d
   }
   return variance;
 }
+
+namespace internal {
+
+namespace {
+
+template <int kD>
+void OverlappingBlockSums4Of(const double* x, const long long (&m)[4], Eigen::Index begin,
+                             Eigen::Index len, double (&out)[4]) {
+  namespace ei = Eigen::internal;
+  const double* start = x + begin;
+  SumsInEigensOrder<4>(
+      len,
+      [&](int k, Eigen::Index i, auto like) {
+        using T = decltype(like);
+        const double* p = start + i;
+        const Eigen::Index mk = m[k];
+        // As Eigen evaluates x2 - 2.0 * x1 + x0 (or x3 - 3.0 * x2 + 3.0 * x1 - x0) from the left,
+        // the constant times the segment, then its square.
+        if constexpr (std::is_same_v<T, double>) {
+          const double e = kD == 2 ? (p[2 * mk] - 2.0 * p[mk]) + p[0]
+                                   : ((p[3 * mk] - 3.0 * p[2 * mk]) + 3.0 * p[mk]) - p[0];
+          return e * e;
+        } else {
+          T e;
+          if constexpr (kD == 2) {
+            e = ei::padd(ei::psub(ei::ploadu<T>(p + 2 * mk),
+                                  ei::pmul(ei::pset1<T>(2.0), ei::ploadu<T>(p + mk))),
+                         ei::ploadu<T>(p));
+          } else {
+            const T three = ei::pset1<T>(3.0);
+            e = ei::psub(ei::padd(ei::psub(ei::ploadu<T>(p + 3 * mk),
+                                           ei::pmul(three, ei::ploadu<T>(p + 2 * mk))),
+                                  ei::pmul(three, ei::ploadu<T>(p + mk))),
+                         ei::ploadu<T>(p));
+          }
+          return ei::pmul(e, e);
+        }
+      },
+      out);
+}
+
+}  // namespace
+
+void OverlappingBlockSums4(const double* x, int d, const long long (&m)[4], Eigen::Index begin,
+                           Eigen::Index len, double (&out)[4]) {
+  if (d == 2) {
+    OverlappingBlockSums4Of<2>(x, m, begin, len, out);
+  } else {
+    OverlappingBlockSums4Of<3>(x, m, begin, len, out);
+  }
+}
+
+}  // namespace internal
 
 }  // namespace fogpipe::allan

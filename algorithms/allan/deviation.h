@@ -81,4 +81,15 @@ long long DifferenceCount(Deviation deviation, long long n_rate_samples, long lo
 std::vector<double> DeviationVariances(const Eigen::VectorXd& phase, Deviation deviation,
                                        const std::vector<long long>& m, int threads = 1);
 
+namespace internal {
+
+/// out[k] = sum over starts j in [begin, begin + len) of the squared d-th difference of x at lag
+/// m[k] (d = 2: x_{j+2m} - 2 x_{j+m} + x_j; d = 3: x_{j+3m} - 3 x_{j+2m} + 3 x_{j+m} - x_j), four
+/// lags at once, each with the bits of the Eigen expression (x2 - 2.0 * x1 + x0).squaredNorm()
+/// over the segments (x3 - 3.0 * x2 + 3.0 * x1 - x0 for d = 3; common/eigen_sums.h).
+void OverlappingBlockSums4(const double* x, int d, const long long (&m)[4], Eigen::Index begin,
+                           Eigen::Index len, double (&out)[4]);
+
+}  // namespace internal
+
 }  // namespace fogpipe::allan
