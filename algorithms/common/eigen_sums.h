@@ -1,18 +1,19 @@
-// Several of Eigen's dot products over arrays of one length in one pass, each with the bits Eigen
-// gives it alone.
+// Several of Eigen's sums over arrays of one length in one pass, each with the bits Eigen gives it
+// alone.
 //
-// Eigen reduces a dynamic-size, linearly accessible expression (a dot product, a squared norm) in
-// a fixed order (Eigen/src/Core/Redux.h, redux_impl for LinearVectorizedTraversal without
-// unrolling): two packet accumulators over pairs of packets from the start, then their sum, then
-// one more packet if a whole one is left, then the packet's horizontal sum (predux), then the
-// last elements one by one; fewer elements than one packet are added one by one from the first.
-// An expression without direct access (a product of elements) starts at element 0, whatever the
-// arrays' alignment, and a squared norm is the dot product of an array with itself (the same
-// products, pmul(a, a) and a * a). Several such sums in turn wait on the latency of their
-// additions one after the other and read the arrays once each; DotsWithEigensOrder runs them side
-// by side, with the same packet type and the same operations in the same order, so each result
-// keeps the bits of the Eigen call it replaces (tests/algorithms/common/eigen_sums_test.cpp holds
-// it to them). The packet type is Eigen's for the build (SSE2, AVX or AVX-512), as in the calls.
+// Eigen reduces a dynamic-size, linearly accessible expression (a dot product, a squared norm, the
+// squared differences of the Allan sweep) in a fixed order (Eigen/src/Core/Redux.h, redux_impl
+// for LinearVectorizedTraversal without unrolling): two packet accumulators over pairs of packets
+// from the start, then their sum, then one more packet if a whole one is left, then the packet's
+// horizontal sum (predux), then the last elements one by one; fewer elements than one packet are
+// added one by one from the first. An expression without direct access (a product of elements)
+// starts at element 0, whatever the arrays' alignment, and a squared norm is the dot product of an
+// array with itself (the same products, pmul(a, a) and a * a). Several such sums in turn wait on
+// the latency of their additions one after the other; SumsInEigensOrder runs them side by side,
+// with the same packet type and the same operations in the same order, so each result keeps the
+// bits of the Eigen call it replaces when its terms are computed as Eigen computes them
+// (tests/algorithms/common/eigen_sums_test.cpp and tests/algorithms/allan/deviation_test.cpp hold
+// the callers to them). The packet type is Eigen's for the build (SSE2, AVX or AVX-512).
 #pragma once
 
 #include <Eigen/Core>

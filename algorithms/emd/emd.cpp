@@ -55,7 +55,7 @@ class EnvelopeBuffers {
 
   // FindExtrema, in parts when the sift's envelope pass is (the same bounds on the parts).
   ExtremaCounts Scan(const double* x, int n, const EmdOptions& options, bool store) {
-    const int parts = options.for_each ? std::min(n / kMinPartSamples, kMaxParts) : 1;
+    const int parts = PartsForPass(n, options.for_each);
     return FindExtremaInParts(x, n, store ? &upper_ : nullptr, store ? &lower_ : nullptr, parts,
                               options.for_each, &scratch_);
   }
@@ -63,8 +63,8 @@ class EnvelopeBuffers {
   // One sift of h in place (knots already found on h).
   SiftStatistics Sift(double* h, int n, const EmdOptions& options, SiftStatisticsKind kind) {
     if (options.mirror_ends) MirrorEnds(h, n, &upper_, &lower_);
-    const int parts = n / kMinPartSamples;
-    if (!options.for_each || parts < 2) {
+    const int parts = PartsForPass(n, options.for_each);
+    if (parts < 2) {
       SolveMoments(upper_, options.spline, upper_.moments(), work_.data());
       SolveMoments(lower_, options.spline, lower_.moments(), work_.data());
       return SubtractEnvelopeMean(h, n, upper_, lower_, kind, options.rilling_theta1,
@@ -77,8 +77,7 @@ class EnvelopeBuffers {
                    e == 0 ? work_.data() : second_work_.data());
     });
     return SubtractEnvelopeMeanInParts(h, n, upper_, lower_, kind, options.rilling_theta1,
-                                       options.rilling_theta2, std::min(parts, kMaxParts),
-                                       options.for_each);
+                                       options.rilling_theta2, parts, options.for_each);
   }
 
   void RebindSignal(const double* x) {
@@ -87,10 +86,6 @@ class EnvelopeBuffers {
   }
 
  private:
-  // The parallel sift splits the envelope pass into at most kMaxParts parts of at least
-  // kMinPartSamples samples (512 KiB of h each: far more work than scheduling a task).
-  static constexpr int kMinPartSamples = 1 << 16;
-  static constexpr int kMaxParts = 16;
   // Knot buffers are sized down when more than this many times the extrema (plus a floor, so
   // that short records and the last IMFs keep theirs) need.
   static constexpr int kShrinkFactor = 8;

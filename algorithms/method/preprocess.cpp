@@ -34,11 +34,6 @@ void Resort(std::vector<double>* sorted, std::size_t pos) {
   }
 }
 
-// Parts of the parallel pass: at least kMinPartSamples samples each (a part's set-up, one sort of
-// a window, is negligible beside that), at most kMaxParts of them.
-constexpr Eigen::Index kMinPartSamples = Eigen::Index{1} << 16;
-constexpr int kMaxParts = 16;
-
 /// Runs body(begin, end, part) over `parts` contiguous ranges covering [0, n), through for_each
 /// when it is set.
 void InParts(Eigen::Index n, int parts, const ForEach& for_each,
@@ -50,11 +45,6 @@ void InParts(Eigen::Index n, int parts, const ForEach& for_each,
   } else {
     for (int p = 0; p < parts; ++p) one(p);
   }
-}
-
-int PartsFor(Eigen::Index n, const ForEach& for_each) {
-  if (!for_each) return 1;
-  return static_cast<int>(std::clamp<Eigen::Index>(n / kMinPartSamples, 1, kMaxParts));
 }
 
 /// median[k] = the median of x over [k - h, k + h] clipped to the record, for k in [begin, end).
@@ -103,7 +93,7 @@ void ReplaceOutliers(const PreprocessOptions& options, long long offset, Eigen::
   // not depend on the scan order).
   Eigen::VectorXd median(n);
   const Eigen::Index h = options.hampel_half_window;
-  const int parts = PartsFor(n, options.for_each);
+  const int parts = PartsForPass(n, options.for_each);
   InParts(n, parts, options.for_each, [&](Eigen::Index begin, Eigen::Index end, int) {
     LocalMediansOf(*x, h, begin, end, &median);
   });
